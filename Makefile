@@ -1,0 +1,60 @@
+# asymslide developer commands (GNU make).  `make help` lists them.
+SHELL := bash
+.SHELLFLAGS := -eu -o pipefail -c
+.DEFAULT_GOAL := help
+
+PYTHON   ?= python3
+VENV     := .venv
+PY       := $(VENV)/bin/python
+STAMP    := $(VENV)/.installed-stamp
+CHROMIUM := /usr/bin/chromium
+PORT     ?= 5006
+ADDRESS  ?= 0.0.0.0
+# hosts whose pages may open the app's websocket (never '*')
+ALLOWED_ORIGIN ?= localhost:$(PORT)
+LINT_DIRS ?= $(wildcard model app tests benchmarks)
+PYTEST_ARGS ?=
+
+# numba compiles once and keeps its machine code here (ignored by git)
+export NUMBA_CACHE_DIR := $(CURDIR)/.numba_cache
+
+.PHONY: help venv serve test bench lint check clean
+
+help:  ## list the targets
+	@grep -E '^[a-z]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/' | expand -t 10
+
+venv: $(STAMP)  ## create .venv and install the project with its test and bench extras
+
+# re-install only when pyproject.toml changes
+$(STAMP): pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e '.[test,bench]'
+	touch $@
+
+serve: venv  ## serve the app on http://localhost:5006
+	$(VENV)/bin/panel serve app/main.py --port $(PORT) --address $(ADDRESS) \
+	  --allow-websocket-origin=$(ALLOWED_ORIGIN) --allow-websocket-origin=127.0.0.1:$(PORT) \
+	  --static-dirs assets=static
+
+test: venv  ## ruff, then every test (browser tests need /usr/bin/chromium)
+	$(VENV)/bin/ruff check $(LINT_DIRS)
+	@if [ ! -x $(CHROMIUM) ]; then \
+	  echo "SKIPPING browser tests: $(CHROMIUM) not found (apt-get install -y chromium)"; fi
+	$(PY) -m pytest $(PYTEST_ARGS)
+
+bench: venv  ## run the benchmarks (timings live here, not in tests)
+	@if [ -f benchmarks/run.py ]; then $(PY) benchmarks/run.py; \
+	elif [ -f benchmarks/__main__.py ]; then $(PY) -m benchmarks; \
+	else echo "no benchmarks yet: add benchmarks/run.py or benchmarks/__main__.py"; fi
+
+lint: venv  ## ruff on the Python code, hadolint on the Dockerfile
+	$(VENV)/bin/ruff check $(LINT_DIRS)
+	$(VENV)/bin/hadolint --failure-threshold warning Dockerfile
+
+check: venv  ## check the public model API against ../shared/check_contract.py
+	$(PY) ../shared/check_contract.py
+
+clean:  ## remove caches and test output (keeps .venv)
+	rm -rf .numba_cache .pytest_cache .hypothesis .ruff_cache test-results build
+	find . -name __pycache__ -not -path './.venv/*' -prune -exec rm -rf {} +

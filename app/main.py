@@ -1,0 +1,54 @@
+"""asymslide web app (placeholder page).
+
+Serve it with ``make serve`` (``panel serve app/main.py ...``) and open http://localhost:5006.
+Tests build the same page through :func:`create_app`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import panel as pn
+
+TITLE = "asymslide — frictional sliding without reflection symmetry"
+
+STATIC_DIR = Path(__file__).resolve().parent.parent / "static"
+LOGO = STATIC_DIR / "logo.svg"
+FAVICON = STATIC_DIR / "favicon.svg"
+CSS = STATIC_DIR / "asymslide.css"
+
+INTRO = """
+## Under construction
+
+**asymslide** will let you explore how steady frictional sliding between two blocks of the
+*same* material but *different* thicknesses can lose stability. Without a mirror symmetry
+across the interface, slip along it changes the normal stress on it, and through friction
+this feedback can make small perturbations grow.
+
+The interactive stability maps, spectra and paper figures are being built; this page is a
+placeholder that shows the server is up.
+
+> E. Aldam, Y. Bar-Sinai, I. Svetlizky, E. A. Brener, J. Fineberg and E. Bouchbinder,
+> *Frictional sliding without geometrical reflection symmetry*,
+> [Phys. Rev. X **6**, 041023 (2016)](https://doi.org/10.1103/PhysRevX.6.041023).
+"""
+
+
+def create_app() -> pn.template.BootstrapTemplate:
+    """Build a fresh page (one per browser session)."""
+    intro = pn.pane.Markdown(
+        INTRO,
+        stylesheets=[CSS.read_text(encoding="utf-8")],
+        sizing_mode="stretch_width",
+    )
+    return pn.template.BootstrapTemplate(
+        title=TITLE,
+        logo=str(LOGO),
+        favicon=str(FAVICON),
+        main=[intro],
+        header_background="#1f4e79",
+    )
+
+
+if __name__.startswith("bokeh"):
+    create_app().servable()

@@ -1,0 +1,138 @@
+"""`make bench`: run time against error for the model core (issue: model core, point 5).
+
+Prints a table and writes benchmarks/results.md and benchmarks/spectrum_pareto.png.
+Timings are medians of repeated warm runs in one process; compare ratios, not absolute numbers.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy import optimize
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+import model  # noqa: E402
+from tests import oracle  # noqa: E402
+
+OUT = Path(__file__).resolve().parent
+PAPER = dict(gamma=3.0, f=0.9, beta=0.3)
+
+
+def plain_dispersion(z: complex, q: float, gamma: float, f: float, beta: float, eta: float) -> complex:
+    """Eq. Gs_general + Eq. implicit_spectrum written literally with cmath (the 'plain' baseline)."""
+    a_s = cmath.sqrt(1 - z * z)
+    a_d = cmath.sqrt(1 - beta * beta * z * z)
+    t1s, t1d = cmath.tanh(q * a_s), cmath.tanh(q * a_d)
+    if math.isinf(eta):
+        t2s = t2d = 1.0
+    else:
+        t2s, t2d = cmath.tanh(eta * q * a_s), cmath.tanh(eta * q * a_d)
+    gx = ((1 + a_s**2) ** 2 / (a_s * (t1s + t2s)) - 4 * a_d / (t1d + t2d)) / z**2
+    gy = 2 * (1 + a_s**2) / z**2 * (t2d / (t1d + t2d) - t2s / (t1s + t2s))
+    return gamma * (gx + 1j * f * gy) + 1j * z
+
+
+def naive_newton_loop(q: np.ndarray, eta: float) -> np.ndarray:
+    """scipy.optimize.newton (secant) per kH, warm-started from the previous root, from kH = 1e4 down.
+
+    Points where scipy reports no convergence are NaN.
+    """
+    order = np.argsort(-q)
+    kw = dict(tol=1e-14, rtol=1e-14, maxiter=100)
+    z = complex(model.rayleigh_speed(PAPER["beta"]))
+    z = optimize.newton(plain_dispersion, z, args=(1e4, *PAPER.values(), eta), **kw)
+    out = np.full(q.size, complex(math.nan, math.nan))
+    for i in order:
+        try:
+            z = optimize.newton(plain_dispersion, z, args=(q[i], *PAPER.values(), eta), **kw)
+        except RuntimeError:
+            continue
+        out[i] = z
+    return out
+
+
+def timeit(fn, repeat: int) -> float:
+    fn()
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def max_rel_error(z: np.ndarray, q: np.ndarray, ref: dict[float, complex]) -> float:
+    """Max relative error at the sampled points (inf if any sampled point is NaN)."""
+    errs = [abs(z[i] - ref[q[i]]) / abs(ref[q[i]]) for i in range(q.size) if q[i] in ref]
+    return math.inf if any(math.isnan(e) for e in errs) else max(errs)
+
+
+def main() -> None:
+    q = np.logspace(-4, 4, 512)
+    rows = []
+    for eta in (math.inf, 7.0):
+        label = "inf" if math.isinf(eta) else f"{eta:g}"
+        sample = q[::32]
+        refs = oracle.rayleigh_branch(list(sample), *PAPER.values(), eta)
+        ref = {float(s): complex(r) for s, r in zip(sample, refs, strict=True)}
+        def run_model(eta: float = eta) -> np.ndarray:
+            return model.spectrum(q, **PAPER, eta=eta)
+
+        def run_naive(eta: float = eta) -> np.ndarray:
+            return naive_newton_loop(q, eta)
+
+        t_model = timeit(run_model, 200)
+        t_naive = timeit(run_naive, 3)
+        z_model = run_model()
+        z_naive = run_naive()
+        e_model = max_rel_error(z_model, q, ref)
+        e_naive = max_rel_error(z_naive, q, ref)
+        rows.append((label, "model.spectrum", t_model, e_model, q.size))
+        rows.append((label, "scipy newton loop (plain F)", t_naive, e_naive, q.size))
+        rows.append((label, "speed ratio", t_naive / t_model, math.nan, q.size))
+    lines = [
+        "# Spectrum benchmark (make bench)",
+        "",
+        "512 log-spaced kH in [1e-4, 1e4], paper parameters f = 0.9, beta = 0.3, gamma = 3.",
+        "Max relative error against the mpmath oracle at 16 of the 512 points.",
+        "",
+        "| eta | method | time [ms] / ratio | max rel. error | points |",
+        "|---|---|---|---|---|",
+    ]
+    for label, name, t, e, n in rows:
+        tt = f"{t:.1f}x" if name == "speed ratio" else f"{t * 1e3:.3f}"
+        ee = "" if math.isnan(e) else f"{e:.1e}"
+        lines.append(f"| {label} | {name} | {tt} | {ee} | {n} |")
+    text = "\n".join(lines) + "\n"
+    print(text)
+    (OUT / "results.md").write_text(text)
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for label, name, t, e, _ in rows:
+            if name != "speed ratio":
+                ax.loglog(t * 1e3, max(e, 1e-17), "o" if "model" in name else "s", label=f"{name}, eta={label}")
+        ax.set_xlabel("run time for 512 kH [ms]")
+        ax.set_ylabel("max relative error vs mpmath oracle")
+        ax.set_title("Rayleigh branch: run time vs error")
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(OUT / "spectrum_pareto.png", dpi=120)
+    except ImportError:
+        print("matplotlib not installed: no plot")
+
+
+if __name__ == "__main__":
+    main()

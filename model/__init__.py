@@ -1,0 +1,52 @@
+"""Physics of frictional sliding without geometrical reflection symmetry (Aldam et al., PRX 6, 041023, 2016).
+
+Public API (NumPy in, NumPy out; physical parameters keyword-only and broadcasting):
+
+- :func:`rayleigh_speed` (PHYSICS section 5)
+- :func:`response_functions`, :func:`response_derivatives` (Eq. Gs_general)
+- :func:`dispersion`, :func:`dispersion_derivative` (Eq. implicit_spectrum + Eq. delta f RSF)
+- :func:`spectrum`, :func:`rayleigh_branch` (Rayleigh branch, PHYSICS section 3)
+- :func:`linear_expansion` (Eq. S-dz)
+- :func:`bessel_integral_B`, :func:`bessel_term_C`, :func:`effective_moduli`,
+  :func:`thin_on_thick_response`, :func:`normal_stress_change` (Sect. III, Eqs. effective_constants, dsigma)
+"""
+
+from .elastodynamics import (
+    dispersion,
+    dispersion_derivative,
+    dispersion_scale,
+    response_derivatives,
+    response_functions,
+)
+from .rayleigh import rayleigh_speed
+from .spectrum import STATUS, SpectrumResult, linear_expansion, rayleigh_branch, spectrum
+from .thin_on_thick import (
+    bessel_integral_B,
+    bessel_term_C,
+    effective_moduli,
+    effective_modulus_excess,
+    normal_stress_change,
+    one_minus_bessel_integral_B,
+    thin_on_thick_response,
+)
+
+__all__ = [
+    "STATUS",
+    "bessel_integral_B",
+    "bessel_term_C",
+    "effective_moduli",
+    "effective_modulus_excess",
+    "normal_stress_change",
+    "one_minus_bessel_integral_B",
+    "thin_on_thick_response",
+    "SpectrumResult",
+    "dispersion",
+    "dispersion_derivative",
+    "dispersion_scale",
+    "linear_expansion",
+    "rayleigh_branch",
+    "rayleigh_speed",
+    "response_derivatives",
+    "response_functions",
+    "spectrum",
+]

@@ -1,0 +1,68 @@
+"""Input validation shared by the public functions: clear ValueErrors naming parameter and range."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+BETA_MAX = 1.0 / math.sqrt(2.0)
+
+# name -> (low, high, low_inclusive, high_inclusive, allow_inf, human readable range)
+DOMAINS: dict[str, tuple[float, float, bool, bool, bool, str]] = {
+    "beta": (0.0, BETA_MAX + 2e-16, False, True, False, "(0, 1/sqrt(2)]"),
+    "nu": (0.0, 0.5, True, False, False, "[0, 0.5)"),
+    "kH": (0.0, math.inf, False, False, False, "(0, inf)"),
+    "kW": (0.0, math.inf, False, False, False, "(0, inf)"),
+    "eta": (0.0, math.inf, False, True, True, "(0, inf] (math.inf = half-space)"),
+    "Delta": (0.0, 1.0, False, True, False, "(0, 1]"),
+    "xi": (0.0, math.inf, True, False, False, "[0, inf)"),
+    "gamma": (0.0, math.inf, False, False, False, "(0, inf)"),
+    "f": (-math.inf, math.inf, False, False, False, "finite real"),
+    "z": (-math.inf, math.inf, False, False, False, "finite complex"),
+    "v": (-math.inf, math.inf, False, False, False, "finite real"),
+    "mu": (0.0, math.inf, False, False, False, "(0, inf)"),
+    "c": (0.0, math.inf, False, False, False, "(0, inf)"),
+    "c_s": (0.0, math.inf, False, False, False, "(0, inf)"),
+}
+
+
+def check(name: str, value, *, complex_ok: bool = False, domain: str | None = None) -> np.ndarray:
+    """Return `value` as a float (or complex) array after checking it lies in the domain of `name`.
+
+    Raises ValueError naming the parameter and its valid range for NaN, out-of-range or
+    non-numeric input (strings are never evaluated).
+    """
+    key = domain or name
+    lo, hi, lo_inc, hi_inc, allow_inf, text = DOMAINS[key]
+    if type(value) is float or type(value) is int:  # fast path for plain scalars
+        v = float(value)
+        if math.isfinite(v) and (lo < v < hi or (v == lo and lo_inc) or (v == hi and hi_inc)):
+            return np.array(v, dtype=np.complex128 if complex_ok else np.float64)
+        if v == math.inf and allow_inf:
+            return np.array(v)
+    try:
+        arr = np.asarray(value)
+        if arr.dtype.kind not in "biufc":
+            raise TypeError
+        arr = arr.astype(np.complex128 if (complex_ok or arr.dtype.kind == "c") else np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numeric, in {text}; got {value!r}") from None
+    if arr.dtype.kind == "c":
+        if not complex_ok:
+            raise ValueError(f"{name} must be real, in {text}; got complex values")
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"{name} must be finite ({text}); got NaN or inf")
+        return arr
+    if np.any(np.isnan(arr)):
+        raise ValueError(f"{name} must be in {text}; got NaN")
+    finite = np.isfinite(arr)
+    if not allow_inf and not np.all(finite):
+        raise ValueError(f"{name} must be in {text}; got inf")
+    bad = (arr < lo) | (arr > hi) | ((arr == lo) & (not lo_inc)) | ((arr == hi) & (not hi_inc) & finite)
+    if allow_inf:
+        bad &= ~(np.isposinf(arr) & (hi == math.inf))
+    if np.any(bad):
+        first = arr[bad].ravel()[0]
+        raise ValueError(f"{name} must be in {text}; got {first!r}")
+    return arr

