@@ -179,6 +179,12 @@ def _psi(t: complex) -> tuple[complex, complex]:
     return val, der
 
 
+@njit(cache=True, inline="always")
+def _abs1(w: complex) -> float:
+    """|Re w| + |Im w|: a cheap magnitude (within sqrt 2 of |w|) for rounding scales."""
+    return abs(w.real) + abs(w.imag)
+
+
 @njit(cache=True)
 def response_inf(z: complex, q: float, beta: float) -> tuple[complex, complex, complex, complex, float]:
     """G_x, G_y, dG_x/dz, dG_y/dz and a rounding scale for eta = inf (Eqs. Gx_LSA, Gy_LSA)."""
@@ -188,8 +194,10 @@ def response_inf(z: complex, q: float, beta: float) -> tuple[complex, complex, c
     ud = _fix0((1.0 - beta * z) * (1.0 + beta * z))
     a_s = cmath.sqrt(us)
     a_d = cmath.sqrt(ud)
-    das = -z / a_s
-    dad = -b2 * z / a_d
+    inv_as = 1.0 / a_s
+    inv_ad = 1.0 / a_d
+    das = -z * inv_as
+    dad = -b2 * z * inv_ad
     es = cmath.exp(-2.0 * q * a_s)
     ed = cmath.exp(-2.0 * q * a_d)
     des = -2.0 * q * das * es
@@ -197,34 +205,37 @@ def response_inf(z: complex, q: float, beta: float) -> tuple[complex, complex, c
     hs = 0.5 * (1.0 + es)
     dhs = 0.5 * des
     # Rayleigh function over z^2
-    one_ad = 1.0 + a_s * a_d
+    inv_one = 1.0 / (1.0 + a_s * a_d)
     cnum = 1.0 + b2 - b2 * z2
-    rt = z2 - 4.0 + 4.0 * cnum / one_ad
+    c4 = 4.0 * cnum * inv_one
+    rt = z2 - 4.0 + c4
     dprod = das * a_d + a_s * dad
-    drt = 2.0 * z + 4.0 * (-2.0 * b2 * z * one_ad - cnum * dprod) / (one_ad * one_ad)
+    drt = 2.0 * z + 4.0 * (-2.0 * b2 * z - cnum * dprod * inv_one) * inv_one
     # Hd = (h_s - h_d)/z^2
-    ssum = a_s + a_d
+    inv_sum = 1.0 / (a_s + a_d)
     dssum = das + dad
     k = -2.0 * q * (1.0 - b2)
-    t = k * z2 / ssum
-    dt = k * (2.0 * z / ssum - z2 * dssum / (ssum * ssum))
-    if abs(t) < 0.5:
+    t = k * z2 * inv_sum
+    dt = k * (2.0 * z - z2 * dssum * inv_sum) * inv_sum
+    if _abs1(t) < 0.5:
         ps, dps = _psi(t)
         qv = es * ps
         dqv = des * ps + es * dps * dt
     else:
-        qv = (ed - es) / t
-        dqv = (ded - des) / t - qv * dt / t
+        inv_t = 1.0 / t
+        qv = (ed - es) * inv_t
+        dqv = ((ded - des) - qv * dt) * inv_t
     c = q * (1.0 - b2)
-    hd = c * qv / ssum
-    dhd = c * (dqv / ssum - qv * dssum / (ssum * ssum))
-    gx_a = rt * hs / a_s
+    hd = c * qv * inv_sum
+    dhd = c * (dqv - qv * dssum * inv_sum) * inv_sum
+    hs_as = hs * inv_as
+    gx_a = rt * hs_as
     gx_b = 4.0 * a_d * hd
     gx = gx_a + gx_b
-    dgx = (drt * hs + rt * dhs) / a_s - rt * hs * das / us + 4.0 * (dad * hd + a_d * dhd)
+    dgx = (drt * hs + rt * dhs) * inv_as - gx_a * das * inv_as + 4.0 * (dad * hd + a_d * dhd)
     gy = -2.0 * (2.0 - z2) * hd
     dgy = -2.0 * (-2.0 * z * hd + (2.0 - z2) * dhd)
-    scale = (abs(z2) + 4.0 + abs(4.0 * cnum / one_ad)) * abs(hs / a_s) + abs(gx_b)
+    scale = (_abs1(z2) + 4.0 + _abs1(c4)) * _abs1(hs_as) + _abs1(gx_b)
     return gx, gy, dgx, dgy, scale
 
 
@@ -297,14 +308,20 @@ def dispersion_eval(
 ) -> tuple[complex, complex, float]:
     """F(z; q) of Eq. implicit_spectrum with Eq. delta f RSF, dF/dz, and the rounding scale of F."""
     gx, gy, dgx, dgy, sc = response(z, q, beta, eta)
-    den = 1.0 - 1j * xi * z * q
-    s = 1.0 + (delta - 1.0) / den
-    ds = (delta - 1.0) * (1j * xi * q) / (den * den)
+    if delta == 1.0:
+        s = 1.0 + 0j
+        ds = 0j
+        sabs = 1.0
+    else:
+        inv_den = 1.0 / (1.0 - 1j * xi * z * q)
+        s = 1.0 + (delta - 1.0) * inv_den
+        ds = (delta - 1.0) * (1j * xi * q) * inv_den * inv_den
+        sabs = 1.0 + _abs1((delta - 1.0) * inv_den)
     fval = gamma * (gx + 1j * f * gy) + 1j * z * s
     dfval = gamma * (dgx + 1j * f * dgy) + 1j * (s + z * ds)
     # rounding scale: magnitudes of the terms of F plus |z F'| (the change of F under a relative
     # perturbation of z by one unit: no evaluation can resolve F below eps times this)
-    scale = gamma * (sc + abs(f * gy)) + abs(z) * (1.0 + abs((delta - 1.0) / den)) + abs(z * dfval)
+    scale = gamma * (sc + _abs1(f * gy)) + _abs1(z) * sabs + _abs1(z * dfval)
     return fval, dfval, scale
 
 
@@ -321,7 +338,7 @@ INPUT = 4  # the parameters themselves were NaN
 S_TOP = math.log(1e4)
 H_MAX = 0.4  # largest continuation step in ln(kH)
 H_MIN = 1e-7
-PRED_TOL = 3e-5  # target predictor error per step, relative to _local_scale
+PRED_TOL = 1e-4  # target predictor error per step, relative to _local_scale
 PRED_REJECT = 2e-3  # predictor error (relative to _local_scale) above which a step is rejected
 THETA_MAX = 0.1  # largest first Newton contraction rate accepted (basin certificate, see _newton)
 MAX_NODES = 20000
@@ -399,7 +416,13 @@ def _lagrange(ss, zs, s):
     for i in range(m):
         if zs[i] == 0:
             return zs[m - 1]
-    lz = _log_nodes(zs)
+    return _lagrange_log(ss, _log_nodes(zs), s)
+
+
+@njit(cache=True)
+def _lagrange_log(ss, lz, s):
+    """exp of the Lagrange interpolant in s of the (unwrapped) logarithms lz."""
+    m = ss.shape[0]
     acc = 0j
     for i in range(m):
         li = 1.0
@@ -538,6 +561,10 @@ def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, z_out, status, resi
         nz[nd - 1 + i] = up_z[i]
     s_min_ok = ns[0]
     s_max_ok = ns[nn - 1]
+    has_zero = False
+    for i in range(nn):
+        has_zero = has_zero or nz[i] == 0
+    lnz = _log_nodes(nz)
     for i in range(m):
         s = s_req[i]
         if (lost_dn and s < s_min_ok) or (lost_up and s > s_max_ok) or s < s_min_ok or s > s_max_ok:
@@ -549,7 +576,7 @@ def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, z_out, status, resi
         j = np.searchsorted(ns, s, side="right") - 1  # ns[j] <= s
         lo = max(0, j - 1)
         hi = min(nn, j + 3)
-        zp = _lagrange(ns[lo:hi], nz[lo:hi], s)
+        zp = _lagrange(ns[lo:hi], nz[lo:hi], s) if has_zero else _lagrange_log(ns[lo:hi], lnz[lo:hi], s)
         z, ok, _, _, rr, ee, theta = _newton(zp, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 10)
         if ok and abs(z - zp) <= PRED_REJECT * _local_scale(z) and theta <= THETA_MAX:
             z_out[i] = z

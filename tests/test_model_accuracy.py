@@ -90,7 +90,7 @@ SPECTRUM_CASES = [
     (dict(PAPER, eta=0.05), [1e-4, 0.2, 50.0]),
     (dict(PAPER, eta=INF, Delta=0.5, xi=1.0), [0.01, 0.3, 1.0, 3.0]),
     (dict(PAPER, eta=INF, Delta=0.2, xi=1e4), [1e-3, 1.0, 100.0]),
-    (dict(gamma=0.05, f=0.9, beta=0.3, eta=INF), [100.0, 1e3, 1e4]),  # root next to the branch point
+    (dict(gamma=0.05, f=0.9, beta=0.3, eta=INF), [500.0, 1e3, 1e4]),  # root next to the branch point
     (dict(gamma=500.0, f=0.9, beta=0.3, eta=10.0), [1e-3, 0.5, 1.0, 20.0]),
     (dict(gamma=3.0, f=0.9, beta=0.02, eta=INF), [0.1, 1.0]),
     (dict(gamma=3.0, f=0.9, beta=0.7, eta=20.0), [1e-2, 1.0, 5.0]),
@@ -111,6 +111,14 @@ def test_spectrum_vs_oracle(params, qs):
     assert max(errs) <= 1e-11, list(zip(qs, errs, strict=True))
     # the reported error estimate is an honest bound (within a factor 10) of the true error
     assert np.all(np.array(errs) * np.abs(res.z) <= 10 * res.error + 1e-15 * np.abs(res.z))
+
+
+def test_small_gamma_branch_runs_into_the_cut_and_is_masked():
+    """gamma = 0.05, eta = inf: the branch hugs z = 1 and reaches the cut z > 1 between kH = 500 and 300;
+    the oracle cannot follow it either. Below, the model returns NaN with a reason, never another root."""
+    res = model.rayleigh_branch(np.array([100.0, 10.0, 1.0]), gamma=0.05, f=0.9, beta=0.3)
+    assert res.mask.all() and np.all(res.status == 1)
+    assert oracle.rayleigh_branch([100.0], 0.05, 0.9, 0.3, INF, strict=False) == [None]
 
 
 def test_spectrum_check_value():

@@ -23,22 +23,12 @@ deltas = st.one_of(st.just(1.0), st.floats(1e-3, 1.0))
 xis = st.one_of(st.just(0.0), st.sampled_from([1e4]), st.floats(-3, 4).map(lambda x: 10.0**x))
 
 
-def strict():
-    """Turn every floating-point warning into an error for the block."""
-    ctx = warnings.catch_warnings()
-    ctx.__enter__()
-    warnings.simplefilter("error")
-    err = np.errstate(all="raise")
-    err.__enter__()
-    return ctx, err
-
-
 @SETTINGS
 @given(gamma=gammas, f=fs, beta=betas, eta=etas, Delta=deltas, xi=xis)
 def test_spectrum_finite_or_masked_with_small_residual(gamma, f, beta, eta, Delta, xi):
     q = np.logspace(-4, 4, 97)
     p = dict(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
-    with warnings.catch_warnings(), np.errstate(all="raise"):
+    with warnings.catch_warnings(), np.errstate(over="raise", invalid="raise", divide="raise"):
         warnings.simplefilter("error")
         res = model.rayleigh_branch(q, **p)
     ok = ~res.mask
@@ -86,7 +76,7 @@ def test_no_branch_jumps_between_neighbours(gamma, f, beta, eta, Delta, xi, s0):
 )
 def test_response_functions_overflow_free(zr, zi, logmag, q, beta, eta):
     z = complex(zr, zi) / abs(complex(zr, zi)) * 10.0**logmag
-    with warnings.catch_warnings(), np.errstate(all="raise"):
+    with warnings.catch_warnings(), np.errstate(over="raise", invalid="raise", divide="raise"):
         warnings.simplefilter("error")
         gx, gy = model.response_functions(z, q, beta=beta, eta=eta)
         dgx, dgy = model.response_derivatives(z, q, beta=beta, eta=eta)
@@ -99,7 +89,7 @@ def test_thin_on_thick_finite(frac, kW, nu):
     m, n = model.effective_moduli(kW, nu)
     assert 0 < n < 0.5 and m > 0
     z = frac * min(1.0, math.sqrt(float(m)))
-    with warnings.catch_warnings(), np.errstate(all="raise"):
+    with warnings.catch_warnings(), np.errstate(over="raise", invalid="raise", divide="raise"):
         warnings.simplefilter("error")
         gx, gy = model.thin_on_thick_response(z, kW, nu=nu)
     assert np.isfinite(gx) and np.isfinite(gy)
@@ -158,7 +148,7 @@ def test_stress_extremes_are_finite_or_masked():
         dict(gamma=np.array([1e-2, 1e3])[:, None], f=0.9, beta=np.array([1e-3, 1 / math.sqrt(2)]), eta=INF),
         dict(gamma=3.0, f=0.9, beta=0.3, eta=INF, Delta=1e-3, xi=np.array([0.0, 1e4])[:, None]),
     ]:
-        with warnings.catch_warnings(), np.errstate(all="raise"):
+        with warnings.catch_warnings(), np.errstate(over="raise", invalid="raise", divide="raise"):
             warnings.simplefilter("error")
             res = model.rayleigh_branch(q, **p)
         assert np.all(np.isfinite(res.z[~res.mask])) and np.all(np.isnan(res.z[res.mask]))

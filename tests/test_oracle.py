@@ -8,7 +8,6 @@ paper/aldam2016_geometric_asymmetry.tex.
 from __future__ import annotations
 
 import math
-import time
 
 import oracle as o
 import pytest
@@ -196,14 +195,11 @@ def test_rayleigh_branch_independent_of_requested_q() -> None:
     assert close(again[0], many[4], 1e-27)
 
 
-def test_full_continuation_runtime_and_roots() -> None:
-    """1e4 -> 1e-4 at eta = inf must take well under 20 s; every returned z solves F = 0."""
+def test_full_continuation_roots() -> None:
+    """1e4 -> 1e-4 at eta = inf: every returned z solves F = 0 (run time is not asserted: benchmarks only)."""
     o._path.cache_clear()
     qs = [10 ** (k / 2) for k in range(-8, 9)]
-    t0 = time.perf_counter()
     zs = o.rayleigh_branch(qs, 3, F0, BETA0, INF)
-    elapsed = time.perf_counter() - t0
-    assert elapsed < 20
     for q, z in zip(qs, zs, strict=True):
         assert abs(o.dispersion(z, q, 3, F0, BETA0, INF)) < 1e-26
     # large q: the root of the q -> inf limit, close to z_R; small q (eta = inf): back near z_R
