@@ -20,6 +20,16 @@ from .elastodynamics import (
 )
 from .rayleigh import rayleigh_speed
 from .spectrum import STATUS, SpectrumResult, linear_expansion, rayleigh_branch, spectrum
+from .stability import (
+    GrowthResult,
+    criterion_chi,
+    critical_chi,
+    critical_eta,
+    critical_gamma,
+    growth_analysis,
+    max_growth,
+    unstable_band,
+)
 from .thin_on_thick import (
     bessel_integral_B,
     bessel_term_C,
@@ -32,6 +42,14 @@ from .thin_on_thick import (
 
 __all__ = [
     "STATUS",
+    "GrowthResult",
+    "critical_chi",
+    "critical_eta",
+    "critical_gamma",
+    "criterion_chi",
+    "growth_analysis",
+    "max_growth",
+    "unstable_band",
     "bessel_integral_B",
     "bessel_term_C",
     "effective_moduli",

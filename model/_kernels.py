@@ -514,42 +514,29 @@ def rayleigh_start(z_r, gamma, f, beta, eta, delta, xi):
     return work_z[n - 1], True
 
 
-@njit(cache=True)
-def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, z_out, status, resid, err):
-    """Rayleigh-branch roots at the requested s = ln kH values for one parameter set.
+@njit(cache=True, nogil=True)
+def build_path(s_lo, s_hi, z_r, gamma, f, beta, eta, delta, xi):
+    """Rayleigh-branch path nodes covering [s_lo, s_hi] (s = ln kH), ascending in s.
 
-    Path: start at ln 1e4, continue down to two nodes below min(s_req) and up to two nodes above
-    max(s_req, ln 1e4); each requested point is then reached from a cubic interpolant of the four
-    surrounding path nodes by Newton's method, so its digits do not depend on the other requests.
+    Start at ln 1e4 (see rayleigh_start), continue down to two nodes below min(s_lo, ln 1e4) and up to
+    two nodes above max(s_hi, ln 1e4). The node sequence depends only on the physical parameters;
+    s_lo/s_hi only decide where it is cut off. Returns (ns, nz, lnz, nn, has_zero, code) with code
+    OK, START (no starting root) or INPUT (NaN parameter); lnz = unwrapped ln z of the nodes.
     """
-    m = s_req.shape[0]
-    if m == 0:
-        return
+    ns = np.empty(1)
+    nz = np.empty(1, dtype=np.complex128)
     for v in (gamma, f, beta, eta, delta, xi):
         if math.isnan(v):
-            for i in range(m):
-                z_out[i] = complex(math.nan, math.nan)
-                status[i] = INPUT
-                resid[i] = math.nan
-                err[i] = math.nan
-            return
+            return ns, nz, nz, 0, False, INPUT
     z0, ok = rayleigh_start(z_r, gamma, f, beta, eta, delta, xi)
     if not ok:
-        for i in range(m):
-            z_out[i] = complex(math.nan, math.nan)
-            status[i] = START
-            resid[i] = math.nan
-            err[i] = math.nan
-        return
-    s_lo = s_req.min()
-    s_hi = s_req.max()
+        return ns, nz, nz, 0, False, START
     dn_s = np.empty(MAX_NODES)
     dn_z = np.empty(MAX_NODES, dtype=np.complex128)
     up_s = np.empty(MAX_NODES)
     up_z = np.empty(MAX_NODES, dtype=np.complex128)
-    nd, lost_dn = _continue(z0, S_TOP, min(s_lo, S_TOP), 2, -1.0, 0, 1.0, gamma, f, beta, eta, delta, xi, dn_s, dn_z)
-    nu, lost_up = _continue(z0, S_TOP, max(s_hi, S_TOP), 2, 1.0, 0, 1.0, gamma, f, beta, eta, delta, xi, up_s, up_z)
-    # merge into one ascending node list
+    nd, _ = _continue(z0, S_TOP, min(s_lo, S_TOP), 2, -1.0, 0, 1.0, gamma, f, beta, eta, delta, xi, dn_s, dn_z)
+    nu, _ = _continue(z0, S_TOP, max(s_hi, S_TOP), 2, 1.0, 0, 1.0, gamma, f, beta, eta, delta, xi, up_s, up_z)
     nn = nd + nu - 1
     ns = np.empty(nn)
     nz = np.empty(nn, dtype=np.complex128)
@@ -559,35 +546,159 @@ def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, z_out, status, resi
     for i in range(1, nu):
         ns[nd - 1 + i] = up_s[i]
         nz[nd - 1 + i] = up_z[i]
-    s_min_ok = ns[0]
-    s_max_ok = ns[nn - 1]
     has_zero = False
     for i in range(nn):
         has_zero = has_zero or nz[i] == 0
-    lnz = _log_nodes(nz)
+    return ns, nz, _log_nodes(nz), nn, has_zero, OK
+
+
+@njit(cache=True, nogil=True)
+def solve_at(s, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi):
+    """The Rayleigh-branch root at s = ln kH from the path nodes: (z, status, residual, error).
+
+    Newton from the cubic interpolant (in ln z) of the four surrounding nodes; accepted only with a
+    strong first contraction and a small distance from the prediction (else NOCONV); outside the
+    nodes' range the branch was lost (LOST).
+    """
+    nanz = complex(math.nan, math.nan)
+    if nn == 0 or s < ns[0] or s > ns[nn - 1]:
+        return nanz, LOST, math.nan, math.nan
+    j = np.searchsorted(ns, s, side="right") - 1  # ns[j] <= s
+    lo = max(0, j - 1)
+    hi = min(nn, j + 3)
+    zp = _lagrange(ns[lo:hi], nz[lo:hi], s) if has_zero else _lagrange_log(ns[lo:hi], lnz[lo:hi], s)
+    z, ok, _, _, rr, ee, theta = _newton(zp, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 10)
+    if ok and abs(z - zp) <= PRED_REJECT * _local_scale(z) and theta <= THETA_MAX:
+        return z, OK, rr, ee
+    return nanz, NOCONV, math.nan, math.nan
+
+
+@njit(cache=True, nogil=True)
+def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, z_out, status, resid, err):
+    """Rayleigh-branch roots at the requested s = ln kH values for one parameter set.
+
+    Each requested point is reached from the interpolated path nodes by Newton's method
+    (solve_at), so its digits do not depend on the other requests.
+    """
+    m = s_req.shape[0]
+    if m == 0:
+        return
+    ns, nz, lnz, nn, has_zero, code = build_path(s_req.min(), s_req.max(), z_r, gamma, f, beta, eta, delta, xi)
     for i in range(m):
-        s = s_req[i]
-        if (lost_dn and s < s_min_ok) or (lost_up and s > s_max_ok) or s < s_min_ok or s > s_max_ok:
+        if code != OK:
             z_out[i] = complex(math.nan, math.nan)
-            status[i] = LOST
+            status[i] = code
             resid[i] = math.nan
             err[i] = math.nan
             continue
-        j = np.searchsorted(ns, s, side="right") - 1  # ns[j] <= s
-        lo = max(0, j - 1)
-        hi = min(nn, j + 3)
-        zp = _lagrange(ns[lo:hi], nz[lo:hi], s) if has_zero else _lagrange_log(ns[lo:hi], lnz[lo:hi], s)
-        z, ok, _, _, rr, ee, theta = _newton(zp, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 10)
-        if ok and abs(z - zp) <= PRED_REJECT * _local_scale(z) and theta <= THETA_MAX:
-            z_out[i] = z
-            status[i] = OK
-            resid[i] = rr
-            err[i] = ee
+        z_out[i], status[i], resid[i], err[i] = solve_at(s_req[i], ns, nz, lnz, nn, has_zero, gamma, f, beta, eta,
+                                                         delta, xi)
+
+
+GOLDEN = 0.3819660112501051
+
+
+@njit(cache=True, nogil=True)
+def _im_at(s, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi):
+    z, st, _, _ = solve_at(s, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+    return z.imag if st == OK else math.nan
+
+
+@njit(cache=True, nogil=True)
+def _crossing(a, fa, b, fb, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi):
+    """s in [a, b] where Im z(s) = 0 (fa, fb of opposite signs): Illinois false position to 1e-13."""
+    for _ in range(200):
+        if abs(b - a) <= 1e-13 * max(1.0, abs(a)):
+            break
+        c = b - fb * (b - a) / (fb - fa)
+        fc = _im_at(c, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+        if math.isnan(fc):
+            return math.nan
+        if fc == 0.0:
+            return c
+        if (fc > 0.0) == (fb > 0.0):
+            fa *= 0.5
         else:
-            z_out[i] = complex(math.nan, math.nan)
-            status[i] = NOCONV
-            resid[i] = math.nan
-            err[i] = math.nan
+            a, fa = b, fb
+        b, fb = c, fc
+    return 0.5 * (a + b) if abs(fb) > abs(fa) else b
+
+
+@njit(cache=True, nogil=True)
+def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi):
+    """Max of Im z over kH on the Rayleigh branch, refined between grid points, and the unstable band.
+
+    Returns (growth, s_at_max, s_band_lo, s_band_hi, n_masked). The maximum over the grid is refined
+    by golden-section search on the two neighbouring grid intervals (location to 1e-9 in ln kH, so the
+    value is exact to rounding); the band is the interval around the maximum where Im z > 0, with both
+    ends refined by false position (NaN where Im z stays positive up to the end of the grid or where
+    the growth is not positive).
+    """
+    m = s_grid.shape[0]
+    ns, nz, lnz, nn, has_zero, code = build_path(s_grid[0], s_grid[m - 1], z_r, gamma, f, beta, eta, delta, xi)
+    if code != OK:
+        return math.nan, math.nan, math.nan, math.nan, m
+    im = np.empty(m)
+    n_masked = 0
+    best = -1
+    for i in range(m):
+        im[i] = _im_at(s_grid[i], ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+        if math.isnan(im[i]):
+            n_masked += 1
+        elif best < 0 or im[i] > im[best]:
+            best = i
+    if best < 0:
+        return math.nan, math.nan, math.nan, math.nan, n_masked
+    # golden-section refinement on [s_{best-1}, s_{best+1}] (valid neighbours only)
+    a = s_grid[best - 1] if best > 0 and not math.isnan(im[best - 1]) else s_grid[best]
+    b = s_grid[best + 1] if best < m - 1 and not math.isnan(im[best + 1]) else s_grid[best]
+    s_max = s_grid[best]
+    g_max = im[best]
+    if b > a:
+        x1 = a + GOLDEN * (b - a)
+        x2 = b - GOLDEN * (b - a)
+        f1 = _im_at(x1, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+        f2 = _im_at(x2, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+        for _ in range(60):
+            if b - a <= 1e-9 or math.isnan(f1) or math.isnan(f2):
+                break
+            if f1 >= f2:
+                b, x2, f2 = x2, x1, f1
+                x1 = a + GOLDEN * (b - a)
+                f1 = _im_at(x1, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+            else:
+                a, x1, f1 = x1, x2, f2
+                x2 = b - GOLDEN * (b - a)
+                f2 = _im_at(x2, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+        for sx, fx in ((x1, f1), (x2, f2)):
+            if not math.isnan(fx) and fx > g_max:
+                g_max = fx
+                s_max = sx
+    lo = math.nan
+    hi = math.nan
+    if g_max > 0.0:
+        i = best
+        while i > 0 and not math.isnan(im[i - 1]) and im[i - 1] > 0.0:
+            i -= 1
+        if i > 0 and not math.isnan(im[i - 1]):
+            lo = _crossing(s_grid[i - 1], im[i - 1], s_grid[i], im[i],
+                           ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+        i = best
+        while i < m - 1 and not math.isnan(im[i + 1]) and im[i + 1] > 0.0:
+            i += 1
+        if i < m - 1 and not math.isnan(im[i + 1]):
+            hi = _crossing(s_grid[i + 1], im[i + 1], s_grid[i], im[i],
+                           ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+    return g_max, s_max, lo, hi, n_masked
+
+
+@njit(cache=True, nogil=True)
+def growth_many(s_grid, gamma, f, beta, eta, delta, xi, g_out, s_out, lo_out, hi_out, nm_out):
+    """growth_one over flattened parameter sets (one chunk of a stability map)."""
+    for p in range(gamma.shape[0]):
+        g_out[p], s_out[p], lo_out[p], hi_out[p], nm_out[p] = growth_one(
+            s_grid, rayleigh_z(beta[p]), gamma[p], f[p], beta[p], eta[p], delta[p], xi[p]
+        )
 
 
 @njit(cache=True)
@@ -605,7 +716,7 @@ def rayleigh_z(beta):
     return math.sqrt(x)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def branch_many(s_req, gamma, f, beta, eta, delta, xi, z_out, status, resid, err):
     """branch_solve for many parameter sets (rows of the 2-D outputs)."""
     for p in range(gamma.shape[0]):

@@ -1,0 +1,189 @@
+"""Stability analysis on the Rayleigh branch: growth maps, unstable bands, thresholds (Sect. IV, Fig. 4c)."""
+
+from __future__ import annotations
+
+import math
+import os
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import optimize
+
+from . import _kernels as K
+from ._validate import check
+from .elastodynamics import response_functions
+from .rayleigh import rayleigh_speed
+
+#: default kH grid for thresholds: 20 points per decade over [1e-4, 1e4]
+DEFAULT_KH = np.logspace(-4, 4, 161)
+CHUNK = 256  # parameter sets per chunk of a stability map
+
+
+@dataclass(frozen=True)
+class GrowthResult:
+    """Max growth rate over kH on the Rayleigh branch, per parameter set.
+
+    growth : max_kH Im z (c/c_s units), refined between grid points (NaN if the branch is masked
+        at every grid point)
+    kH_at_max : where the maximum is reached
+    kH_min, kH_max : the unstable band around the maximum (Im z > 0), NaN if growth <= 0 or if the
+        band reaches beyond the grid
+    n_masked : how many grid points were masked (branch not followable there)
+    """
+
+    growth: np.ndarray
+    kH_at_max: np.ndarray
+    kH_min: np.ndarray
+    kH_max: np.ndarray
+    n_masked: np.ndarray
+
+
+def growth_chunk(s_grid: np.ndarray, params: np.ndarray) -> np.ndarray:
+    """Pure function of one chunk: params (6, n) rows gamma, f, beta, eta, Delta, xi -> (5, n) results.
+
+    Rows of the result: growth, ln kH at max, ln kH_min, ln kH_max, n_masked. No shared state, so a
+    distributed backend can run chunks anywhere.
+    """
+    n = params.shape[1]
+    out = np.empty((5, n))
+    cols = [np.ascontiguousarray(params[i]) for i in range(6)]
+    K.growth_many(np.ascontiguousarray(s_grid), *cols, out[0], out[1], out[2], out[3], out[4])
+    return out
+
+
+def growth_analysis(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, workers: int | None = None) -> GrowthResult:
+    """Max over kH of Im z on the Rayleigh branch (the stability map) and the unstable band.
+
+    kH : 1-D increasing grid (> 0) on which the maximum is bracketed; the maximum is then refined
+    between grid points by golden-section search (location to 1e-9 in ln kH) and the band ends by
+    false position. Parameters broadcast against each other: e.g.
+    ``growth_analysis(k, gamma=g[:, None], eta=e[None, :], f=0.9, beta=0.3)`` is a 2-D map.
+    Work is split into chunks of parameter sets (:func:`growth_chunk`) run on `workers` threads
+    (default: the number of CPUs; the compiled kernels release the GIL).
+    """
+    q = check("kH", kH)
+    if q.ndim != 1 or q.size < 2 or np.any(np.diff(q) <= 0):
+        raise ValueError("kH must be a 1-D increasing grid with at least 2 points")
+    arrays = [check("gamma", gamma), check("f", f), check("beta", beta), check("eta", eta), check("Delta", Delta),
+              check("xi", xi)]
+    shape = np.broadcast_shapes(*(a.shape for a in arrays))
+    params = np.stack([np.broadcast_to(a, shape).ravel() for a in arrays]).astype(float)
+    s = np.log(q)
+    n = params.shape[1]
+    chunks = [params[:, i : i + CHUNK] for i in range(0, n, CHUNK)]
+    nworkers = workers or os.cpu_count() or 1
+    if len(chunks) > 1 and nworkers > 1:
+        with ThreadPoolExecutor(nworkers) as pool:
+            parts = list(pool.map(lambda c: growth_chunk(s, c), chunks))
+    else:
+        parts = [growth_chunk(s, c) for c in chunks]
+    out = np.concatenate(parts, axis=1) if parts else np.empty((5, 0))
+    res = [r.reshape(shape) for r in out]
+    return GrowthResult(res[0], np.exp(res[1]), np.exp(res[2]), np.exp(res[3]), res[4].astype(int))
+
+
+def max_growth(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0):
+    """(growth, kH_at_max): max over kH of Im[c/c_s] on the Rayleigh branch, refined between grid points.
+
+    See :func:`growth_analysis` (which also gives the unstable band); parameters broadcast, so this
+    is the stability map. Sliding is unstable on this branch where growth > 0.
+    """
+    r = growth_analysis(kH, gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
+    return r.growth, r.kH_at_max
+
+
+def unstable_band(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0):
+    """(kH_min, kH_max) of the unstable band around the fastest-growing mode (NaN where stable)."""
+    r = growth_analysis(kH, gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
+    return r.kH_min, r.kH_max
+
+
+def _threshold(fun, lo: float, hi: float, name: str, valid: str) -> float:
+    """Root in log space of fun (max growth) on [lo, hi], to 1e-12 relative; ValueError without a crossing."""
+    a, b = math.log(lo), math.log(hi)
+    fa, fb = fun(math.exp(a)), fun(math.exp(b))
+    if not (np.isfinite(fa) and np.isfinite(fb)) or fa * fb > 0:
+        raise ValueError(f"no stability threshold for {name} in {valid}: max growth is {fa:.3g} at the lower end "
+                         f"and {fb:.3g} at the upper end")
+    x = optimize.brentq(lambda t: fun(math.exp(t)), a, b, xtol=1e-14, rtol=4 * np.finfo(float).eps, maxiter=200)
+    return math.exp(x)
+
+
+def _scalar_growth(kH: np.ndarray, **p) -> float:
+    return float(growth_analysis(kH, **p).growth)
+
+
+def _param_threshold(kH: np.ndarray, base: dict, name: str, bounds: tuple[float, float]) -> float:
+    """Threshold of the parameter `name` (the others fixed at `base`)."""
+    valid = f"[{bounds[0]:g}, {bounds[1]:g}]"
+    return _threshold(lambda v: _scalar_growth(kH, **base, **{name: v}), *bounds, name, valid)
+
+
+def critical_gamma(*, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, gamma_range=(1e-2, 1e3)):
+    """gamma at which the max growth on the Rayleigh branch crosses zero (stable below), to ~1e-12 relative.
+
+    Check value: 2.4149 for f = 0.9, beta = 0.3, eta = inf (paper: "between 2 and 3"). Parameters may be
+    arrays (broadcast; one threshold per element). ValueError if there is no crossing in gamma_range.
+    """
+    q = DEFAULT_KH if kH is None else kH
+    arrays = np.broadcast_arrays(check("f", f), check("beta", beta), check("eta", eta), check("Delta", Delta),
+                                 check("xi", xi))
+    out = np.empty(arrays[0].shape)
+    for idx in np.ndindex(out.shape):
+        base = dict(zip(("f", "beta", "eta", "Delta", "xi"), (float(a[idx]) for a in arrays), strict=True))
+        out[idx] = _param_threshold(q, base, "gamma", gamma_range)
+    return out if out.ndim else float(out)
+
+
+def critical_eta(*, gamma, f, beta, Delta=1.0, xi=0.0, kH=None, eta_range=(1.0, 1e8)):
+    """eta at which the max growth on the Rayleigh branch crosses zero (stable below), to ~1e-12 relative.
+
+    Check value: 3.2982 for gamma = 3, f = 0.9, beta = 0.3 (paper: "~3.3"). ValueError without a crossing.
+    """
+    q = DEFAULT_KH if kH is None else kH
+    arrays = np.broadcast_arrays(check("gamma", gamma), check("f", f), check("beta", beta), check("Delta", Delta),
+                                 check("xi", xi))
+    out = np.empty(arrays[0].shape)
+    for idx in np.ndindex(out.shape):
+        base = dict(zip(("gamma", "f", "beta", "Delta", "xi"), (float(a[idx]) for a in arrays), strict=True))
+        out[idx] = _param_threshold(q, base, "eta", eta_range)
+    return out if out.ndim else float(out)
+
+
+def min_gy_at_rayleigh_speed(beta, *, eta=math.inf):
+    """(q_min, min_q G_y(z_R, q)) (Eq. criterion): G_y at the Rayleigh speed is negative with one minimum."""
+    b = check("beta", beta)
+    e = check("eta", eta)
+    bb, ee = np.broadcast_arrays(b, e)
+    qmin = np.empty(bb.shape)
+    gmin = np.empty(bb.shape)
+    for idx in np.ndindex(bb.shape):
+        zr = complex(rayleigh_speed(float(bb[idx])))
+
+        def gy(t: float, zr: complex = zr, beta_: float = float(bb[idx]), eta_: float = float(ee[idx])) -> float:
+            return float(response_functions(zr, math.exp(t), beta=beta_, eta=eta_)[1].real)
+
+        ts = np.linspace(math.log(1e-3), math.log(1e3), 121)
+        vals = [gy(t) for t in ts]
+        k = int(np.argmin(vals))
+        r = optimize.minimize_scalar(gy, bracket=(ts[max(k - 1, 0)], ts[k], ts[min(k + 1, len(ts) - 1)]),
+                                     method="brent", tol=1e-12)
+        qmin[idx] = math.exp(r.x)
+        gmin[idx] = r.fun
+    return (qmin, gmin) if qmin.ndim else (float(qmin), float(gmin))
+
+
+def criterion_chi(beta):
+    """chi_c from the approximate criterion gamma f G_y(z_R, kH) = -z_R (Eq. criterion): z_R / |min G_y|.
+
+    Check value: 1.99750 for beta = 0.3 (min G_y = -0.475111 at kH = 0.86438). The solid line of Fig. 4c.
+    """
+    _, gmin = min_gy_at_rayleigh_speed(beta)
+    return rayleigh_speed(beta) / np.abs(gmin)
+
+
+def critical_chi(beta, *, f):
+    """Exact threshold chi_c = gamma_c f of the Rayleigh branch for eta = inf, Delta = 1 (Fig. 4c, open symbols)."""
+    b, ff = np.broadcast_arrays(check("beta", beta), check("f", f))
+    return critical_gamma(f=ff, beta=b) * ff

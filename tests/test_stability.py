@@ -1,0 +1,83 @@
+"""Thresholds and growth maps on the Rayleigh branch (issue: stability analysis) against PHYSICS.md section 7
+and the mpmath oracle."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import model
+from model import stability
+from tests import oracle
+
+PAPER = dict(f=0.9, beta=0.3)
+Q = np.logspace(-3, 3, 241)
+
+
+def test_max_growth_check_value_and_refinement():
+    r = stability.growth_analysis(Q, gamma=3.0, **PAPER)
+    assert abs(float(r.growth) - 0.0106758) < 5e-8
+    assert abs(float(r.kH_at_max) - 0.767) < 2e-3
+    # refined maximum: no grid point of a much finer grid beats it
+    fine = np.linspace(0.7, 0.85, 3001)
+    assert np.nanmax(model.spectrum(fine, gamma=3.0, **PAPER).imag) <= float(r.growth) + 1e-13
+    # the band ends are zeros of Im z
+    z = model.spectrum(np.array([float(r.kH_min), float(r.kH_max)]), gamma=3.0, **PAPER)
+    assert np.all(np.abs(z.imag) < 1e-13)
+
+
+def test_max_growth_against_oracle():
+    q_star, g_star = oracle.rayleigh_branch_max_growth(0.767, 3, 0.9, 0.3, math.inf)
+    g, k = model.max_growth(Q, gamma=3.0, **PAPER)
+    assert abs(float(g) - float(g_star)) <= 1e-9 * abs(float(g_star))
+    assert abs(float(k) - float(q_star)) <= 1e-4 * float(q_star)
+
+
+def test_max_growth_broadcasts_to_a_map():
+    g = np.array([1.0, 3.0, 10.0])
+    e = np.array([1.0, 3.0, 10.0, math.inf])
+    growth, kmax = model.max_growth(Q, gamma=g[:, None], eta=e[None, :], **PAPER)
+    assert growth.shape == (3, 4) and kmax.shape == (3, 4)
+    assert np.all(growth[:, 0] < 0)  # eta = 1: symmetric, stable
+    assert growth[1, 3] == pytest.approx(0.0106758, abs=5e-8)
+    one = model.max_growth(Q, gamma=10.0, eta=3.0, **PAPER)[0]
+    assert growth[2, 1] == one
+
+
+def test_delta_xi_growth_check_value():
+    g, _ = model.max_growth(Q, gamma=3.0, **PAPER, Delta=0.5, xi=1.0)
+    assert abs(float(g) - 0.028570) < 5e-7
+
+
+def test_critical_gamma_and_eta_check_values():
+    gc = model.critical_gamma(**PAPER)
+    assert abs(gc - 2.4149) < 5e-5
+    assert abs(float(model.max_growth(stability.DEFAULT_KH, gamma=gc, **PAPER)[0])) < 1e-14
+    ec = model.critical_eta(gamma=3.0, **PAPER)
+    assert abs(ec - 3.2982) < 5e-5
+    g, k = model.max_growth(stability.DEFAULT_KH, gamma=3.0, eta=ec, **PAPER)
+    assert abs(float(g)) < 1e-14
+    assert abs(float(k) - 0.976) < 0.01
+
+
+def test_thresholds_raise_without_crossing():
+    with pytest.raises(ValueError, match="no stability threshold for gamma"):
+        model.critical_gamma(f=0.9, beta=0.3, eta=1.0)
+    with pytest.raises(ValueError, match="no stability threshold for eta"):
+        model.critical_eta(gamma=0.5, f=0.9, beta=0.3)
+
+
+def test_criterion_chi_check_values_and_oracle():
+    qmin, gmin = stability.min_gy_at_rayleigh_speed(0.3)
+    assert abs(qmin - 0.86438) < 1e-5 and abs(gmin + 0.475111) < 1e-6
+    assert abs(float(model.criterion_chi(0.3)) - 1.99750) < 1e-5
+    oq, og = oracle.criterion_min_gy(0.3)
+    assert abs(gmin - float(og)) <= 1e-12 * abs(float(og))
+    chi = model.criterion_chi(np.array([0.1, 0.3, 0.5]))
+    assert chi.shape == (3,) and np.all(chi > 0)
+
+
+def test_critical_chi_is_gamma_c_times_f():
+    assert model.critical_chi(0.3, f=0.9) == pytest.approx(2.4149 * 0.9, rel=2e-5)
