@@ -99,39 +99,19 @@ def _shc(d: complex) -> tuple[complex, complex]:
 
 
 @njit(cache=True)
-def _dd_large(u1: complex, u2: complex) -> tuple[complex, complex]:
-    """Divided difference D = g[u1, u2] and dD/du2 via tanh(a) - tanh(b) = sinh(a-b) sech a sech b."""
-    w1 = cmath.sqrt(u1)
-    w2 = cmath.sqrt(u2)
-    if abs(w2 + w1) < abs(w2 - w1):  # g is even: take the square root nearest w1
-        w2 = -w2
-    th1, s1 = _tanh_sech(w1)
-    th2, s2 = _tanh_sech(w2)
-    d = w2 - w1
-    if abs(d) < 0.5:
-        sh, dsh = _shc(d)
-        xd = sh * s1 * s2
-        dxd = dsh * s1 * s2 - sh * s1 * s2 * th2
-    else:
-        xd = (th2 - th1) / d
-        dxd = (s2 * s2 - xd) / d
-    num = w1 * xd - th1
-    den = w1 * w2 * (w1 + w2)
-    dd = num / den
-    dd_dw2 = (w1 * dxd - dd * w1 * (w1 + 2.0 * w2)) / den
-    return dd, dd_dw2 / (2.0 * w2)
-
-
-@njit(cache=True)
 def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, complex, complex, complex, complex]:
-    """g(u1), g'(u1), g(u2), g'(u2), g[u1,u2], d g[u1,u2]/du1, d g[u1,u2]/du2 without cancellation."""
-    g1, d1 = _g(u1)
-    g2, d2 = _g(u2)
+    """g(u1), g'(u1), g(u2), g'(u2), g[u1,u2], d g[u1,u2]/du1, d g[u1,u2]/du2 without cancellation.
+
+    Small arguments: Taylor series. Otherwise with w = sqrt(u) (the root of u2 nearest w1: g is even),
+    D = g[u1, u2] = (w1 X/d - tanh w1) / (w1 w2 (w1 + w2)), d = w2 - w1, X = tanh w2 - tanh w1, where
+    X/d = sinh(d)/d sech w1 sech w2 for |d| < 0.5 (no cancellation) and (tanh w2 - tanh w1)/d otherwise.
+    """
     a1 = abs(u1)
     a2 = abs(u2)
-    du = u2 - u1
     big = max(a1, a2)
     if big < _SERIES_U:
+        g1, d1 = _g(u1)
+        g2, d2 = _g(u2)
         c = _GCOEF
         n = c.shape[0]
         # h_m = sum_{k<m} u1^k u2^(m-1-k);  h_{m+1} = u2 h_m + u1^m
@@ -143,7 +123,6 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
         dd1 = 0j
         dd2 = 0j
         for m in range(1, n - 1):
-            # advance h_m -> h_{m+1}
             nh1 = u2 * h1 + m * p
             nh2 = h + u2 * h2
             p_next = p * u1
@@ -155,12 +134,38 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
             dd1 += c[m + 1] * h1
             dd2 += c[m + 1] * h2
         return g1, d1, g2, d2, dd, dd1, dd2
+    du = u2 - u1
     if abs(du) >= 0.5 * big:
+        g1, d1 = _g(u1)
+        g2, d2 = _g(u2)
         dd = (g2 - g1) / du
         return g1, d1, g2, d2, dd, (dd - d1) / du, (d2 - dd) / du
-    dd, dd2 = _dd_large(u1, u2)
-    _, dd1 = _dd_large(u2, u1)
-    return g1, d1, g2, d2, dd, dd1, dd2
+    w1 = cmath.sqrt(u1)
+    w2 = cmath.sqrt(u2)
+    if abs(w2 + w1) < abs(w2 - w1):  # g is even: take the square root nearest w1
+        w2 = -w2
+    th1, s1 = _tanh_sech(w1)
+    th2, s2 = _tanh_sech(w2)
+    g1 = th1 / w1
+    g2 = th2 / w2
+    d1 = (w1 * s1 * s1 - th1) / (2.0 * w1 * u1)
+    d2 = (w2 * s2 * s2 - th2) / (2.0 * w2 * u2)
+    d = w2 - w1
+    if abs(d) < 0.5:
+        sh, dsh = _shc(d)
+        xd = sh * s1 * s2
+        dxd2 = dsh * s1 * s2 - xd * th2
+        dxd1 = -dsh * s1 * s2 - xd * th1
+    else:
+        xd = (th2 - th1) / d
+        dxd2 = (s2 * s2 - xd) / d
+        dxd1 = (xd - s1 * s1) / d
+    num = w1 * xd - th1
+    inv_den = 1.0 / (w1 * w2 * (w1 + w2))
+    dd = num * inv_den
+    dd_dw2 = (w1 * dxd2 - dd * w1 * (w1 + 2.0 * w2)) * inv_den
+    dd_dw1 = (xd + w1 * dxd1 - s1 * s1 - dd * w2 * (2.0 * w1 + w2)) * inv_den
+    return g1, d1, g2, d2, dd, dd_dw1 / (2.0 * w1), dd_dw2 / (2.0 * w2)
 
 
 @njit(cache=True)

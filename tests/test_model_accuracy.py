@@ -190,8 +190,8 @@ def test_bessel_tail_far_out_vs_struve_closed_form():
         assert rel(model.one_minus_bessel_integral_B(q), ref) <= 1e-12
 
 
-@pytest.mark.parametrize("nu", [0.0, 0.2, 0.33, 0.4, 0.49])
-@pytest.mark.parametrize("q", [1e-3, 0.1, 1.0, 3.0, 5.0, 19.3, 45.0, 200.0, 1e3])
+@pytest.mark.parametrize("nu", [0.0, 0.33, 0.49])
+@pytest.mark.parametrize("q", [1e-3, 0.1, 1.0, 5.0, 19.3, 45.0, 1e3])
 def test_effective_moduli_vs_oracle(q, nu):
     m, n = model.effective_moduli(q, nu)
     om, on = oracle.effective_moduli(q, nu)
@@ -227,8 +227,8 @@ def test_thin_on_thick_check_values():
     assert rel(model.thin_on_thick_response(1e-4, 5.0, nu=0.33)[1], -0.04921931774306) <= 1e-10
 
 
-@pytest.mark.parametrize("kW", [1e-3, 0.1, 1.0, 5.0, 30.0, 1e3])
-@pytest.mark.parametrize("frac", [1e-8, 1e-3, 0.5, 0.9, 0.99, 0.999999])
+@pytest.mark.parametrize("kW", [1e-3, 1.0, 5.0, 30.0, 1e3])
+@pytest.mark.parametrize("frac", [1e-8, 0.5, 0.99, 0.999999])
 def test_thin_on_thick_vs_oracle(kW, frac):
     """From the quasi-static limit up to (just below) the lowest shear speed of the pair."""
     m, _ = model.effective_moduli(kW, 0.33)

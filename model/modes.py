@@ -1,0 +1,621 @@
+"""Every unstable mode in a window: all roots of F(z; kH) = 0 with Im z > 0 (issue 3, PHYSICS.md sections 2-3).
+
+The dispersion function F(z; kH) of Eq. implicit_spectrum (with Eq. delta f RSF and the response functions
+of Eq. Gs_general / S-G_gen) is analytic in the open upper half-plane Im z > 0: its poles (finite eta) and
+branch cuts (eta = inf) lie on the real axis (PHYSICS.md section 2). The number of roots inside a rectangle
+R = [-re_max, re_max] x [im_min, im_max] with im_min > 0 is therefore given by the argument principle with no
+pole correction,
+
+    N = (1 / 2 pi i) closed-integral_{dR} F'(z)/F(z) dz = (1 / 2 pi) [change of arg F along dR].
+
+Method
+------
+*Counting.* Each edge (a horizontal or vertical line segment) is sampled adaptively by a compiled routine.
+For every pair of neighbouring samples a, b (step h = z_b - z_a) it accepts the segment only if
+
+- the principal log-increment L = Log(F_b / F_a) has |Im L| <= pi/4 and |Re L| <= ln 3,
+- the trapezoidal estimate T = h/2 (F'_a/F_a + F'_b/F_b) of the integral of F'/F agrees with L to 0.1,
+- the linear predictions F_a + h F'_a and F_b - h F'_b agree with F_b and F_a to half their size
+  (this catches a pair of roots straddling the edge, whose phase changes cancel),
+
+and otherwise bisects it. The increment of log F along the accepted segment is then exactly L (its true
+value differs from L by a multiple of 2 pi i and the checks bound it well below pi), so the winding number is
+an exact integer by construction; it is still checked to be within 1e-6 of an integer. The initial samples
+of the edges nearest the real axis are graded towards the real-axis poles z^2 = 1 + (pi n / ((1+eta) kH))^2,
+z^2 = beta^-2 [1 + (pi n / ((1+eta) kH))^2] (and z = +-1, +-1/beta), geometrically from the distance to the
+axis, so that roots sitting next to a pole are resolved at every scale.
+
+*Locating.* The rectangle is split recursively (vertical split at mid-width, or a horizontal split at the
+geometric mean height for tall cells near the axis); the samples of the parent's edges are reused (only the
+new splitting line is sampled, and one node is inserted on each edge it meets). The roots of a cell holding
+exactly one root are polished by Newton's method with the analytic derivative (model.dispersion_derivative),
+started from the contour-integral estimate (1 / 2 pi i) closed-integral z F'/F dz of the cell (or its
+centre); the root must converge inside its cell with |F| / scale < 1e-12 (scale = model.dispersion_scale).
+Cells where Newton fails are split further. The number of located roots always equals the certified count,
+or a RuntimeError is raised.
+
+Window semantics
+----------------
+The window is closed: roots with im_min <= Im z <= im_max and |Re z| <= re_max are counted, including roots
+lying exactly on the boundary (for example Im z = im_min). A root closer to an edge than about 1e-11 times
+the window size (1e-7 im_min for the bottom edge) cannot be placed on either side in double precision; the
+edge is then moved outward by a few times that distance and the root is counted and reported with its true
+coordinates, which may lie outside the window by at most that distance. im_min = 0 is accepted and means
+"just above the real axis": the bottom edge is placed at Im z = 1e-10 (the poles and branch cuts of F on the
+real axis forbid a contour there), so neutral roots on the real axis are not counted.
+
+For large finite eta the real-axis poles are dense and many roots sit just above them (Im z ~ 1e-4), so the
+count depends on im_min: a stability verdict must state its window.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+import numpy as np
+from numba import njit
+
+from . import _kernels as K
+from ._validate import check
+
+__all__ = ["unstable_count", "unstable_modes"]
+
+PHASE_MAX = math.pi / 4  # largest accepted |arg(F_b / F_a)| between neighbouring samples
+LOGMOD_MAX = math.log(3.0)  # largest accepted |ln|F_b / F_a||
+TRAP_TOL = 0.1  # largest accepted |Log(F_b/F_a) - trapezoid of F'/F|
+LIN_TOL = 0.5  # largest accepted relative error of the linear (F') prediction across a segment
+H0 = 0.1  # initial sample spacing along lines
+IM_FLOOR = 1e-10  # the bottom edge never goes below this (im_min = 0)
+TINY = 1e-13  # |F| / scale below which a sample is taken to be a root on the line
+REL_HMIN = 1e-11  # smallest segment, relative to the window size ...
+AXIS_HMIN = 1e-7  # ... and relative to the distance of the line from the real axis
+SHIFT = 16.0  # an edge holding a root moves outward by SHIFT * h_min (then 4x more per retry)
+CAP = 1 << 20  # most samples on one line
+MAX_LADDER_POLES = 20000  # beyond this many isolated real-axis poles the graded seeding is skipped
+NEWTON_ITERS = 60
+RESID_MAX = 1e-12
+
+_FLOAT = np.float64
+
+
+# ------------------------------------------------------------------------------------------------
+# compiled core: adaptive sampling of one line and Newton's method in a cell
+# ------------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _seg_ok(za: complex, fa: complex, dfa: complex, zb: complex, fb: complex, dfb: complex) -> tuple[bool, complex]:
+    """Accept the segment [za, zb] (criteria in the module docstring) and return Log(F_b / F_a)."""
+    lg = cmath.log(fb / fa)
+    if abs(lg.imag) > PHASE_MAX or abs(lg.real) > LOGMOD_MAX:
+        return False, lg
+    h = zb - za
+    trap = 0.5 * h * (dfa / fa + dfb / fb)
+    if abs(trap - lg) > TRAP_TOL:
+        return False, lg
+    big = max(abs(fa), abs(fb))
+    if abs(fa + h * dfa - fb) > LIN_TOL * big or abs(fb - h * dfb - fa) > LIN_TOL * big:
+        return False, lg
+    return True, lg
+
+
+@njit(cache=True)
+def _point(t: float, c: float, horizontal: bool) -> complex:
+    return complex(t, c) if horizontal else complex(c, t)
+
+
+@njit(cache=True)
+def _sample_line(ts, c, horizontal, q, gamma, f, beta, eta, delta, xi, h_min):
+    """Adaptively sample F along the line z = t + i c (horizontal) or z = c + i t, t from ts[0] to ts[-1].
+
+    ts: sorted initial parameters (both ends included). Returns (t, F, L, status, t_bad, evaluations):
+    nodes t (sorted), F at the nodes, L[j] = Log(F[j+1]/F[j]) for accepted segments; status 0 = ok,
+    1 = a root on (or within h_min of) the line near t_bad, 2 = too many samples, 3 = F not finite.
+    """
+    n0 = ts.shape[0]
+    st_t = np.empty(n0 + 4096)
+    st_f = np.empty(n0 + 4096, dtype=np.complex128)
+    st_d = np.empty(n0 + 4096, dtype=np.complex128)
+    out_t = np.empty(4 * n0 + 64)
+    out_f = np.empty(4 * n0 + 64, dtype=np.complex128)
+    out_l = np.empty(4 * n0 + 64, dtype=np.complex128)
+    nev = 0
+    # evaluate the initial points and push them (right to left) on the stack
+    sp = 0
+    for k in range(n0 - 1, -1, -1):
+        z = _point(ts[k], c, horizontal)
+        fv, dfv, sc = K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
+        nev += 1
+        if not (cmath.isfinite(fv) and cmath.isfinite(dfv)):
+            return out_t[:0], out_f[:0], out_l[:0], 3, ts[k], nev
+        if abs(fv) <= TINY * sc:
+            return out_t[:0], out_f[:0], out_l[:0], 1, ts[k], nev
+        st_t[sp] = ts[k]
+        st_f[sp] = fv
+        st_d[sp] = dfv
+        sp += 1
+    # current node = bottom of the list (ts[0])
+    sp -= 1
+    ta = st_t[sp]
+    fa = st_f[sp]
+    da = st_d[sp]
+    za = _point(ta, c, horizontal)
+    n = 1
+    out_t[0] = ta
+    out_f[0] = fa
+    while sp > 0:
+        tb = st_t[sp - 1]
+        fb = st_f[sp - 1]
+        db = st_d[sp - 1]
+        zb = _point(tb, c, horizontal)
+        ok, lg = _seg_ok(za, fa, da, zb, fb, db)
+        if ok:
+            if n >= out_t.shape[0]:
+                if n >= CAP:
+                    return out_t[:n], out_f[:n], out_l[: n - 1], 2, ta, nev
+                grow_t = np.empty(2 * n)
+                grow_f = np.empty(2 * n, dtype=np.complex128)
+                grow_l = np.empty(2 * n, dtype=np.complex128)
+                grow_t[:n] = out_t[:n]
+                grow_f[:n] = out_f[:n]
+                grow_l[: n - 1] = out_l[: n - 1]
+                out_t, out_f, out_l = grow_t, grow_f, grow_l
+            out_t[n] = tb
+            out_f[n] = fb
+            out_l[n - 1] = lg
+            n += 1
+            sp -= 1
+            ta, fa, da, za = tb, fb, db, zb
+            continue
+        if tb - ta <= h_min:
+            return out_t[:n], out_f[:n], out_l[: n - 1], 1, 0.5 * (ta + tb), nev
+        tm = 0.5 * (ta + tb)
+        zm = _point(tm, c, horizontal)
+        fm, dfm, scm = K.dispersion_eval(zm, q, gamma, f, beta, eta, delta, xi)
+        nev += 1
+        if not (cmath.isfinite(fm) and cmath.isfinite(dfm)):
+            return out_t[:n], out_f[:n], out_l[: n - 1], 3, tm, nev
+        if abs(fm) <= TINY * scm:
+            return out_t[:n], out_f[:n], out_l[: n - 1], 1, tm, nev
+        if sp >= st_t.shape[0]:
+            grow_t = np.empty(2 * sp)
+            grow_f = np.empty(2 * sp, dtype=np.complex128)
+            grow_d = np.empty(2 * sp, dtype=np.complex128)
+            grow_t[:sp] = st_t[:sp]
+            grow_f[:sp] = st_f[:sp]
+            grow_d[:sp] = st_d[:sp]
+            st_t, st_f, st_d = grow_t, grow_f, grow_d
+        st_t[sp] = tm
+        st_f[sp] = fm
+        st_d[sp] = dfm
+        sp += 1
+    return out_t[:n], out_f[:n], out_l[: n - 1], 0, ta, nev
+
+
+@njit(cache=True)
+def _eval1(z, q, gamma, f, beta, eta, delta, xi):
+    return K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
+
+
+@njit(cache=True)
+def _newton_cell(z0, x0, x1, y0, y1, mult, q, gamma, f, beta, eta, delta, xi):
+    """Newton's method (step multiplied by `mult` for a multiple root) confined near the cell [x0,x1]x[y0,y1].
+
+    Returns (z, converged, |F|/scale at z, evaluations). Fails if an iterate leaves the cell enlarged by its
+    own size on every side, or if the steps stop shrinking.
+    """
+    w = max(x1 - x0, y1 - y0)
+    z = z0
+    prev = math.inf
+    nev = 0
+    for _ in range(NEWTON_ITERS):
+        fv, dfv, sc = K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
+        nev += 1
+        if not (cmath.isfinite(fv) and cmath.isfinite(dfv)) or dfv == 0:
+            return z, False, math.inf, nev
+        if fv == 0:
+            return z, True, 0.0, nev
+        step = mult * fv / dfv
+        a = abs(step)
+        z = z - step
+        if z.real < x0 - w or z.real > x1 + w or z.imag < y0 - w or z.imag > y1 + w or z.imag <= 0.0:
+            return z, False, math.inf, nev
+        noise = 8.0 * K.EPS * sc / abs(dfv) * mult
+        if a <= max(2.0 * K.EPS * abs(z), noise) or (a < 1e-6 * abs(z) and a * a <= 1e-3 * K.EPS * abs(z) * prev):
+            fv, dfv, sc = K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
+            nev += 1
+            return z, True, abs(fv) / sc, nev
+        if a > 0.9 * prev and a > 1e3 * noise:
+            return z, False, math.inf, nev
+        prev = a
+    return z, False, math.inf, nev
+
+
+# ------------------------------------------------------------------------------------------------
+# lines (sampled edges) and cells
+# ------------------------------------------------------------------------------------------------
+
+
+class _RootOnLine(Exception):
+    """A root lies on (or within h_min of) a line that was being sampled."""
+
+    def __init__(self, t: float):
+        super().__init__(t)
+        self.t = t
+
+
+class _Line:
+    """A sampled horizontal (z = t + i c) or vertical (z = c + i t) line with cumulative log-increments."""
+
+    __slots__ = ("c", "horizontal", "t", "F", "L", "C", "M")
+
+    def __init__(self, c: float, horizontal: bool, t: np.ndarray, F: np.ndarray, L: np.ndarray):
+        self.c = c
+        self.horizontal = horizontal
+        self.t = t
+        self.F = F
+        self.L = L
+        self._cumulate()
+
+    def _cumulate(self) -> None:
+        z = self.t + 1j * self.c if self.horizontal else self.c + 1j * self.t
+        self.C = np.concatenate(([0j], np.cumsum(self.L)))
+        self.M = np.concatenate(([0j], np.cumsum(0.5 * (z[1:] + z[:-1]) * self.L)))
+
+    def index(self, t: float) -> int:
+        i = int(np.searchsorted(self.t, t))
+        if i >= self.t.size or self.t[i] != t:
+            raise AssertionError("internal error: cell corner is not a node of its edge")
+        return i
+
+    def piece(self, t0: float, t1: float) -> tuple[complex, complex]:
+        """(increment of log F, integral of z dlog F) from t0 to t1 (both nodes)."""
+        i0, i1 = self.index(t0), self.index(t1)
+        return self.C[i1] - self.C[i0], self.M[i1] - self.M[i0]
+
+
+class _Problem:
+    """One parameter set: line sampling with graded seeds, counting and locating (see module docstring)."""
+
+    def __init__(self, q, gamma, f, beta, eta, delta, xi, re_max, im_min, im_max):
+        self.par = (q, gamma, f, beta, eta, delta, xi)
+        self.re_max = re_max
+        self.im_min = im_min
+        self.im_max = im_max
+        self.size = max(2.0 * re_max, im_max - im_min)
+        self.evaluations = 0
+        self._poles = self._real_axis_singularities()
+
+    # -- seeds -----------------------------------------------------------------------------------
+    def _real_axis_singularities(self) -> np.ndarray:
+        """Real-axis poles / branch points of F with |x| <= re_max + 1 (PHYSICS.md section 2), if not too dense.
+
+        The spacing of the finite-eta pole families only tends to a = pi / ((1+eta) kH) from below; families
+        denser than the smallest height a line can have (IM_FLOOR) or with too many members are omitted.
+        """
+        q, _, _, beta, eta, _, _ = self.par
+        xmax = self.re_max + 1.0
+        base = [1.0, 1.0 / beta]
+        pts = list(base)
+        if math.isfinite(eta):
+            a = math.pi / ((1.0 + eta) * q)
+            for scale in (1.0, 1.0 / beta):
+                if scale > xmax:
+                    continue
+                nmax = math.sqrt(max((xmax / scale) ** 2 - 1.0, 0.0)) / a
+                if nmax > MAX_LADDER_POLES:
+                    continue
+                n = np.arange(1, int(nmax) + 1, dtype=_FLOAT)
+                pts.extend((scale * np.sqrt(1.0 + (n * a) ** 2)).tolist())
+        x = np.array(sorted(set(pts)), dtype=_FLOAT)
+        x = x[x <= xmax]
+        return np.concatenate((-x[::-1], x))
+
+    def _h_seeds(self, x0: float, x1: float, y: float) -> np.ndarray:
+        """Initial nodes of a horizontal line at height y: uniform plus ladders y 3^k around isolated poles."""
+        n = max(2, math.ceil((x1 - x0) / H0))
+        parts = [np.linspace(x0, x1, n + 1)]
+        p = self._poles
+        if y < H0 and p.size:
+            gaps = np.diff(p)
+            half = 0.5 * np.minimum(np.concatenate(([np.inf], gaps)), np.concatenate((gaps, [np.inf])))
+            half = np.minimum(half, H0)
+            keep = (half > 2.0 * y) & (p > x0 - half) & (p < x1 + half)
+            if np.any(keep):
+                pk, hk = p[keep], half[keep]
+                kmax = int(math.ceil(math.log(H0 / y) / math.log(3.0)))
+                offs = y * 3.0 ** np.arange(0, kmax + 1)
+                lad = np.concatenate((np.zeros((pk.size, 1)), np.where(offs < hk[:, None], offs, np.nan)), axis=1)
+                cand = np.concatenate(((pk[:, None] + lad).ravel(), (pk[:, None] - lad).ravel()))
+                parts.append(cand[np.isfinite(cand)])
+        t = np.unique(np.concatenate(parts))
+        return t[(t >= x0) & (t <= x1)]
+
+    @staticmethod
+    def _v_seeds(y0: float, y1: float) -> np.ndarray:
+        """Initial nodes of a vertical line: geometric (ratio 3) from the distance y0 to the axis, then uniform."""
+        parts = [np.linspace(y0, y1, max(2, math.ceil((y1 - y0) / H0)) + 1)]
+        if y0 < H0:
+            kmax = int(math.ceil(math.log(H0 / y0) / math.log(3.0)))
+            parts.append(y0 * 3.0 ** np.arange(0, kmax + 1))
+        t = np.unique(np.concatenate(parts))
+        return t[(t >= y0) & (t <= y1)]
+
+    # -- sampling ------------------------------------------------------------------------------
+    def _h_min(self, dist_axis: float) -> float:
+        return min(REL_HMIN * self.size, AXIS_HMIN * dist_axis)
+
+    def sample(self, c: float, horizontal: bool, t0: float, t1: float) -> _Line:
+        if horizontal:
+            ts, hmin = self._h_seeds(t0, t1, c), self._h_min(c)
+        else:
+            ts, hmin = self._v_seeds(t0, t1), self._h_min(t0)
+        t, F, L, status, tbad, nev = _sample_line(ts, c, horizontal, *self.par, hmin)
+        self.evaluations += nev
+        if status == 1:
+            raise _RootOnLine(tbad)
+        if status == 2:
+            raise RuntimeError(f"unstable_modes: more than {CAP} samples needed on one line")
+        if status == 3:
+            raise RuntimeError(f"unstable_modes: F is not finite at {_point(tbad, c, horizontal)}")
+        return _Line(c, horizontal, t, F, L)
+
+    def insert(self, line: _Line, t: float) -> None:
+        """Make t a node of `line` (the segment holding it was accepted, so its sub-increments are principal)."""
+        i = int(np.searchsorted(line.t, t))
+        if i < line.t.size and line.t[i] == t:
+            return
+        if i == 0 or i == line.t.size:
+            raise AssertionError("internal error: inserted node outside its line")
+        z = _point(t, line.c, line.horizontal)
+        fv, _, sc = _eval1(z, *self.par)
+        self.evaluations += 1
+        if not cmath.isfinite(fv) or abs(fv) <= TINY * sc:
+            raise _RootOnLine(t)
+        l1 = cmath.log(fv / line.F[i - 1])
+        l2 = cmath.log(line.F[i] / fv)
+        if abs(l1 + l2 - line.L[i - 1]) > 1e-8:
+            raise _RootOnLine(t)
+        line.t = np.insert(line.t, i, t)
+        line.F = np.insert(line.F, i, fv)
+        line.L = np.concatenate((line.L[: i - 1], [l1, l2], line.L[i:]))
+        line._cumulate()
+
+    # -- counting ------------------------------------------------------------------------------
+    @staticmethod
+    def winding(cell: tuple) -> tuple[complex, complex]:
+        """(change of log F, closed integral of z dlog F) counterclockwise around a cell."""
+        x0, x1, y0, y1, bot, top, left, right = cell
+        lb, mb = bot.piece(x0, x1)
+        lr, mr = right.piece(y0, y1)
+        lt, mt = top.piece(x0, x1)
+        ll, ml = left.piece(y0, y1)
+        return lb + lr - lt - ll, mb + mr - mt - ml
+
+    @staticmethod
+    def count_of(dlog: complex) -> int:
+        w = dlog.imag / (2.0 * math.pi)
+        n = round(w)
+        if abs(w - n) > 1e-6:
+            raise RuntimeError(f"unstable_modes: winding number {w} is not an integer")
+        return int(n)
+
+    def outer(self) -> tuple[tuple, int]:
+        """Sample the window's boundary (moving an edge outward if a root lies on it); return (cell, count)."""
+        x0, x1 = -self.re_max, self.re_max
+        y0, y1 = max(self.im_min, IM_FLOOR), self.im_max
+        shifts = [0, 0, 0, 0]  # bottom, right, top, left
+        for _ in range(12):
+            edges = {}
+            try:
+                for k, (c, hor, t0, t1) in enumerate(((y0, True, x0, x1), (x1, False, y0, y1), (y1, True, x0, x1),
+                                                      (x0, False, y0, y1))):
+                    edges[k] = (c, hor, t0, t1)
+                    line = self.sample(c, hor, t0, t1)
+                    edges[k] = line
+                cell = (x0, x1, y0, y1, edges[0], edges[2], edges[3], edges[1])
+                dlog, _ = self.winding(cell)
+                return cell, self.count_of(dlog)
+            except _RootOnLine:
+                k = len(edges) - 1
+                shifts[k] += 1
+                if k == 0:
+                    step = SHIFT * self._h_min(y0) * 4.0 ** (shifts[0] - 1)
+                    y0 = y0 - step if y0 - step >= 0.5 * max(self.im_min, IM_FLOOR) else y0 + step
+                elif k == 2:
+                    y1 += SHIFT * self._h_min(y1) * 4.0 ** (shifts[2] - 1)
+                else:
+                    step = SHIFT * self._h_min(self.size) * 4.0 ** (shifts[k] - 1)
+                    if k == 1:
+                        x1 += step
+                    else:
+                        x0 -= step
+        raise RuntimeError("unstable_modes: could not place the window's edges away from roots")
+
+    # -- locating ------------------------------------------------------------------------------
+    def split(self, cell: tuple) -> tuple[tuple, tuple]:
+        """Split a cell in two by a new sampled line (retrying other positions if a root lies on it)."""
+        x0, x1, y0, y1, bot, top, left, right = cell
+        vertical = (x1 - x0) >= (y1 - y0) or (y1 - y0) < 1e-3 * (x1 - x0)
+        fracs = (0.5, 0.5 + 0.0917, 0.5 - 0.1231, 0.5 + 0.2143, 0.5 - 0.2569, 0.3333, 0.6667)
+        for fr in fracs:
+            try:
+                if vertical:
+                    xs = x0 + fr * (x1 - x0)
+                    if not x0 < xs < x1:
+                        break
+                    self.insert(bot, xs)
+                    self.insert(top, xs)
+                    mid = self.sample(xs, False, y0, y1)
+                    return (x0, xs, y0, y1, bot, top, left, mid), (xs, x1, y0, y1, bot, top, mid, right)
+                if y1 > 4.0 * y0:  # near the axis the structure is geometric in Im z
+                    ys = math.exp(math.log(y0) + fr * (math.log(y1) - math.log(y0)))
+                else:
+                    ys = y0 + fr * (y1 - y0)
+                if not y0 < ys < y1:
+                    break
+                self.insert(left, ys)
+                self.insert(right, ys)
+                mid = self.sample(ys, True, x0, x1)
+                return (x0, x1, y0, ys, bot, mid, left, right), (x0, x1, ys, y1, mid, top, left, right)
+            except _RootOnLine:
+                continue
+        raise RuntimeError(f"unstable_modes: could not split the cell [{x0}, {x1}] x [{y0}, {y1}] away from roots")
+
+    def locate(self, cell: tuple, n_total: int) -> np.ndarray:
+        stack = [(cell, n_total, None)]
+        roots: list[complex] = []
+        tiny = 1e-9 * self.size
+        while stack:
+            c, n, moment = stack.pop()
+            if n == 0:
+                continue
+            if n < 0:
+                raise RuntimeError("unstable_modes: negative root count in a cell (contour sampling failed)")
+            x0, x1, y0, y1 = c[:4]
+            small = max(x1 - x0, y1 - y0) < tiny
+            if n == 1 or small:
+                if moment is None:
+                    moment = self.winding(c)[1]
+                est = moment / (2j * math.pi) / n
+                centre = complex(0.5 * (x0 + x1), 0.5 * (y0 + y1))
+                starts = [est, centre] if (x0 <= est.real <= x1 and y0 <= est.imag <= y1) else [centre]
+                found = None
+                for s in starts:
+                    z, ok, res, nev = _newton_cell(s, x0, x1, y0, y1, float(n), *self.par)
+                    self.evaluations += nev
+                    if ok and res < RESID_MAX and x0 <= z.real <= x1 and y0 <= z.imag <= y1:
+                        found = z
+                        break
+                if found is not None:
+                    roots.extend([found] * n)
+                    continue
+                if small:
+                    raise RuntimeError(
+                        f"unstable_modes: {n} root(s) counted in a tiny cell near {centre} could not be located "
+                        f"(found {len(roots)} of {n_total} so far)"
+                    )
+            a, b = self.split(c)
+            da, ma = self.winding(a)
+            na = self.count_of(da)
+            db, mb = self.winding(b)
+            nb = self.count_of(db)
+            if na + nb != n:
+                raise RuntimeError(f"unstable_modes: split counts {na} + {nb} != {n} (contour sampling failed)")
+            stack.append((a, na, ma))
+            stack.append((b, nb, mb))
+        return np.array(roots, dtype=np.complex128)
+
+
+# ------------------------------------------------------------------------------------------------
+# public API
+# ------------------------------------------------------------------------------------------------
+
+
+def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max) -> _Problem:
+    if np.ndim(kH) != 0:
+        raise ValueError(f"kH must be a scalar here, in (0, inf); got an array of shape {np.shape(kH)}")
+    vals = [
+        float(check(name, v))
+        for name, v in (("kH", kH), ("gamma", gamma), ("f", f), ("beta", beta), ("eta", eta), ("Delta", Delta),
+                        ("xi", xi))
+    ]
+    win = []
+    for name, v in (("re_max", re_max), ("im_min", im_min), ("im_max", im_max)):
+        try:
+            x = float(v)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be a finite real number; got {v!r}") from None
+        if not math.isfinite(x) or isinstance(v, (complex, np.complexfloating, str)):
+            raise ValueError(f"{name} must be a finite real number; got {v!r}")
+        win.append(x)
+    re_m, im_lo, im_hi = win
+    if re_m <= 0:
+        raise ValueError(f"re_max must be > 0; got {re_m!r}")
+    if im_lo < 0:
+        raise ValueError(f"im_min must be >= 0; got {im_lo!r}")
+    if im_hi <= im_lo:
+        raise ValueError(f"im_max must be > im_min = {im_lo!r}; got {im_hi!r}")
+    return _Problem(*vals, re_m, im_lo, im_hi)
+
+
+def unstable_count(
+    kH,
+    *,
+    gamma,
+    f,
+    beta,
+    eta=math.inf,
+    Delta=1.0,
+    xi=0.0,
+    re_max: float = 5.0,
+    im_min: float = 1e-4,
+    im_max: float = 2.0,
+) -> int:
+    """Number of roots of F(z; kH) = 0 (Eq. implicit_spectrum with Eq. delta f RSF) in the closed window.
+
+    Certified by the argument principle, N = (1/2 pi i) closed-integral F'/F dz along the boundary of
+    [-re_max, re_max] x [im_min, im_max]; F has no poles in Im z > 0 (PHYSICS.md section 2), so no pole
+    correction is needed. The phase of F is tracked continuously with adaptive refinement (see the module
+    docstring for the acceptance criteria and the window semantics: roots on the boundary count).
+
+    Parameters
+    ----------
+    kH : float > 0 (a scalar; ValueError otherwise)
+    gamma, f, beta, eta, Delta, xi : physical parameters as in :func:`model.dispersion`
+    re_max : > 0, half-width of the window in Re z
+    im_min, im_max : 0 <= im_min < im_max, the window in Im z (im_min = 0 means Im z >= 1e-10)
+
+    Returns
+    -------
+    int, the number of unstable modes (with multiplicity) in the window.
+    """
+    prob = _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max)
+    return prob.outer()[1]
+
+
+def unstable_modes(
+    kH,
+    *,
+    gamma,
+    f,
+    beta,
+    eta=math.inf,
+    Delta=1.0,
+    xi=0.0,
+    re_max: float = 5.0,
+    im_min: float = 1e-4,
+    im_max: float = 2.0,
+) -> np.ndarray:
+    """Every root z = c/c_s of F(z; kH) = 0 (any branch) in the closed window, sorted by decreasing Im z.
+
+    F is Eq. implicit_spectrum with Eq. delta f RSF and the response functions of Eq. Gs_general. The window
+    is |Re z| <= re_max, im_min <= Im z <= im_max; roots on its boundary count (module docstring). The
+    number of roots returned always equals :func:`unstable_count` for the same arguments: the rectangle is
+    subdivided until each cell holds one root, which Newton's method (analytic F') polishes to
+    |F| / scale < 1e-12 inside its cell (relative accuracy ~1e-15, at worst 1e-10). A RuntimeError naming
+    the counts is raised if that cannot be achieved; a partial list is never returned.
+
+    Parameters
+    ----------
+    kH : float > 0 (a scalar; ValueError otherwise)
+    gamma, f, beta, eta, Delta, xi : physical parameters as in :func:`model.dispersion`
+    re_max : > 0, half-width of the window in Re z
+    im_min, im_max : 0 <= im_min < im_max, the window in Im z (im_min = 0 means Im z >= 1e-10)
+
+    Returns
+    -------
+    1-D complex ndarray (repeated entries for a multiple root).
+    """
+    prob = _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max)
+    return _modes(prob)[0]
+
+
+def _modes(prob: _Problem) -> tuple[np.ndarray, int]:
+    cell, n = prob.outer()
+    roots = prob.locate(cell, n) if n else np.empty(0, dtype=np.complex128)
+    if roots.size != n:
+        raise RuntimeError(f"unstable_modes: located {roots.size} roots but the argument principle counts {n}")
+    order = np.lexsort((roots.real, -roots.imag))
+    return roots[order], prob.evaluations
