@@ -343,10 +343,10 @@ INPUT = 4  # the parameters themselves were NaN
 S_TOP = math.log(1e4)
 H_MAX = 0.4  # largest continuation step in ln(kH)
 H_MIN = 1e-7
-PRED_TOL = 1e-4  # target predictor error per step, relative to _local_scale
-PRED_REJECT = 2e-3  # predictor error (relative to _local_scale) above which a step is rejected
+PRED_TOL = 1e-3  # target predictor error per step, relative to _local_scale
+PRED_REJECT = 1e-2  # predictor error (relative to _local_scale) above which a step is rejected
 THETA_MAX = 0.1  # largest first Newton contraction rate accepted (basin certificate, see _newton)
-MAX_NODES = 20000
+MAX_NODES = 8192
 
 
 @njit(cache=True)
@@ -450,20 +450,44 @@ def _local_scale(z):
     return max(min(abs(z), d), 1e-12)
 
 
-@njit(cache=True)
-def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, delta, xi, out_s, out_z):
+@njit(cache=True, inline="always")
+def _predict_log(ss, lz, n, s):
+    """exp of the Lagrange extrapolant in s of ln z through the last min(n, 3) nodes (ring buffer lz)."""
+    k = min(n, 3)
+    acc = 0j
+    for a in range(n - k, n):
+        la = 1.0
+        for b in range(n - k, n):
+            if b != a:
+                la *= (s - ss[b]) / (ss[a] - ss[b])
+        acc += la * lz[a % 3]
+    return cmath.exp(acc)
+
+
+@njit(cache=True, nogil=True)
+def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, delta, xi, out_s, out_z, targets):
     """Adaptive predictor-corrector continuation of one root in s from s0 towards s_stop.
 
     Nodes are written to out_s/out_z (node 0 = start); continues until `extra` nodes lie beyond
-    s_stop (or, if extra == 0, stops exactly at s_stop). The sequence of nodes depends only on the
-    start and the physical parameters, never on s_stop, except for where it is cut off.
+    s_stop (or, if extra == 0, stops exactly at s_stop). With an empty `targets` the sequence of
+    nodes depends only on the start and the physical parameters, never on s_stop, except for where
+    it is cut off. `targets` (in the direction of travel) are s values the path must land on
+    exactly (steps are shortened to hit them), for grid-following continuation.
     Returns (number of nodes, lost flag).
     """
     out_s[0] = s0
     out_z[0] = z0
+    lz = np.empty(3, dtype=np.complex128)  # unwrapped ln z of the last three nodes (ring buffer)
+    lz_ok = z0 != 0
+    if lz_ok:
+        lz[0] = cmath.log(z0)
     n = 1
     h = 0.05 if mode == 0 else 0.25
     beyond = 0
+    kt = 0
+    nt = targets.shape[0]
+    while kt < nt and direction * (targets[kt] - s0) <= 0.0:
+        kt += 1
     while True:
         s_cur = out_s[n - 1]
         if extra == 0:
@@ -480,22 +504,36 @@ def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, de
         while not accepted:
             if h_try < H_MIN:
                 return n, True
-            s_new = s_cur + direction * h_try
-            k = min(n, 3)
-            zp = _lagrange(out_s[n - k : n], out_z[n - k : n], s_new)
+            landing = kt < nt and h_try >= direction * (targets[kt] - s_cur)
+            if landing:
+                h_try = direction * (targets[kt] - s_cur)
+                s_new = targets[kt]
+            else:
+                s_new = s_cur + direction * h_try
+            zp = _predict_log(out_s, lz, n, s_new) if lz_ok else _lagrange(out_s[max(0, n - 3) : n],
+                                                                             out_z[max(0, n - 3) : n], s_new)
             z, ok, its, _, _, _, theta = _newton(zp, s_new, mode, q, gamma, f, beta, eta, delta, xi, 6)
             err = abs(z - zp) / _local_scale(z)
             if ok and its <= 5 and err <= PRED_REJECT and theta <= THETA_MAX:
                 accepted = True
                 out_s[n] = s_new
                 out_z[n] = z
+                if z == 0:
+                    lz_ok = False
+                else:
+                    lnew = cmath.log(z)
+                    kk = math.floor((lnew.imag - lz[(n - 1) % 3].imag) / (2.0 * math.pi) + 0.5)
+                    lz[n % 3] = complex(lnew.real, lnew.imag - 2.0 * math.pi * kk)
                 n += 1
+                if landing:
+                    kt += 1
                 if extra > 0 and direction * (s_new - s_stop) > 0.0:
                     beyond += 1
                 # step-size control (third-order predictor error once 3 nodes exist)
                 fac = 2.0 if err == 0.0 else 0.9 * (PRED_TOL / err) ** (1.0 / 3.0)
                 fac = min(2.0, max(0.5, fac))
-                h = min(H_MAX if mode == 0 else 1.0, h_try * fac)
+                if not (landing and fac >= 1.0):  # a step shortened to land on a target keeps h
+                    h = min(H_MAX if mode == 0 else 1.0, h_try * fac)
             else:
                 h_try *= 0.5
                 h = h_try
@@ -513,20 +551,22 @@ def rayleigh_start(z_r, gamma, f, beta, eta, delta, xi):
         return z, False
     if g_hi == math.log(gamma):
         return z, True
-    n, lost = _continue(z, g_hi, math.log(gamma), 0, -1.0, 1, q, gamma, f, beta, eta, delta, xi, work_s, work_z)
+    n, lost = _continue(z, g_hi, math.log(gamma), 0, -1.0, 1, q, gamma, f, beta, eta, delta, xi, work_s, work_z,
+                        np.empty(0))
     if lost:
         return work_z[n - 1], False
     return work_z[n - 1], True
 
 
 @njit(cache=True, nogil=True)
-def build_path(s_lo, s_hi, z_r, gamma, f, beta, eta, delta, xi):
+def build_path(s_lo, s_hi, z_r, gamma, f, beta, eta, delta, xi, grid):
     """Rayleigh-branch path nodes covering [s_lo, s_hi] (s = ln kH), ascending in s.
 
     Start at ln 1e4 (see rayleigh_start), continue down to two nodes below min(s_lo, ln 1e4) and up to
     two nodes above max(s_hi, ln 1e4). The node sequence depends only on the physical parameters;
     s_lo/s_hi only decide where it is cut off. Returns (ns, nz, lnz, nn, has_zero, code) with code
     OK, START (no starting root) or INPUT (NaN parameter); lnz = unwrapped ln z of the nodes.
+    `grid` (ascending, may be empty) are s values the path must land on exactly (see _continue).
     """
     ns = np.empty(1)
     nz = np.empty(1, dtype=np.complex128)
@@ -540,8 +580,9 @@ def build_path(s_lo, s_hi, z_r, gamma, f, beta, eta, delta, xi):
     dn_z = np.empty(MAX_NODES, dtype=np.complex128)
     up_s = np.empty(MAX_NODES)
     up_z = np.empty(MAX_NODES, dtype=np.complex128)
-    nd, _ = _continue(z0, S_TOP, min(s_lo, S_TOP), 2, -1.0, 0, 1.0, gamma, f, beta, eta, delta, xi, dn_s, dn_z)
-    nu, _ = _continue(z0, S_TOP, max(s_hi, S_TOP), 2, 1.0, 0, 1.0, gamma, f, beta, eta, delta, xi, up_s, up_z)
+    down = grid[::-1].copy()
+    nd, _ = _continue(z0, S_TOP, min(s_lo, S_TOP), 2, -1.0, 0, 1.0, gamma, f, beta, eta, delta, xi, dn_s, dn_z, down)
+    nu, _ = _continue(z0, S_TOP, max(s_hi, S_TOP), 2, 1.0, 0, 1.0, gamma, f, beta, eta, delta, xi, up_s, up_z, grid)
     nn = nd + nu - 1
     ns = np.empty(nn)
     nz = np.empty(nn, dtype=np.complex128)
@@ -588,7 +629,8 @@ def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, z_out, status, resi
     m = s_req.shape[0]
     if m == 0:
         return
-    ns, nz, lnz, nn, has_zero, code = build_path(s_req.min(), s_req.max(), z_r, gamma, f, beta, eta, delta, xi)
+    ns, nz, lnz, nn, has_zero, code = build_path(s_req.min(), s_req.max(), z_r, gamma, f, beta, eta, delta, xi,
+                                                 np.empty(0))
     for i in range(m):
         if code != OK:
             z_out[i] = complex(math.nan, math.nan)
@@ -611,7 +653,11 @@ def _im_at(s, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi):
 
 @njit(cache=True, nogil=True)
 def _crossing(a, fa, b, fb, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi):
-    """s in [a, b] where Im z(s) = 0 (fa, fb of opposite signs): Illinois false position to 1e-13."""
+    """s in [a, b] where Im z(s) = 0: Illinois false position to 1e-13 (end values re-evaluated exactly)."""
+    fa = _im_at(a, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+    fb = _im_at(b, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+    if math.isnan(fa) or math.isnan(fb) or (fa > 0.0) == (fb > 0.0):
+        return math.nan
     for _ in range(200):
         if abs(b - a) <= 1e-13 * max(1.0, abs(a)):
             break
@@ -640,14 +686,25 @@ def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi):
     the growth is not positive).
     """
     m = s_grid.shape[0]
-    ns, nz, lnz, nn, has_zero, code = build_path(s_grid[0], s_grid[m - 1], z_r, gamma, f, beta, eta, delta, xi)
+    ns, nz, lnz, nn, has_zero, code = build_path(s_grid[0], s_grid[m - 1], z_r, gamma, f, beta, eta, delta, xi,
+                                                 np.empty(0))
     if code != OK:
         return math.nan, math.nan, math.nan, math.nan, m
+    # Im z on the grid from the path interpolant (relative error ~1e-8): it only brackets the maximum
+    # and the band ends, which are then computed from converged roots (solve_at)
     im = np.empty(m)
     n_masked = 0
     best = -1
     for i in range(m):
-        im[i] = _im_at(s_grid[i], ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+        si = s_grid[i]
+        if nn == 0 or si < ns[0] or si > ns[nn - 1]:
+            im[i] = math.nan
+        else:
+            j = np.searchsorted(ns, si, side="right") - 1
+            lo_ = max(0, j - 1)
+            hi_ = min(nn, j + 3)
+            zp = _lagrange(ns[lo_:hi_], nz[lo_:hi_], si) if has_zero else _lagrange_log(ns[lo_:hi_], lnz[lo_:hi_], si)
+            im[i] = zp.imag
         if math.isnan(im[i]):
             n_masked += 1
         elif best < 0 or im[i] > im[best]:
@@ -658,7 +715,9 @@ def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi):
     a = s_grid[best - 1] if best > 0 and not math.isnan(im[best - 1]) else s_grid[best]
     b = s_grid[best + 1] if best < m - 1 and not math.isnan(im[best + 1]) else s_grid[best]
     s_max = s_grid[best]
-    g_max = im[best]
+    g_max = _im_at(s_max, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+    if math.isnan(g_max):
+        return math.nan, math.nan, math.nan, math.nan, n_masked
     if b > a:
         x1 = a + GOLDEN * (b - a)
         x2 = b - GOLDEN * (b - a)

@@ -61,11 +61,12 @@ from ._validate import check
 
 __all__ = ["unstable_count", "unstable_modes"]
 
-PHASE_MAX = math.pi / 4  # largest accepted |arg(F_b / F_a)| between neighbouring samples
-LOGMOD_MAX = math.log(3.0)  # largest accepted |ln|F_b / F_a||
-TRAP_TOL = 0.1  # largest accepted |Log(F_b/F_a) - trapezoid of F'/F|
-LIN_TOL = 0.5  # largest accepted relative error of the linear (F') prediction across a segment
+PHASE_MAX = math.pi / 3  # largest accepted |arg(F_b / F_a)| between neighbouring samples
+LOGMOD_MAX = math.log(4.0)  # largest accepted |ln|F_b / F_a||
+TRAP_TOL = 0.3  # largest accepted |Log(F_b/F_a) - trapezoid of F'/F|
+LIN_TOL = 0.7  # largest accepted relative error of the linear (F') prediction across a segment
 H0 = 0.1  # initial sample spacing along lines
+LADDER = 3.0  # ratio of the graded initial nodes around real-axis poles
 IM_FLOOR = 1e-10  # the bottom edge never goes below this (im_min = 0)
 TINY = 1e-13  # |F| / scale below which a sample is taken to be a root on the line
 REL_HMIN = 1e-11  # smallest segment, relative to the window size ...
@@ -85,17 +86,17 @@ _FLOAT = np.float64
 
 
 @njit(cache=True)
-def _seg_ok(za: complex, fa: complex, dfa: complex, zb: complex, fb: complex, dfb: complex) -> tuple[bool, complex]:
+def _seg_ok(za, fa, dfa, zb, fb, dfb, tol_phase, tol_trap, tol_lin):
     """Accept the segment [za, zb] (criteria in the module docstring) and return Log(F_b / F_a)."""
     lg = cmath.log(fb / fa)
-    if abs(lg.imag) > PHASE_MAX or abs(lg.real) > LOGMOD_MAX:
+    if abs(lg.imag) > tol_phase or abs(lg.real) > LOGMOD_MAX:
         return False, lg
     h = zb - za
     trap = 0.5 * h * (dfa / fa + dfb / fb)
-    if abs(trap - lg) > TRAP_TOL:
+    if abs(trap - lg) > tol_trap:
         return False, lg
     big = max(abs(fa), abs(fb))
-    if abs(fa + h * dfa - fb) > LIN_TOL * big or abs(fb - h * dfb - fa) > LIN_TOL * big:
+    if abs(fa + h * dfa - fb) > tol_lin * big or abs(fb - h * dfb - fa) > tol_lin * big:
         return False, lg
     return True, lg
 
@@ -106,13 +107,60 @@ def _point(t: float, c: float, horizontal: bool) -> complex:
 
 
 @njit(cache=True)
-def _sample_line(ts, c, horizontal, q, gamma, f, beta, eta, delta, xi, h_min):
-    """Adaptively sample F along the line z = t + i c (horizontal) or z = c + i t, t from ts[0] to ts[-1].
+def _seeds(t0, t1, h0, geo0, lad_y, poles, half):
+    """Initial nodes on [t0, t1]: spacing <= h0; plus geo0 3^k (k >= 0) if geo0 > 0 (grading towards the
+    real axis along a vertical line); plus p +- lad_y 3^k around each pole p with ladder half-width
+    half > 2 lad_y if lad_y > 0 (a horizontal line at height lad_y). Sorted, unique, both ends included."""
+    n = max(2, int(math.ceil((t1 - t0) / h0)))
+    extra = 0
+    kmax = 0
+    if geo0 > 0.0 and geo0 < h0:
+        kmax = int(math.ceil(math.log(h0 / geo0) / math.log(3.0)))
+        extra += kmax + 1
+    lmax = 0
+    if lad_y > 0.0 and lad_y < h0:
+        lmax = int(math.ceil(math.log(h0 / lad_y) / math.log(LADDER)))
+        for j in range(poles.shape[0]):
+            if half[j] > lad_y and poles[j] > t0 - half[j] and poles[j] < t1 + half[j]:
+                extra += 2 * lmax + 3
+    buf = np.empty(n + 1 + extra)
+    m = 0
+    for k in range(n + 1):
+        buf[m] = t0 + (t1 - t0) * k / n
+        m += 1
+    buf[n] = t1
+    if geo0 > 0.0 and geo0 < h0:
+        for k in range(kmax + 1):
+            buf[m] = geo0 * 3.0**k
+            m += 1
+    if lad_y > 0.0 and lad_y < h0:
+        for j in range(poles.shape[0]):
+            p = poles[j]
+            if half[j] > lad_y and p > t0 - half[j] and p < t1 + half[j]:
+                buf[m] = p
+                m += 1
+                for k in range(lmax + 1):
+                    o = lad_y * LADDER**k
+                    if o < half[j]:
+                        buf[m] = p + o
+                        buf[m + 1] = p - o
+                        m += 2
+    u = np.unique(buf[:m])
+    lo = np.searchsorted(u, t0)
+    hi = np.searchsorted(u, t1, side="right")
+    return u[lo:hi]
 
-    ts: sorted initial parameters (both ends included). Returns (t, F, L, status, t_bad, evaluations):
-    nodes t (sorted), F at the nodes, L[j] = Log(F[j+1]/F[j]) for accepted segments; status 0 = ok,
-    1 = a root on (or within h_min of) the line near t_bad, 2 = too many samples, 3 = F not finite.
+
+@njit(cache=True)
+def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta, eta, delta, xi, h_min,
+                 tol_phase, tol_trap, tol_lin):
+    """Adaptively sample F along the line z = t + i c (horizontal) or z = c + i t (vertical), t0 <= t <= t1.
+
+    The initial nodes are :func:`_seeds`. Returns (t, F, L, status, t_bad, evaluations): nodes t (sorted),
+    F at the nodes, L[j] = Log(F[j+1]/F[j]) of the accepted segments; status 0 = ok, 1 = a root on (or
+    within h_min of) the line near t_bad, 2 = too many samples, 3 = F not finite at t_bad.
     """
+    ts = _seeds(t0, t1, h0, geo0, lad_y, poles, half)
     n0 = ts.shape[0]
     st_t = np.empty(n0 + 4096)
     st_f = np.empty(n0 + 4096, dtype=np.complex128)
@@ -135,7 +183,7 @@ def _sample_line(ts, c, horizontal, q, gamma, f, beta, eta, delta, xi, h_min):
         st_f[sp] = fv
         st_d[sp] = dfv
         sp += 1
-    # current node = bottom of the list (ts[0])
+    # the current node is the leftmost one (ts[0])
     sp -= 1
     ta = st_t[sp]
     fa = st_f[sp]
@@ -149,7 +197,7 @@ def _sample_line(ts, c, horizontal, q, gamma, f, beta, eta, delta, xi, h_min):
         fb = st_f[sp - 1]
         db = st_d[sp - 1]
         zb = _point(tb, c, horizontal)
-        ok, lg = _seg_ok(za, fa, da, zb, fb, db)
+        ok, lg = _seg_ok(za, fa, da, zb, fb, db, tol_phase, tol_trap, tol_lin)
         if ok:
             if n >= out_t.shape[0]:
                 if n >= CAP:
@@ -240,15 +288,16 @@ def _newton_cell(z0, x0, x1, y0, y1, mult, q, gamma, f, beta, eta, delta, xi):
 class _RootOnLine(Exception):
     """A root lies on (or within h_min of) a line that was being sampled."""
 
-    def __init__(self, t: float):
-        super().__init__(t)
-        self.t = t
-
 
 class _Line:
-    """A sampled horizontal (z = t + i c) or vertical (z = c + i t) line with cumulative log-increments."""
+    """A sampled horizontal (z = t + i c) or vertical (z = c + i t) line with cumulative log-increments.
 
-    __slots__ = ("c", "horizontal", "t", "F", "L", "C", "M")
+    C[i] = log F(t_i) - log F(t_0) (continuous branch), M[i] = integral of z dlog F from t_0 to t_i (midpoint
+    rule in the log measure, for root estimates). `extra` holds the same values at cell corners that are not
+    nodes (added by :meth:`_Problem.corner`).
+    """
+
+    __slots__ = ("c", "horizontal", "t", "F", "L", "C", "M", "extra")
 
     def __init__(self, c: float, horizontal: bool, t: np.ndarray, F: np.ndarray, L: np.ndarray):
         self.c = c
@@ -256,131 +305,107 @@ class _Line:
         self.t = t
         self.F = F
         self.L = L
-        self._cumulate()
+        z = t + 1j * c if horizontal else c + 1j * t
+        self.C = np.concatenate(([0j], np.cumsum(L)))
+        self.M = np.concatenate(([0j], np.cumsum(0.5 * (z[1:] + z[:-1]) * L)))
+        self.extra: dict[float, tuple[complex, complex]] = {}
 
-    def _cumulate(self) -> None:
-        z = self.t + 1j * self.c if self.horizontal else self.c + 1j * self.t
-        self.C = np.concatenate(([0j], np.cumsum(self.L)))
-        self.M = np.concatenate(([0j], np.cumsum(0.5 * (z[1:] + z[:-1]) * self.L)))
-
-    def index(self, t: float) -> int:
+    def value(self, t: float) -> tuple[complex, complex]:
+        hit = self.extra.get(t)
+        if hit is not None:
+            return hit
         i = int(np.searchsorted(self.t, t))
         if i >= self.t.size or self.t[i] != t:
             raise AssertionError("internal error: cell corner is not a node of its edge")
-        return i
+        return self.C[i], self.M[i]
 
     def piece(self, t0: float, t1: float) -> tuple[complex, complex]:
-        """(increment of log F, integral of z dlog F) from t0 to t1 (both nodes)."""
-        i0, i1 = self.index(t0), self.index(t1)
-        return self.C[i1] - self.C[i0], self.M[i1] - self.M[i0]
+        """(increment of log F, integral of z dlog F) from t0 to t1 (nodes or corners)."""
+        c0, m0 = self.value(t0)
+        c1, m1 = self.value(t1)
+        return c1 - c0, m1 - m0
 
 
 class _Problem:
     """One parameter set: line sampling with graded seeds, counting and locating (see module docstring)."""
 
-    def __init__(self, q, gamma, f, beta, eta, delta, xi, re_max, im_min, im_max):
+    def __init__(self, q, gamma, f, beta, eta, delta, xi, re_max, im_min, im_max, strict=False):
         self.par = (q, gamma, f, beta, eta, delta, xi)
         self.re_max = re_max
         self.im_min = im_min
         self.im_max = im_max
         self.size = max(2.0 * re_max, im_max - im_min)
         self.evaluations = 0
-        self._poles = self._real_axis_singularities()
+        # strict: a much finer, slower sampling used as a reference in the tests
+        self.tols = (PHASE_MAX / 4, TRAP_TOL / 10, LIN_TOL / 10) if strict else (PHASE_MAX, TRAP_TOL, LIN_TOL)
+        self.h0 = H0 / 10 if strict else H0
+        self.poles, self.half = self._real_axis_singularities()
 
-    # -- seeds -----------------------------------------------------------------------------------
-    def _real_axis_singularities(self) -> np.ndarray:
-        """Real-axis poles / branch points of F with |x| <= re_max + 1 (PHYSICS.md section 2), if not too dense.
+    def _real_axis_singularities(self) -> tuple[np.ndarray, np.ndarray]:
+        """Real-axis poles / branch points of F with |x| <= re_max + 1 (PHYSICS.md section 2) and the
+        half-distance to their neighbours (capped at H0): where the initial nodes of low lines are graded.
 
-        The spacing of the finite-eta pole families only tends to a = pi / ((1+eta) kH) from below; families
-        denser than the smallest height a line can have (IM_FLOOR) or with too many members are omitted.
+        The spacing of a finite-eta pole family tends to a = pi / ((1+eta) kH) from below; a family with more
+        than MAX_LADDER_POLES members in range is left to the adaptive refinement alone.
         """
         q, _, _, beta, eta, _, _ = self.par
         xmax = self.re_max + 1.0
-        base = [1.0, 1.0 / beta]
-        pts = list(base)
+        pts = [1.0, 1.0 / beta]
         if math.isfinite(eta):
             a = math.pi / ((1.0 + eta) * q)
             for scale in (1.0, 1.0 / beta):
-                if scale > xmax:
-                    continue
                 nmax = math.sqrt(max((xmax / scale) ** 2 - 1.0, 0.0)) / a
                 if nmax > MAX_LADDER_POLES:
                     continue
                 n = np.arange(1, int(nmax) + 1, dtype=_FLOAT)
                 pts.extend((scale * np.sqrt(1.0 + (n * a) ** 2)).tolist())
-        x = np.array(sorted(set(pts)), dtype=_FLOAT)
+        x = np.unique(np.array(pts, dtype=_FLOAT))
         x = x[x <= xmax]
-        return np.concatenate((-x[::-1], x))
-
-    def _h_seeds(self, x0: float, x1: float, y: float) -> np.ndarray:
-        """Initial nodes of a horizontal line at height y: uniform plus ladders y 3^k around isolated poles."""
-        n = max(2, math.ceil((x1 - x0) / H0))
-        parts = [np.linspace(x0, x1, n + 1)]
-        p = self._poles
-        if y < H0 and p.size:
-            gaps = np.diff(p)
-            half = 0.5 * np.minimum(np.concatenate(([np.inf], gaps)), np.concatenate((gaps, [np.inf])))
-            half = np.minimum(half, H0)
-            keep = (half > 2.0 * y) & (p > x0 - half) & (p < x1 + half)
-            if np.any(keep):
-                pk, hk = p[keep], half[keep]
-                kmax = int(math.ceil(math.log(H0 / y) / math.log(3.0)))
-                offs = y * 3.0 ** np.arange(0, kmax + 1)
-                lad = np.concatenate((np.zeros((pk.size, 1)), np.where(offs < hk[:, None], offs, np.nan)), axis=1)
-                cand = np.concatenate(((pk[:, None] + lad).ravel(), (pk[:, None] - lad).ravel()))
-                parts.append(cand[np.isfinite(cand)])
-        t = np.unique(np.concatenate(parts))
-        return t[(t >= x0) & (t <= x1)]
-
-    @staticmethod
-    def _v_seeds(y0: float, y1: float) -> np.ndarray:
-        """Initial nodes of a vertical line: geometric (ratio 3) from the distance y0 to the axis, then uniform."""
-        parts = [np.linspace(y0, y1, max(2, math.ceil((y1 - y0) / H0)) + 1)]
-        if y0 < H0:
-            kmax = int(math.ceil(math.log(H0 / y0) / math.log(3.0)))
-            parts.append(y0 * 3.0 ** np.arange(0, kmax + 1))
-        t = np.unique(np.concatenate(parts))
-        return t[(t >= y0) & (t <= y1)]
+        p = np.concatenate((-x[::-1], x))
+        gaps = np.diff(p)
+        half = 0.5 * np.maximum(np.concatenate(([0.0], gaps)), np.concatenate((gaps, [0.0])))
+        return p, np.minimum(half, self.h0)
 
     # -- sampling ------------------------------------------------------------------------------
     def _h_min(self, dist_axis: float) -> float:
         return min(REL_HMIN * self.size, AXIS_HMIN * dist_axis)
 
     def sample(self, c: float, horizontal: bool, t0: float, t1: float) -> _Line:
+        """Sample a line; raise _RootOnLine if a root lies on it."""
         if horizontal:
-            ts, hmin = self._h_seeds(t0, t1, c), self._h_min(c)
+            geo0, lad_y, hmin = 0.0, c, self._h_min(c)
         else:
-            ts, hmin = self._v_seeds(t0, t1), self._h_min(t0)
-        t, F, L, status, tbad, nev = _sample_line(ts, c, horizontal, *self.par, hmin)
+            geo0, lad_y, hmin = t0, 0.0, self._h_min(t0)
+        t, F, L, status, tbad, nev = _sample_line(
+            t0, t1, c, horizontal, self.h0, geo0, lad_y, self.poles, self.half, *self.par, hmin, *self.tols
+        )
         self.evaluations += nev
         if status == 1:
             raise _RootOnLine(tbad)
         if status == 2:
             raise RuntimeError(f"unstable_modes: more than {CAP} samples needed on one line")
         if status == 3:
-            raise RuntimeError(f"unstable_modes: F is not finite at {_point(tbad, c, horizontal)}")
+            raise RuntimeError(f"unstable_modes: F is not finite at z = {_point(tbad, c, horizontal)}")
         return _Line(c, horizontal, t, F, L)
 
-    def insert(self, line: _Line, t: float) -> None:
-        """Make t a node of `line` (the segment holding it was accepted, so its sub-increments are principal)."""
+    @staticmethod
+    def corner(line: _Line, t: float, fv: complex) -> None:
+        """Register the point t (where F = fv, known from the crossing line) as a corner on `line`.
+
+        The segment holding t was accepted, so its two parts have principal log-increments summing to it.
+        """
         i = int(np.searchsorted(line.t, t))
         if i < line.t.size and line.t[i] == t:
             return
         if i == 0 or i == line.t.size:
-            raise AssertionError("internal error: inserted node outside its line")
-        z = _point(t, line.c, line.horizontal)
-        fv, _, sc = _eval1(z, *self.par)
-        self.evaluations += 1
-        if not cmath.isfinite(fv) or abs(fv) <= TINY * sc:
-            raise _RootOnLine(t)
+            raise AssertionError("internal error: corner outside its line")
         l1 = cmath.log(fv / line.F[i - 1])
         l2 = cmath.log(line.F[i] / fv)
         if abs(l1 + l2 - line.L[i - 1]) > 1e-8:
             raise _RootOnLine(t)
-        line.t = np.insert(line.t, i, t)
-        line.F = np.insert(line.F, i, fv)
-        line.L = np.concatenate((line.L[: i - 1], [l1, l2], line.L[i:]))
-        line._cumulate()
+        z0 = _point(line.t[i - 1], line.c, line.horizontal)
+        z1 = _point(t, line.c, line.horizontal)
+        line.extra[t] = (line.C[i - 1] + l1, line.M[i - 1] + 0.5 * (z0 + z1) * l1)
 
     # -- counting ------------------------------------------------------------------------------
     @staticmethod
@@ -395,6 +420,7 @@ class _Problem:
 
     @staticmethod
     def count_of(dlog: complex) -> int:
+        """The winding number (must be within 1e-6 of an integer)."""
         w = dlog.imag / (2.0 * math.pi)
         n = round(w)
         if abs(w - n) > 1e-6:
@@ -406,48 +432,45 @@ class _Problem:
         x0, x1 = -self.re_max, self.re_max
         y0, y1 = max(self.im_min, IM_FLOOR), self.im_max
         shifts = [0, 0, 0, 0]  # bottom, right, top, left
-        for _ in range(12):
-            edges = {}
+        for _ in range(16):
+            specs = ((y0, True, x0, x1), (x1, False, y0, y1), (y1, True, x0, x1), (x0, False, y0, y1))
+            lines = []
             try:
-                for k, (c, hor, t0, t1) in enumerate(((y0, True, x0, x1), (x1, False, y0, y1), (y1, True, x0, x1),
-                                                      (x0, False, y0, y1))):
-                    edges[k] = (c, hor, t0, t1)
-                    line = self.sample(c, hor, t0, t1)
-                    edges[k] = line
-                cell = (x0, x1, y0, y1, edges[0], edges[2], edges[3], edges[1])
-                dlog, _ = self.winding(cell)
-                return cell, self.count_of(dlog)
+                for c, hor, t0, t1 in specs:
+                    lines.append(self.sample(c, hor, t0, t1))
             except _RootOnLine:
-                k = len(edges) - 1
+                k = len(lines)  # the edge that holds a root moves outward
                 shifts[k] += 1
+                grow = SHIFT * 4.0 ** (shifts[k] - 1)
                 if k == 0:
-                    step = SHIFT * self._h_min(y0) * 4.0 ** (shifts[0] - 1)
+                    step = grow * self._h_min(y0)
                     y0 = y0 - step if y0 - step >= 0.5 * max(self.im_min, IM_FLOOR) else y0 + step
+                elif k == 1:
+                    x1 += grow * self._h_min(self.size)
                 elif k == 2:
-                    y1 += SHIFT * self._h_min(y1) * 4.0 ** (shifts[2] - 1)
+                    y1 += grow * self._h_min(y1)
                 else:
-                    step = SHIFT * self._h_min(self.size) * 4.0 ** (shifts[k] - 1)
-                    if k == 1:
-                        x1 += step
-                    else:
-                        x0 -= step
+                    x0 -= grow * self._h_min(self.size)
+                continue
+            bot, right, top, left = lines
+            cell = (x0, x1, y0, y1, bot, top, left, right)
+            return cell, self.count_of(self.winding(cell)[0])
         raise RuntimeError("unstable_modes: could not place the window's edges away from roots")
 
     # -- locating ------------------------------------------------------------------------------
     def split(self, cell: tuple) -> tuple[tuple, tuple]:
-        """Split a cell in two by a new sampled line (retrying other positions if a root lies on it)."""
+        """Split a cell in two by a new sampled line (trying other positions if a root lies on it)."""
         x0, x1, y0, y1, bot, top, left, right = cell
-        vertical = (x1 - x0) >= (y1 - y0) or (y1 - y0) < 1e-3 * (x1 - x0)
-        fracs = (0.5, 0.5 + 0.0917, 0.5 - 0.1231, 0.5 + 0.2143, 0.5 - 0.2569, 0.3333, 0.6667)
-        for fr in fracs:
+        vertical = (x1 - x0) >= (y1 - y0)
+        for fr in (0.5, 0.5 + 0.0917, 0.5 - 0.1231, 0.5 + 0.2143, 0.5 - 0.2569, 0.3333, 0.6667):
             try:
                 if vertical:
                     xs = x0 + fr * (x1 - x0)
                     if not x0 < xs < x1:
                         break
-                    self.insert(bot, xs)
-                    self.insert(top, xs)
                     mid = self.sample(xs, False, y0, y1)
+                    self.corner(bot, xs, mid.F[0])
+                    self.corner(top, xs, mid.F[-1])
                     return (x0, xs, y0, y1, bot, top, left, mid), (xs, x1, y0, y1, bot, top, mid, right)
                 if y1 > 4.0 * y0:  # near the axis the structure is geometric in Im z
                     ys = math.exp(math.log(y0) + fr * (math.log(y1) - math.log(y0)))
@@ -455,15 +478,16 @@ class _Problem:
                     ys = y0 + fr * (y1 - y0)
                 if not y0 < ys < y1:
                     break
-                self.insert(left, ys)
-                self.insert(right, ys)
                 mid = self.sample(ys, True, x0, x1)
+                self.corner(left, ys, mid.F[0])
+                self.corner(right, ys, mid.F[-1])
                 return (x0, x1, y0, ys, bot, mid, left, right), (x0, x1, ys, y1, mid, top, left, right)
             except _RootOnLine:
                 continue
         raise RuntimeError(f"unstable_modes: could not split the cell [{x0}, {x1}] x [{y0}, {y1}] away from roots")
 
     def locate(self, cell: tuple, n_total: int) -> np.ndarray:
+        """Roots in `cell`, which holds n_total of them: subdivide to one root per cell, then Newton."""
         stack = [(cell, n_total, None)]
         roots: list[complex] = []
         tiny = 1e-9 * self.size
@@ -494,17 +518,16 @@ class _Problem:
                 if small:
                     raise RuntimeError(
                         f"unstable_modes: {n} root(s) counted in a tiny cell near {centre} could not be located "
-                        f"(found {len(roots)} of {n_total} so far)"
+                        f"(located {len(roots)} of the {n_total} counted)"
                     )
             a, b = self.split(c)
             da, ma = self.winding(a)
-            na = self.count_of(da)
             db, mb = self.winding(b)
-            nb = self.count_of(db)
+            na, nb = self.count_of(da), self.count_of(db)
             if na + nb != n:
                 raise RuntimeError(f"unstable_modes: split counts {na} + {nb} != {n} (contour sampling failed)")
-            stack.append((a, na, ma))
             stack.append((b, nb, mb))
+            stack.append((a, na, ma))
         return np.array(roots, dtype=np.complex128)
 
 
@@ -513,7 +536,7 @@ class _Problem:
 # ------------------------------------------------------------------------------------------------
 
 
-def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max) -> _Problem:
+def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max, strict=False) -> _Problem:
     if np.ndim(kH) != 0:
         raise ValueError(f"kH must be a scalar here, in (0, inf); got an array of shape {np.shape(kH)}")
     vals = [
@@ -537,7 +560,7 @@ def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max) -> _Pro
         raise ValueError(f"im_min must be >= 0; got {im_lo!r}")
     if im_hi <= im_lo:
         raise ValueError(f"im_max must be > im_min = {im_lo!r}; got {im_hi!r}")
-    return _Problem(*vals, re_m, im_lo, im_hi)
+    return _Problem(*vals, re_m, im_lo, im_hi, strict)
 
 
 def unstable_count(

@@ -90,7 +90,8 @@ def _adaptive(
     fun: Callable[[], tuple[mpmath.mpc, ...]], base_extra: int, target: int = DPS + 2
 ) -> tuple[mpmath.mpc, ...]:
     """Evaluate ``fun`` at increasing precision until two successive results agree to ``target``
-    significant digits (relative to the largest component); return the more precise one."""
+    significant digits, each component relative to itself (or to 1e-12 of the largest component, for
+    components that are that much smaller); return the more precise one."""
     prev = None
     for k in range(8):
         with mp.workdps(DPS + base_extra + 15 * k):
@@ -98,8 +99,11 @@ def _adaptive(
         if prev is not None:
             with mp.workdps(DPS + base_extra + 15 * k):
                 scale = max(abs(c) for c in cur)
-                diff = max(abs(a - b) for a, b in zip(cur, prev, strict=True))
-                if diff == 0 or diff <= mp.mpf(10) ** (-target) * scale:
+                tol = mp.mpf(10) ** (-target)
+                if all(
+                    abs(a - b) <= tol * max(abs(a), mp.mpf("1e-12") * scale)
+                    for a, b in zip(cur, prev, strict=True)
+                ):
                     return cur
         prev = cur
     raise PrecisionError("adaptive precision did not converge")
@@ -118,12 +122,20 @@ def rayleigh_speed(beta: Num) -> mpmath.mpf:
     """
     with mp.workdps(DPS + 20):
         b = _sq(beta)
-        coeffs = [1, -8, 8 * (3 - 2 * b), -16 * (1 - b)]
-        roots = mp.polyroots(coeffs, maxsteps=200, extraprec=100)
-        cands = [mp.re(r) for r in roots if abs(mp.im(r)) < mp.mpf(10) ** (-DPS) and 0 < mp.re(r) < 1]
-        if len(cands) != 1:
-            raise ValueError(f"expected exactly one root in (0,1), got {roots}")
-        x = mp.findroot(lambda x: ((x - 8) * x + 8 * (3 - 2 * b)) * x - 16 * (1 - b), cands[0])
+
+        def cubic(x: mpmath.mpf) -> mpmath.mpf:
+            return ((x - 8) * x + 8 * (3 - 2 * b)) * x - 16 * (1 - b)
+
+        # cubic(0) = -16(1-b) < 0 < 1 = cubic(1), and cubic' = 3x^2 - 16x + 24 - 16b >= 8 - 16b > 0 on (0, 1)
+        # for b < 1/2: exactly one root in (0, 1).
+        if not (cubic(0) < 0 < cubic(1)):
+            raise ValueError("beta out of range: need 0 <= beta^2 < 1/2")
+        if b >= mp.mpf(1) / 2:
+            raise ValueError("beta out of range: need 0 <= beta^2 < 1/2")
+        x = mp.findroot(cubic, (mp.mpf(0), mp.mpf(1)), solver="anderson")
+        x = mp.findroot(cubic, x)  # Newton/secant polish
+        if not 0 < x < 1:
+            raise ValueError(f"root {x} not in (0, 1)")
         return _round(mp.sqrt(x))
 
 
@@ -559,8 +571,11 @@ def rayleigh_branch(
 ) -> list[mpmath.mpc | None]:
     """Roots z(q) on the Rayleigh branch (PHYSICS.md section 3), one per requested q (any order).
 
-    Definition: at q = 1e4 the root nearest z_R (mp.findroot started at z_R, verified by the argument
-    principle when the circle around z_R stays clear of the real-axis cut/poles), continued in ln q on the
+    Definition: at q = 1e4 the root nearest z_R (the nearer of mp.findroot started at z_R and of a
+    continuation in ln gamma from gamma = 1e4, where the root is next to z_R; for gamma <~ 1 findroot from
+    z_R lands on a far root on the imaginary axis. The nearest-root property is verified by the argument
+    principle when the circle around z_R stays clear of the real-axis cut/poles; otherwise
+    rayleigh_branch_stats()["start_note"] says it is unverified), continued in ln q on the
     fixed grid ln(1e4) -/+ k * 0.02 (downward for q < 1e4, upward for q > 1e4) with a second-order
     tangent predictor, secant corrector and step halving whenever the corrected root is not consistent
     with the predictor and with the trapezoidal rule of the tangents (a branch jump). Each requested q is
@@ -572,7 +587,12 @@ def rayleigh_branch(
     """
     q_list = [qs] if isinstance(qs, int | float | str | mpmath.mpf) else list(qs)
     p = Params.make(gamma, f, beta, eta, Delta, xi)
-    path = _path(p)
+    try:
+        path = _path(p)
+    except BranchLost:
+        if strict:
+            raise
+        return [None] * len(q_list)
     out: list[mpmath.mpc | None] = []
     for q in q_list:
         qq = _num(q)
@@ -685,30 +705,59 @@ def criterion_min_gy(beta: Num, eta: Num = math.inf, q_guess: Num = 0.9) -> tupl
 # =============================================================================================
 
 
+def _k0(t: mpmath.mpf) -> mpmath.mpf:
+    """Modified Bessel function K0 (mpmath)."""
+    return mp.besselk(0, t)
+
+
+def _cosh_grid(x: mpmath.mpf) -> list[mpmath.mpf]:
+    """Break points 0, w, 2w, 4w, ... up to u_max for integrands e^{-x cosh u}: w = min(1, x^{-1/2}) is the
+    width of the peak at u = 0, and beyond u_max, e^{-x (cosh u - 1)} < 10^-(dps + 20)."""
+    u_max = mp.acosh(1 + (mp.dps + 20) * mp.log(10) / x)
+    w = min(mp.mpf(1), 1 / mp.sqrt(x))
+    pts = [mp.mpf(0)]
+    while pts[-1] + w < u_max:
+        pts.append(pts[-1] + w)
+        w *= 2
+    pts.append(u_max)
+    return pts
+
+
+def _one_minus_b(qq: mpmath.mpf) -> mpmath.mpf:
+    """1 - B(q) = (2/pi) Int_x^inf K0(t) dt, x = q/2, at the ambient precision, full relative precision.
+
+    With K0(t) = Int_0^inf e^{-t cosh u} du:  Int_x^inf K0 = Int_0^inf e^{-x cosh u} / cosh u du
+    = e^{-x} Int_0^inf e^{-2 x sinh^2(u/2)} / cosh u du (the e^{-x} is factored out so that mp.quad's
+    absolute error control works for any x).
+    """
+    x = qq / 2
+    if x <= 1:
+        return 1 - _b(qq)
+    integral = mp.quad(lambda u: mp.exp(-2 * x * mp.sinh(u / 2) ** 2) / mp.cosh(u), _cosh_grid(x))
+    return 2 / mp.pi * mp.exp(-x) * integral
+
+
+def _b(qq: mpmath.mpf) -> mpmath.mpf:
+    """B(q) at the ambient precision, x = q/2:
+    Int_0^x K0 = Int_0^inf (1 - e^{-x cosh u}) / cosh u du (full relative precision also for small x);
+    beyond u_max the integrand is sech u, whose tail integral is 2 atan(e^{-u_max})."""
+    x = qq / 2
+    if x == 0:
+        return mp.mpf(0)
+    if x > 1:
+        return 1 - _one_minus_b(qq)
+    pts = _cosh_grid(x)
+    integral = mp.quad(lambda u: -mp.expm1(-x * mp.cosh(u)) / mp.cosh(u), pts)
+    return 2 / mp.pi * (integral + 2 * mp.atan(mp.exp(-pts[-1])))
+
+
 def B(q: Num) -> mpmath.mpf:
-    """B(q) = (1/pi) Int_0^q K0(q'/2) dq' = (2/pi) Int_0^{q/2} K0(t) dt (Eq. B(q)C(q))."""
+    """B(q) = (1/pi) Int_0^q K0(q'/2) dq' = (2/pi) Int_0^{q/2} K0(t) dt (Eq. B(q)C(q)); q >= 0."""
     qq = _num(q)
     if qq < 0:
         raise ValueError("B(q) is defined for q >= 0")
     with mp.workdps(DPS + 15):
-        if qq / 2 <= 2:
-            val = 2 / mp.pi * mp.quad(_k0, [0, qq / 2])
-        else:
-            val = 1 - _one_minus_b(qq)
-        return _round(val)
-
-
-def _k0(t: mpmath.mpf) -> mpmath.mpf:
-    return mp.besselk(0, t)
-
-
-def _one_minus_b(qq: mpmath.mpf) -> mpmath.mpf:
-    """(2/pi) Int_{q/2}^inf K0(t) dt at the ambient precision (uses Int_0^inf K0 = pi/2)."""
-    x = qq / 2
-    if x <= 2:
-        return 1 - 2 / mp.pi * mp.quad(_k0, [0, x])
-    # shift so that the integrand decays from t = 0: Int_0^inf K0(x + t) dt
-    return 2 / mp.pi * mp.quad(lambda t: _k0(x + t), [0, 1, 10, mp.inf])
+        return _round(_b(qq))
 
 
 def one_minus_B(q: Num) -> mpmath.mpf:
