@@ -40,7 +40,21 @@ def plain_dispersion(z: complex, q: float, gamma: float, f: float, beta: float, 
     return gamma * (gx + 1j * f * gy) + 1j * z
 
 
-def naive_newton_loop(q: np.ndarray, eta: float) -> np.ndarray:
+def plain_dispersion_numpy(z: complex, q: float, gamma: float, f: float, beta: float, eta: float) -> complex:
+    """The same literal formula with numpy scalar functions (np.sqrt, np.tanh), as most scripts write it."""
+    a_s = np.sqrt(1 - z * z)
+    a_d = np.sqrt(1 - beta * beta * z * z)
+    t1s, t1d = np.tanh(q * a_s), np.tanh(q * a_d)
+    if math.isinf(eta):
+        t2s = t2d = 1.0
+    else:
+        t2s, t2d = np.tanh(eta * q * a_s), np.tanh(eta * q * a_d)
+    gx = ((1 + a_s**2) ** 2 / (a_s * (t1s + t2s)) - 4 * a_d / (t1d + t2d)) / z**2
+    gy = 2 * (1 + a_s**2) / z**2 * (t2d / (t1d + t2d) - t2s / (t1s + t2s))
+    return gamma * (gx + 1j * f * gy) + 1j * z
+
+
+def naive_newton_loop(q: np.ndarray, eta: float, fun=plain_dispersion) -> np.ndarray:
     """scipy.optimize.newton (secant) per kH, warm-started from the previous root, from kH = 1e4 down.
 
     Points where scipy reports no convergence are NaN.
@@ -48,11 +62,11 @@ def naive_newton_loop(q: np.ndarray, eta: float) -> np.ndarray:
     order = np.argsort(-q)
     kw = dict(tol=1e-14, rtol=1e-14, maxiter=100)
     z = complex(model.rayleigh_speed(PAPER["beta"]))
-    z = optimize.newton(plain_dispersion, z, args=(1e4, *PAPER.values(), eta), **kw)
+    z = optimize.newton(fun, z, args=(1e4, *PAPER.values(), eta), **kw)
     out = np.full(q.size, complex(math.nan, math.nan))
     for i in order:
         try:
-            z = optimize.newton(plain_dispersion, z, args=(q[i], *PAPER.values(), eta), **kw)
+            z = optimize.newton(fun, z, args=(q[i], *PAPER.values(), eta), **kw)
         except RuntimeError:
             continue
         out[i] = z
@@ -89,7 +103,10 @@ def main() -> None:
         def run_naive(eta: float = eta) -> np.ndarray:
             return naive_newton_loop(q, eta)
 
-        t_model = timeit(run_model, 200)
+        def run_naive_np(eta: float = eta) -> np.ndarray:
+            return naive_newton_loop(q, eta, plain_dispersion_numpy)
+
+        t_model = timeit(run_model, 500)
         t_naive = timeit(run_naive, 3)
         z_model = run_model()
         z_naive = run_naive()
@@ -99,7 +116,12 @@ def main() -> None:
         failed = int(np.isnan(z_naive).sum())
         name = "scipy newton loop (plain F)" + (f", {failed} points failed" if failed else "")
         rows.append((label, name, t_naive, e_naive, q.size))
-        rows.append((label, "speed ratio", t_naive / t_model, math.nan, q.size))
+        rows.append((label, "speed ratio (vs cmath F)", t_naive / t_model, math.nan, q.size))
+        if math.isinf(eta):
+            t_np = timeit(run_naive_np, 3)
+            e_np = max_rel_error(run_naive_np(), q, ref)
+            rows.append((label, "scipy newton loop (plain F, numpy scalars)", t_np, e_np, q.size))
+            rows.append((label, "speed ratio (vs numpy-scalar F)", t_np / t_model, math.nan, q.size))
     lines = [
         "# Spectrum benchmark (make bench)",
         "",
@@ -110,10 +132,17 @@ def main() -> None:
         "|---|---|---|---|---|",
     ]
     for label, name, t, e, n in rows:
-        tt = f"{t:.1f}x" if name == "speed ratio" else f"{t * 1e3:.3f}"
+        tt = f"{t:.1f}x" if name.startswith("speed ratio") else f"{t * 1e3:.3f}"
         ee = "" if math.isnan(e) else f"{e:.1e}"
         lines.append(f"| {label} | {name} | {tt} | {ee} | {n} |")
     text = "\n".join(lines) + "\n"
+    from benchmarks import bench_maps
+
+    text += "\n## Stability maps and thresholds (model.stability)\n\n" + bench_maps.table(bench_maps.run())
+    from benchmarks import bench_modes
+
+    text += ("\n## All unstable roots in |Re z| <= 5, im_min <= Im z <= 2 (model.unstable_modes vs cxroots)\n\n"
+             + bench_modes.markdown(bench_modes.run()))
     print(text)
     (OUT / "results.md").write_text(text)
     try:
@@ -124,7 +153,7 @@ def main() -> None:
 
         fig, ax = plt.subplots(figsize=(6, 4))
         for label, name, t, e, _ in rows:
-            if name != "speed ratio":
+            if not name.startswith("speed ratio"):
                 shown = 1.0 if not math.isfinite(e) else max(e, 1e-17)  # failed runs plotted at 1
                 ax.loglog(t * 1e3, shown, "o" if "model" in name else "s", label=f"{name}, eta={label}")
         ax.set_xlabel("run time for 512 kH [ms]")

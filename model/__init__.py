@@ -18,6 +18,7 @@ from .elastodynamics import (
     response_derivatives,
     response_functions,
 )
+from .modes import unstable_count, unstable_modes
 from .rayleigh import rayleigh_speed
 from .spectrum import STATUS, SpectrumResult, linear_expansion, rayleigh_branch, spectrum
 from .stability import (
@@ -28,6 +29,8 @@ from .stability import (
     critical_gamma,
     growth_analysis,
     max_growth,
+    stability_verdict,
+    stable,
     unstable_band,
 )
 from .thin_on_thick import (
@@ -43,6 +46,9 @@ from .thin_on_thick import (
 __all__ = [
     "STATUS",
     "GrowthResult",
+    "StabilityVerdict",
+    "stability_verdict",
+    "stable",
     "critical_chi",
     "critical_eta",
     "critical_gamma",
@@ -57,6 +63,8 @@ __all__ = [
     "normal_stress_change",
     "one_minus_bessel_integral_B",
     "thin_on_thick_response",
+    "unstable_count",
+    "unstable_modes",
     "SpectrumResult",
     "dispersion",
     "dispersion_derivative",

@@ -465,7 +465,7 @@ def _predict_log(ss, lz, n, s):
 
 
 @njit(cache=True, nogil=True)
-def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, delta, xi, out_s, out_z, targets):
+def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, delta, xi, out_s, out_z, out_c, targets):
     """Adaptive predictor-corrector continuation of one root in s from s0 towards s_stop.
 
     Nodes are written to out_s/out_z (node 0 = start); continues until `extra` nodes lie beyond
@@ -473,10 +473,12 @@ def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, de
     nodes depends only on the start and the physical parameters, never on s_stop, except for where
     it is cut off. `targets` (in the direction of travel) are s values the path must land on
     exactly (steps are shortened to hit them), for grid-following continuation.
-    Returns (number of nodes, lost flag).
+    out_c receives the quadratic-convergence constant C = |step 2|/|step 1|^2 observed at each node
+    (0 where Newton converged at once). Returns (number of nodes, lost flag).
     """
     out_s[0] = s0
     out_z[0] = z0
+    out_c[0] = 0.0
     lz = np.empty(3, dtype=np.complex128)  # unwrapped ln z of the last three nodes (ring buffer)
     lz_ok = z0 != 0
     if lz_ok:
@@ -512,12 +514,13 @@ def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, de
                 s_new = s_cur + direction * h_try
             zp = _predict_log(out_s, lz, n, s_new) if lz_ok else _lagrange(out_s[max(0, n - 3) : n],
                                                                              out_z[max(0, n - 3) : n], s_new)
-            z, ok, its, _, _, _, theta = _newton(zp, s_new, mode, q, gamma, f, beta, eta, delta, xi, 6)
+            z, ok, its, first, _, _, theta = _newton(zp, s_new, mode, q, gamma, f, beta, eta, delta, xi, 6)
             err = abs(z - zp) / _local_scale(z)
             if ok and its <= 5 and err <= PRED_REJECT and theta <= THETA_MAX:
                 accepted = True
                 out_s[n] = s_new
                 out_z[n] = z
+                out_c[n] = theta / first if (first > 0.0 and theta > 0.0) else 0.0
                 if z == 0:
                     lz_ok = False
                 else:
@@ -546,13 +549,14 @@ def rayleigh_start(z_r, gamma, f, beta, eta, delta, xi):
     g_hi = math.log(max(1e7, gamma))
     work_s = np.empty(4096)
     work_z = np.empty(4096, dtype=np.complex128)
+    work_c = np.empty(4096)
     z, ok, _, _, _, _, _ = _newton(z_r + 0j, g_hi, 1, q, gamma, f, beta, eta, delta, xi, 20)
     if not ok:
         return z, False
     if g_hi == math.log(gamma):
         return z, True
     n, lost = _continue(z, g_hi, math.log(gamma), 0, -1.0, 1, q, gamma, f, beta, eta, delta, xi, work_s, work_z,
-                        np.empty(0))
+                        work_c, np.empty(0))
     if lost:
         return work_z[n - 1], False
     return work_z[n - 1], True
@@ -564,7 +568,7 @@ def build_path(s_lo, s_hi, z_r, gamma, f, beta, eta, delta, xi, grid):
 
     Start at ln 1e4 (see rayleigh_start), continue down to two nodes below min(s_lo, ln 1e4) and up to
     two nodes above max(s_hi, ln 1e4). The node sequence depends only on the physical parameters;
-    s_lo/s_hi only decide where it is cut off. Returns (ns, nz, lnz, nn, has_zero, code) with code
+    s_lo/s_hi only decide where it is cut off. Returns (ns, nz, lnz, nc, nn, has_zero, code) with code
     OK, START (no starting root) or INPUT (NaN parameter); lnz = unwrapped ln z of the nodes.
     `grid` (ascending, may be empty) are s values the path must land on exactly (see _continue).
     """
@@ -572,34 +576,41 @@ def build_path(s_lo, s_hi, z_r, gamma, f, beta, eta, delta, xi, grid):
     nz = np.empty(1, dtype=np.complex128)
     for v in (gamma, f, beta, eta, delta, xi):
         if math.isnan(v):
-            return ns, nz, nz, 0, False, INPUT
+            return ns, nz, nz, ns, 0, False, INPUT
     z0, ok = rayleigh_start(z_r, gamma, f, beta, eta, delta, xi)
     if not ok:
-        return ns, nz, nz, 0, False, START
+        return ns, nz, nz, ns, 0, False, START
     dn_s = np.empty(MAX_NODES)
     dn_z = np.empty(MAX_NODES, dtype=np.complex128)
     up_s = np.empty(MAX_NODES)
     up_z = np.empty(MAX_NODES, dtype=np.complex128)
+    dn_c = np.empty(MAX_NODES)
+    up_c = np.empty(MAX_NODES)
     down = grid[::-1].copy()
-    nd, _ = _continue(z0, S_TOP, min(s_lo, S_TOP), 2, -1.0, 0, 1.0, gamma, f, beta, eta, delta, xi, dn_s, dn_z, down)
-    nu, _ = _continue(z0, S_TOP, max(s_hi, S_TOP), 2, 1.0, 0, 1.0, gamma, f, beta, eta, delta, xi, up_s, up_z, grid)
+    nd, _ = _continue(z0, S_TOP, min(s_lo, S_TOP), 2, -1.0, 0, 1.0, gamma, f, beta, eta, delta, xi,
+                      dn_s, dn_z, dn_c, down)
+    nu, _ = _continue(z0, S_TOP, max(s_hi, S_TOP), 2, 1.0, 0, 1.0, gamma, f, beta, eta, delta, xi,
+                      up_s, up_z, up_c, grid)
     nn = nd + nu - 1
     ns = np.empty(nn)
     nz = np.empty(nn, dtype=np.complex128)
+    nc = np.empty(nn)
     for i in range(nd):
         ns[i] = dn_s[nd - 1 - i]
         nz[i] = dn_z[nd - 1 - i]
+        nc[i] = dn_c[nd - 1 - i]
     for i in range(1, nu):
         ns[nd - 1 + i] = up_s[i]
         nz[nd - 1 + i] = up_z[i]
+        nc[nd - 1 + i] = up_c[i]
     has_zero = False
     for i in range(nn):
         has_zero = has_zero or nz[i] == 0
-    return ns, nz, _log_nodes(nz), nn, has_zero, OK
+    return ns, nz, _log_nodes(nz), nc, nn, has_zero, OK
 
 
 @njit(cache=True, nogil=True)
-def solve_at(s, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi):
+def solve_at(s, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi):
     """The Rayleigh-branch root at s = ln kH from the path nodes: (z, status, residual, error).
 
     Newton from the cubic interpolant (in ln z) of the four surrounding nodes; accepted only with a
@@ -613,7 +624,28 @@ def solve_at(s, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi):
     lo = max(0, j - 1)
     hi = min(nn, j + 3)
     zp = _lagrange(ns[lo:hi], nz[lo:hi], s) if has_zero else _lagrange_log(ns[lo:hi], lnz[lo:hi], s)
-    z, ok, _, _, rr, ee, theta = _newton(zp, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 10)
+    # One Newton step from the interpolant. The quadratic-convergence constant C was measured at the
+    # surrounding path nodes (whose steps passed the contraction certificate with larger predictor
+    # errors); if 10 C |step|^2 is below rounding, the stepped point is accepted without a second
+    # evaluation (error estimate noise + 10 C |step|^2). Otherwise Newton continues as usual.
+    c_loc = 0.0
+    for i in range(lo, hi):
+        c_loc = max(c_loc, nc[i])
+    fv, dfv, sc = dispersion_eval(zp, math.exp(s), gamma, f, beta, eta, delta, xi)
+    if cmath.isfinite(fv) and cmath.isfinite(dfv) and dfv != 0 and c_loc > 0.0:
+        step = fv / dfv
+        a = abs(step)
+        z1 = zp - step
+        az = abs(z1)
+        rest = 10.0 * c_loc * a * a
+        noise = 8.0 * EPS * sc / abs(dfv)
+        if (a <= 1e-14 * az or rest <= 0.25e-16 * az) and a <= 1e-6 * _local_scale(z1):
+            return z1, OK, abs(fv) / sc * (rest + noise) / max(a, 1e-300), noise + rest
+        # continue Newton from the stepped point; the first contraction rate is |step 2| / |step 1|
+        z, ok, _, second, rr, ee, _ = _newton(z1, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 9)
+        theta = second / a if a > 0.0 else 0.0
+    else:
+        z, ok, _, _, rr, ee, theta = _newton(zp, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 10)
     if ok and abs(z - zp) <= PRED_REJECT * _local_scale(z) and theta <= THETA_MAX:
         return z, OK, rr, ee
     return nanz, NOCONV, math.nan, math.nan
@@ -629,7 +661,7 @@ def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, z_out, status, resi
     m = s_req.shape[0]
     if m == 0:
         return
-    ns, nz, lnz, nn, has_zero, code = build_path(s_req.min(), s_req.max(), z_r, gamma, f, beta, eta, delta, xi,
+    ns, nz, lnz, nc, nn, has_zero, code = build_path(s_req.min(), s_req.max(), z_r, gamma, f, beta, eta, delta, xi,
                                                  np.empty(0))
     for i in range(m):
         if code != OK:
@@ -638,7 +670,7 @@ def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, z_out, status, resi
             resid[i] = math.nan
             err[i] = math.nan
             continue
-        z_out[i], status[i], resid[i], err[i] = solve_at(s_req[i], ns, nz, lnz, nn, has_zero, gamma, f, beta, eta,
+        z_out[i], status[i], resid[i], err[i] = solve_at(s_req[i], ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta,
                                                          delta, xi)
 
 
@@ -646,23 +678,23 @@ GOLDEN = 0.3819660112501051
 
 
 @njit(cache=True, nogil=True)
-def _im_at(s, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi):
-    z, st, _, _ = solve_at(s, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+def _im_at(s, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi):
+    z, st, _, _ = solve_at(s, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
     return z.imag if st == OK else math.nan
 
 
 @njit(cache=True, nogil=True)
-def _crossing(a, fa, b, fb, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi):
+def _crossing(a, fa, b, fb, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi):
     """s in [a, b] where Im z(s) = 0: Illinois false position to 1e-13 (end values re-evaluated exactly)."""
-    fa = _im_at(a, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
-    fb = _im_at(b, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+    fa = _im_at(a, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
+    fb = _im_at(b, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
     if math.isnan(fa) or math.isnan(fb) or (fa > 0.0) == (fb > 0.0):
         return math.nan
     for _ in range(200):
         if abs(b - a) <= 1e-13 * max(1.0, abs(a)):
             break
         c = b - fb * (b - a) / (fb - fa)
-        fc = _im_at(c, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+        fc = _im_at(c, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
         if math.isnan(fc):
             return math.nan
         if fc == 0.0:
@@ -686,7 +718,7 @@ def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi):
     the growth is not positive).
     """
     m = s_grid.shape[0]
-    ns, nz, lnz, nn, has_zero, code = build_path(s_grid[0], s_grid[m - 1], z_r, gamma, f, beta, eta, delta, xi,
+    ns, nz, lnz, nc, nn, has_zero, code = build_path(s_grid[0], s_grid[m - 1], z_r, gamma, f, beta, eta, delta, xi,
                                                  np.empty(0))
     if code != OK:
         return math.nan, math.nan, math.nan, math.nan, m
@@ -715,25 +747,25 @@ def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi):
     a = s_grid[best - 1] if best > 0 and not math.isnan(im[best - 1]) else s_grid[best]
     b = s_grid[best + 1] if best < m - 1 and not math.isnan(im[best + 1]) else s_grid[best]
     s_max = s_grid[best]
-    g_max = _im_at(s_max, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+    g_max = _im_at(s_max, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
     if math.isnan(g_max):
         return math.nan, math.nan, math.nan, math.nan, n_masked
     if b > a:
         x1 = a + GOLDEN * (b - a)
         x2 = b - GOLDEN * (b - a)
-        f1 = _im_at(x1, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
-        f2 = _im_at(x2, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+        f1 = _im_at(x1, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
+        f2 = _im_at(x2, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
         for _ in range(60):
             if b - a <= 1e-9 or math.isnan(f1) or math.isnan(f2):
                 break
             if f1 >= f2:
                 b, x2, f2 = x2, x1, f1
                 x1 = a + GOLDEN * (b - a)
-                f1 = _im_at(x1, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+                f1 = _im_at(x1, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
             else:
                 a, x1, f1 = x1, x2, f2
                 x2 = b - GOLDEN * (b - a)
-                f2 = _im_at(x2, ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+                f2 = _im_at(x2, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
         for sx, fx in ((x1, f1), (x2, f2)):
             if not math.isnan(fx) and fx > g_max:
                 g_max = fx
@@ -746,13 +778,13 @@ def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi):
             i -= 1
         if i > 0 and not math.isnan(im[i - 1]):
             lo = _crossing(s_grid[i - 1], im[i - 1], s_grid[i], im[i],
-                           ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+                           ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
         i = best
         while i < m - 1 and not math.isnan(im[i + 1]) and im[i + 1] > 0.0:
             i += 1
         if i < m - 1 and not math.isnan(im[i + 1]):
             hi = _crossing(s_grid[i + 1], im[i + 1], s_grid[i], im[i],
-                           ns, nz, lnz, nn, has_zero, gamma, f, beta, eta, delta, xi)
+                           ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
     return g_max, s_max, lo, hi, n_masked
 
 

@@ -13,23 +13,25 @@ Method
 *Counting.* Each edge (a horizontal or vertical line segment) is sampled adaptively by a compiled routine.
 For every pair of neighbouring samples a, b (step h = z_b - z_a) it accepts the segment only if
 
-- the principal log-increment L = Log(F_b / F_a) has |Im L| <= pi/4 and |Re L| <= ln 3,
-- the trapezoidal estimate T = h/2 (F'_a/F_a + F'_b/F_b) of the integral of F'/F agrees with L to 0.1,
-- the linear predictions F_a + h F'_a and F_b - h F'_b agree with F_b and F_a to half their size
+- the principal log-increment L = Log(F_b / F_a) has |Im L| <= pi/3 and |Re L| <= ln 4,
+- the trapezoidal estimate T = h/2 (F'_a/F_a + F'_b/F_b) of the integral of F'/F agrees with L to 0.3,
+- the linear predictions F_a + h F'_a and F_b - h F'_b agree with F_b and F_a to 0.7 of their size
   (this catches a pair of roots straddling the edge, whose phase changes cancel),
 
-and otherwise bisects it. The increment of log F along the accepted segment is then exactly L (its true
-value differs from L by a multiple of 2 pi i and the checks bound it well below pi), so the winding number is
-an exact integer by construction; it is still checked to be within 1e-6 of an integer. The initial samples
-of the edges nearest the real axis are graded towards the real-axis poles z^2 = 1 + (pi n / ((1+eta) kH))^2,
-z^2 = beta^-2 [1 + (pi n / ((1+eta) kH))^2] (and z = +-1, +-1/beta), geometrically from the distance to the
-axis, so that roots sitting next to a pole are resolved at every scale.
+and otherwise bisects it. The increment of log F along an accepted segment is then L (the true increment
+differs from L by a multiple of 2 pi i, and the checks keep it far below pi), so the winding number is an
+integer by construction; it is still checked to be within 1e-6 of one. Lines start from nodes spaced <= 0.1;
+vertical lines add nodes graded geometrically (ratio 3) from their distance to the real axis, horizontal
+lines at height y add nodes p +- y 3^k around each real-axis singularity p (z = +-1, +-1/beta, and for
+finite eta the poles z^2 = 1 + (pi n / ((1+eta) kH))^2, z^2 = beta^-2 [1 + (pi n / ((1+eta) kH))^2]) that is
+at least 2y from one of its neighbours, so that a root sitting next to a pole is resolved at every scale.
+(Families with more than 20000 poles in range get no graded nodes and rely on the refinement alone.)
 
-*Locating.* The rectangle is split recursively (vertical split at mid-width, or a horizontal split at the
-geometric mean height for tall cells near the axis); the samples of the parent's edges are reused (only the
-new splitting line is sampled, and one node is inserted on each edge it meets). The roots of a cell holding
-exactly one root are polished by Newton's method with the analytic derivative (model.dispersion_derivative),
-started from the contour-integral estimate (1 / 2 pi i) closed-integral z F'/F dz of the cell (or its
+*Locating.* The rectangle is split recursively (a vertical line at mid-width, or for a tall cell a horizontal
+line at mid-height, geometric mean height near the axis); the samples of the parent's edges are reused, only
+the new splitting line is sampled (its end values give the corners on the edges it meets). A cell holding
+exactly one root is solved by Newton's method with the analytic derivative (as model.dispersion_derivative),
+started from the contour-integral estimate (1 / 2 pi i) closed-integral z F'/F dz of the cell (else its
 centre); the root must converge inside its cell with |F| / scale < 1e-12 (scale = model.dispersion_scale).
 Cells where Newton fails are split further. The number of located roots always equals the certified count,
 or a RuntimeError is raised.
@@ -37,21 +39,25 @@ or a RuntimeError is raised.
 Window semantics
 ----------------
 The window is closed: roots with im_min <= Im z <= im_max and |Re z| <= re_max are counted, including roots
-lying exactly on the boundary (for example Im z = im_min). A root closer to an edge than about 1e-11 times
-the window size (1e-7 im_min for the bottom edge) cannot be placed on either side in double precision; the
-edge is then moved outward by a few times that distance and the root is counted and reported with its true
-coordinates, which may lie outside the window by at most that distance. im_min = 0 is accepted and means
-"just above the real axis": the bottom edge is placed at Im z = 1e-10 (the poles and branch cuts of F on the
-real axis forbid a contour there), so neutral roots on the real axis are not counted.
+lying exactly on the boundary (for example Im z = im_min). A root closer to an edge than
+h_min = min(1e-11 x window size, 1e-7 x distance of the edge from the real axis) cannot be placed on either
+side in double precision; the edge is then moved outward by 16 h_min (64 h_min, ... if a root is found again)
+and the root is counted and reported with its true coordinates, which may lie outside the window by at most
+about h_min. Splitting lines inside the window are moved instead. im_min = 0 is accepted and means "just
+above the real axis": the bottom edge is placed at Im z = 1e-10 (the poles and branch cuts of F on the real
+axis forbid a contour there), so neutral roots on the real axis are not counted.
 
-For large finite eta the real-axis poles are dense and many roots sit just above them (Im z ~ 1e-4), so the
-count depends on im_min: a stability verdict must state its window.
+For large finite eta the real-axis poles are dense and many roots sit just above them, so the count depends
+on im_min (f = 0.9, beta = 0.3, gamma = 3, kH = 0.77, |Re z| <= 5: eta = 100 gives 1, 36, 85, 93 roots for
+im_min = 1e-2, 1e-3, 1e-4, 1e-5): a stability verdict must state its window.
 """
 
 from __future__ import annotations
 
 import cmath
+import hashlib
 import math
+from pathlib import Path
 
 import numpy as np
 from numba import njit
@@ -151,133 +157,153 @@ def _seeds(t0, t1, h0, geo0, lad_y, poles, half):
     return u[lo:hi]
 
 
-@njit(cache=True)
-def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta, eta, delta, xi, h_min,
-                 tol_phase, tol_trap, tol_lin):
-    """Adaptively sample F along the line z = t + i c (horizontal) or z = c + i t (vertical), t0 <= t <= t1.
+def _kernels_fingerprint() -> str:
+    """sha256 of model/_kernels.py.
 
-    The initial nodes are :func:`_seeds`. Returns (t, F, L, status, t_bad, evaluations): nodes t (sorted),
-    F at the nodes, L[j] = Log(F[j+1]/F[j]) of the accepted segments; status 0 = ok, 1 = a root on (or
-    within h_min of) the line near t_bad, 2 = too many samples, 3 = F not finite at t_bad.
+    The compiled functions below call K.dispersion_eval, which numba compiles into them; numba's on-disk
+    cache only checks the time stamp of *this* file, so the fingerprint of _kernels.py is made part of their
+    cache key (numba hashes the closure variables of a cached function).
     """
-    ts = _seeds(t0, t1, h0, geo0, lad_y, poles, half)
-    n0 = ts.shape[0]
-    st_t = np.empty(n0 + 4096)
-    st_f = np.empty(n0 + 4096, dtype=np.complex128)
-    st_d = np.empty(n0 + 4096, dtype=np.complex128)
-    out_t = np.empty(4 * n0 + 64)
-    out_f = np.empty(4 * n0 + 64, dtype=np.complex128)
-    out_l = np.empty(4 * n0 + 64, dtype=np.complex128)
-    nev = 0
-    # evaluate the initial points and push them (right to left) on the stack
-    sp = 0
-    for k in range(n0 - 1, -1, -1):
-        z = _point(ts[k], c, horizontal)
-        fv, dfv, sc = K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
-        nev += 1
-        if not (cmath.isfinite(fv) and cmath.isfinite(dfv)):
-            return out_t[:0], out_f[:0], out_l[:0], 3, ts[k], nev
-        if abs(fv) <= TINY * sc:
-            return out_t[:0], out_f[:0], out_l[:0], 1, ts[k], nev
-        st_t[sp] = ts[k]
-        st_f[sp] = fv
-        st_d[sp] = dfv
-        sp += 1
-    # the current node is the leftmost one (ts[0])
-    sp -= 1
-    ta = st_t[sp]
-    fa = st_f[sp]
-    da = st_d[sp]
-    za = _point(ta, c, horizontal)
-    n = 1
-    out_t[0] = ta
-    out_f[0] = fa
-    while sp > 0:
-        tb = st_t[sp - 1]
-        fb = st_f[sp - 1]
-        db = st_d[sp - 1]
-        zb = _point(tb, c, horizontal)
-        ok, lg = _seg_ok(za, fa, da, zb, fb, db, tol_phase, tol_trap, tol_lin)
-        if ok:
-            if n >= out_t.shape[0]:
-                if n >= CAP:
-                    return out_t[:n], out_f[:n], out_l[: n - 1], 2, ta, nev
-                grow_t = np.empty(2 * n)
-                grow_f = np.empty(2 * n, dtype=np.complex128)
-                grow_l = np.empty(2 * n, dtype=np.complex128)
-                grow_t[:n] = out_t[:n]
-                grow_f[:n] = out_f[:n]
-                grow_l[: n - 1] = out_l[: n - 1]
-                out_t, out_f, out_l = grow_t, grow_f, grow_l
-            out_t[n] = tb
-            out_f[n] = fb
-            out_l[n - 1] = lg
-            n += 1
-            sp -= 1
-            ta, fa, da, za = tb, fb, db, zb
-            continue
-        if tb - ta <= h_min:
-            return out_t[:n], out_f[:n], out_l[: n - 1], 1, 0.5 * (ta + tb), nev
-        tm = 0.5 * (ta + tb)
-        zm = _point(tm, c, horizontal)
-        fm, dfm, scm = K.dispersion_eval(zm, q, gamma, f, beta, eta, delta, xi)
-        nev += 1
-        if not (cmath.isfinite(fm) and cmath.isfinite(dfm)):
-            return out_t[:n], out_f[:n], out_l[: n - 1], 3, tm, nev
-        if abs(fm) <= TINY * scm:
-            return out_t[:n], out_f[:n], out_l[: n - 1], 1, tm, nev
-        if sp >= st_t.shape[0]:
-            grow_t = np.empty(2 * sp)
-            grow_f = np.empty(2 * sp, dtype=np.complex128)
-            grow_d = np.empty(2 * sp, dtype=np.complex128)
-            grow_t[:sp] = st_t[:sp]
-            grow_f[:sp] = st_f[:sp]
-            grow_d[:sp] = st_d[:sp]
-            st_t, st_f, st_d = grow_t, grow_f, grow_d
-        st_t[sp] = tm
-        st_f[sp] = fm
-        st_d[sp] = dfm
-        sp += 1
-    return out_t[:n], out_f[:n], out_l[: n - 1], 0, ta, nev
+    try:
+        return hashlib.sha256(Path(K.__file__).read_bytes()).hexdigest()
+    except OSError:
+        return "unknown"
 
 
-@njit(cache=True)
-def _eval1(z, q, gamma, f, beta, eta, delta, xi):
-    return K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
+def _build(kernels_sha: str):
+    """Compile (or load from the cache) the functions that evaluate F: (sample_line, newton_cell)."""
 
+    @njit(cache=True)
+    def sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta, eta, delta, xi, h_min,
+                     tol_phase, tol_trap, tol_lin):
+        """Adaptively sample F along the line z = t + i c (horizontal) or z = c + i t (vertical), t0 <= t <= t1.
 
-@njit(cache=True)
-def _newton_cell(z0, x0, x1, y0, y1, mult, q, gamma, f, beta, eta, delta, xi):
-    """Newton's method (step multiplied by `mult` for a multiple root) confined near the cell [x0,x1]x[y0,y1].
-
-    Returns (z, converged, |F|/scale at z, evaluations). Fails if an iterate leaves the cell enlarged by its
-    own size on every side, or if the steps stop shrinking.
-    """
-    w = max(x1 - x0, y1 - y0)
-    z = z0
-    prev = math.inf
-    nev = 0
-    for _ in range(NEWTON_ITERS):
-        fv, dfv, sc = K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
-        nev += 1
-        if not (cmath.isfinite(fv) and cmath.isfinite(dfv)) or dfv == 0:
-            return z, False, math.inf, nev
-        if fv == 0:
-            return z, True, 0.0, nev
-        step = mult * fv / dfv
-        a = abs(step)
-        z = z - step
-        if z.real < x0 - w or z.real > x1 + w or z.imag < y0 - w or z.imag > y1 + w or z.imag <= 0.0:
-            return z, False, math.inf, nev
-        noise = 8.0 * K.EPS * sc / abs(dfv) * mult
-        if a <= max(2.0 * K.EPS * abs(z), noise) or (a < 1e-6 * abs(z) and a * a <= 1e-3 * K.EPS * abs(z) * prev):
+        The initial nodes are :func:`_seeds`. Returns (t, F, L, status, t_bad, evaluations): nodes t (sorted),
+        F at the nodes, L[j] = Log(F[j+1]/F[j]) of the accepted segments; status 0 = ok, 1 = a root on (or
+        within h_min of) the line near t_bad, 2 = too many samples, 3 = F not finite at t_bad.
+        """
+        kernels_sha  # noqa: B018 (part of the cache key, see _kernels_fingerprint)
+        ts = _seeds(t0, t1, h0, geo0, lad_y, poles, half)
+        n0 = ts.shape[0]
+        st_t = np.empty(n0 + 4096)
+        st_f = np.empty(n0 + 4096, dtype=np.complex128)
+        st_d = np.empty(n0 + 4096, dtype=np.complex128)
+        out_t = np.empty(4 * n0 + 64)
+        out_f = np.empty(4 * n0 + 64, dtype=np.complex128)
+        out_l = np.empty(4 * n0 + 64, dtype=np.complex128)
+        nev = 0
+        # evaluate the initial points and push them (right to left) on the stack
+        sp = 0
+        for k in range(n0 - 1, -1, -1):
+            z = _point(ts[k], c, horizontal)
             fv, dfv, sc = K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
             nev += 1
-            return z, True, abs(fv) / sc, nev
-        if a > 0.9 * prev and a > 1e3 * noise:
-            return z, False, math.inf, nev
-        prev = a
-    return z, False, math.inf, nev
+            if not (cmath.isfinite(fv) and cmath.isfinite(dfv)):
+                return out_t[:0], out_f[:0], out_l[:0], 3, ts[k], nev
+            if abs(fv) <= TINY * sc:
+                return out_t[:0], out_f[:0], out_l[:0], 1, ts[k], nev
+            st_t[sp] = ts[k]
+            st_f[sp] = fv
+            st_d[sp] = dfv
+            sp += 1
+        # the current node is the leftmost one (ts[0])
+        sp -= 1
+        ta = st_t[sp]
+        fa = st_f[sp]
+        da = st_d[sp]
+        za = _point(ta, c, horizontal)
+        n = 1
+        out_t[0] = ta
+        out_f[0] = fa
+        while sp > 0:
+            tb = st_t[sp - 1]
+            fb = st_f[sp - 1]
+            db = st_d[sp - 1]
+            zb = _point(tb, c, horizontal)
+            ok, lg = _seg_ok(za, fa, da, zb, fb, db, tol_phase, tol_trap, tol_lin)
+            if ok:
+                if n >= out_t.shape[0]:
+                    if n >= CAP:
+                        return out_t[:n], out_f[:n], out_l[: n - 1], 2, ta, nev
+                    grow_t = np.empty(2 * n)
+                    grow_f = np.empty(2 * n, dtype=np.complex128)
+                    grow_l = np.empty(2 * n, dtype=np.complex128)
+                    grow_t[:n] = out_t[:n]
+                    grow_f[:n] = out_f[:n]
+                    grow_l[: n - 1] = out_l[: n - 1]
+                    out_t, out_f, out_l = grow_t, grow_f, grow_l
+                out_t[n] = tb
+                out_f[n] = fb
+                out_l[n - 1] = lg
+                n += 1
+                sp -= 1
+                ta, fa, da, za = tb, fb, db, zb
+                continue
+            if tb - ta <= h_min:
+                return out_t[:n], out_f[:n], out_l[: n - 1], 1, 0.5 * (ta + tb), nev
+            tm = 0.5 * (ta + tb)
+            zm = _point(tm, c, horizontal)
+            fm, dfm, scm = K.dispersion_eval(zm, q, gamma, f, beta, eta, delta, xi)
+            nev += 1
+            if not (cmath.isfinite(fm) and cmath.isfinite(dfm)):
+                return out_t[:n], out_f[:n], out_l[: n - 1], 3, tm, nev
+            if abs(fm) <= TINY * scm:
+                return out_t[:n], out_f[:n], out_l[: n - 1], 1, tm, nev
+            if sp >= st_t.shape[0]:
+                grow_t = np.empty(2 * sp)
+                grow_f = np.empty(2 * sp, dtype=np.complex128)
+                grow_d = np.empty(2 * sp, dtype=np.complex128)
+                grow_t[:sp] = st_t[:sp]
+                grow_f[:sp] = st_f[:sp]
+                grow_d[:sp] = st_d[:sp]
+                st_t, st_f, st_d = grow_t, grow_f, grow_d
+            st_t[sp] = tm
+            st_f[sp] = fm
+            st_d[sp] = dfm
+            sp += 1
+        return out_t[:n], out_f[:n], out_l[: n - 1], 0, ta, nev
+
+    @njit(cache=True)
+    def newton_cell(z0, x0, x1, y0, y1, mult, q, gamma, f, beta, eta, delta, xi):
+        """Newton's method (step multiplied by `mult` for a multiple root) confined near the cell [x0,x1]x[y0,y1].
+
+        Returns (z, converged, |F|/scale at z, evaluations). Fails if an iterate leaves the cell enlarged by its
+        own size on every side, or if the steps stop shrinking.
+        """
+        kernels_sha  # noqa: B018 (part of the cache key, see _kernels_fingerprint)
+        w = max(x1 - x0, y1 - y0)
+        z = z0
+        prev = math.inf
+        nev = 0
+        for _ in range(NEWTON_ITERS):
+            fv, dfv, sc = K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
+            nev += 1
+            if not (cmath.isfinite(fv) and cmath.isfinite(dfv)) or dfv == 0:
+                return z, False, math.inf, nev
+            if fv == 0:
+                return z, True, 0.0, nev
+            step = mult * fv / dfv
+            a = abs(step)
+            z = z - step
+            if z.real < x0 - w or z.real > x1 + w or z.imag < y0 - w or z.imag > y1 + w or z.imag <= 0.0:
+                return z, False, math.inf, nev
+            noise = 8.0 * K.EPS * sc / abs(dfv) * mult
+            # converged: the step is at rounding level, or quadratic convergence puts the remaining error
+            # (~ a^3 / prev^2) below 1e-16 |z|
+            quadratic_done = a < 1e-6 * abs(z) and a * a * a <= 1e-16 * abs(z) * prev * prev
+            if a <= max(2.0 * K.EPS * abs(z), noise) or quadratic_done:
+                fv, dfv, sc = K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
+                nev += 1
+                return z, True, abs(fv) / sc, nev
+            if a > 0.9 * prev and a > 1e3 * noise:
+                return z, False, math.inf, nev
+            prev = a
+        return z, False, math.inf, nev
+
+    return sample_line, newton_cell
+
+
+_sample_line, _newton_cell = _build(_kernels_fingerprint())
 
 
 # ------------------------------------------------------------------------------------------------
@@ -383,7 +409,10 @@ class _Problem:
         if status == 1:
             raise _RootOnLine(tbad)
         if status == 2:
-            raise RuntimeError(f"unstable_modes: more than {CAP} samples needed on one line")
+            raise RuntimeError(
+                f"unstable_modes: more than {CAP} samples needed on the line {'Im' if horizontal else 'Re'} z = {c}"
+                " (dense real-axis poles closer than the line: raise im_min)"
+            )
         if status == 3:
             raise RuntimeError(f"unstable_modes: F is not finite at z = {_point(tbad, c, horizontal)}")
         return _Line(c, horizontal, t, F, L)
@@ -432,7 +461,7 @@ class _Problem:
         x0, x1 = -self.re_max, self.re_max
         y0, y1 = max(self.im_min, IM_FLOOR), self.im_max
         shifts = [0, 0, 0, 0]  # bottom, right, top, left
-        for _ in range(16):
+        while True:
             specs = ((y0, True, x0, x1), (x1, False, y0, y1), (y1, True, x0, x1), (x0, False, y0, y1))
             lines = []
             try:
@@ -441,10 +470,11 @@ class _Problem:
             except _RootOnLine:
                 k = len(lines)  # the edge that holds a root moves outward
                 shifts[k] += 1
+                if shifts[k] > 6:
+                    break
                 grow = SHIFT * 4.0 ** (shifts[k] - 1)
                 if k == 0:
-                    step = grow * self._h_min(y0)
-                    y0 = y0 - step if y0 - step >= 0.5 * max(self.im_min, IM_FLOOR) else y0 + step
+                    y0 -= grow * self._h_min(y0)
                 elif k == 1:
                     x1 += grow * self._h_min(self.size)
                 elif k == 2:
@@ -455,7 +485,9 @@ class _Problem:
             bot, right, top, left = lines
             cell = (x0, x1, y0, y1, bot, top, left, right)
             return cell, self.count_of(self.winding(cell)[0])
-        raise RuntimeError("unstable_modes: could not place the window's edges away from roots")
+        name = ("bottom", "right", "top", "left")[k]
+        hint = " (or the real-axis poles below it are too dense to resolve: raise im_min)" if k == 0 else ""
+        raise RuntimeError(f"unstable_modes: could not move the {name} edge of the window away from roots{hint}")
 
     # -- locating ------------------------------------------------------------------------------
     def split(self, cell: tuple) -> tuple[tuple, tuple]:
@@ -490,7 +522,7 @@ class _Problem:
         """Roots in `cell`, which holds n_total of them: subdivide to one root per cell, then Newton."""
         stack = [(cell, n_total, None)]
         roots: list[complex] = []
-        tiny = 1e-9 * self.size
+        eps = np.finfo(float).eps
         while stack:
             c, n, moment = stack.pop()
             if n == 0:
@@ -498,6 +530,8 @@ class _Problem:
             if n < 0:
                 raise RuntimeError("unstable_modes: negative root count in a cell (contour sampling failed)")
             x0, x1, y0, y1 = c[:4]
+            # a cell this small holding n > 1 roots is taken to hold one root of multiplicity n
+            tiny = max(min(1e-9 * self.size, 1e-3 * y0), 64 * eps * max(abs(x0), abs(x1), y1))
             small = max(x1 - x0, y1 - y0) < tiny
             if n == 1 or small:
                 if moment is None:
@@ -536,21 +570,25 @@ class _Problem:
 # ------------------------------------------------------------------------------------------------
 
 
-def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max, strict=False) -> _Problem:
-    if np.ndim(kH) != 0:
-        raise ValueError(f"kH must be a scalar here, in (0, inf); got an array of shape {np.shape(kH)}")
-    vals = [
-        float(check(name, v))
-        for name, v in (("kH", kH), ("gamma", gamma), ("f", f), ("beta", beta), ("eta", eta), ("Delta", Delta),
-                        ("xi", xi))
-    ]
+def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max, strict: bool = False) -> _Problem:
+    """Validate the arguments (ValueError naming the parameter and its range) and set up the problem.
+
+    strict=True samples with tolerances / 4-10 and initial spacing / 10 (a slow reference for the tests).
+    """
+    physical = (("kH", kH), ("gamma", gamma), ("f", f), ("beta", beta), ("eta", eta), ("Delta", Delta), ("xi", xi))
+    for name, v in physical:
+        if np.ndim(v) != 0:
+            raise ValueError(f"{name} must be a scalar here; got an array of shape {np.shape(v)}")
+    vals = [float(check(name, v)) for name, v in physical]
     win = []
     for name, v in (("re_max", re_max), ("im_min", im_min), ("im_max", im_max)):
+        if isinstance(v, (str, bytes, complex, np.complexfloating)) or np.ndim(v) != 0:
+            raise ValueError(f"{name} must be a finite real number; got {v!r}")
         try:
             x = float(v)
         except (TypeError, ValueError):
             raise ValueError(f"{name} must be a finite real number; got {v!r}") from None
-        if not math.isfinite(x) or isinstance(v, (complex, np.complexfloating, str)):
+        if not math.isfinite(x):
             raise ValueError(f"{name} must be a finite real number; got {v!r}")
         win.append(x)
     re_m, im_lo, im_hi = win
@@ -636,6 +674,7 @@ def unstable_modes(
 
 
 def _modes(prob: _Problem) -> tuple[np.ndarray, int]:
+    """(roots sorted by decreasing Im z, number of evaluations of F) for a validated problem."""
     cell, n = prob.outer()
     roots = prob.locate(cell, n) if n else np.empty(0, dtype=np.complex128)
     if roots.size != n:

@@ -187,3 +187,51 @@ def critical_chi(beta, *, f):
     """Exact threshold chi_c = gamma_c f of the Rayleigh branch for eta = inf, Delta = 1 (Fig. 4c, open symbols)."""
     b, ff = np.broadcast_arrays(check("beta", beta), check("f", f))
     return critical_gamma(f=ff, beta=b) * ff
+
+
+@dataclass(frozen=True)
+class StabilityVerdict:
+    """Global verdict on linear stability of steady sliding in a stated window.
+
+    stable : True when the Rayleigh branch has max growth <= 0 on the kH grid and no root of the
+        dispersion relation (any branch) lies in the window im_min <= Im z <= im_max, |Re z| <= re_max
+        at any kH of the grid.
+    rayleigh_growth : max Im z of the Rayleigh branch over the grid (refined)
+    counts : number of roots in the window per kH (argument principle, certified)
+    kH : the grid; window : (re_max, im_min, im_max)
+    """
+
+    stable: bool
+    rayleigh_growth: float
+    counts: np.ndarray
+    kH: np.ndarray
+    window: tuple[float, float, float]
+
+    def __bool__(self) -> bool:
+        return self.stable
+
+
+VERDICT_KH = np.logspace(-2, 2, 41)
+
+
+def stability_verdict(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, re_max=5.0, im_min=1e-4,
+                      im_max=2.0) -> StabilityVerdict:
+    """Combine the Rayleigh branch (:func:`growth_analysis`) with :func:`model.unstable_count` over kH.
+
+    The count only covers its window (PHYSICS section 3: for large eta many roots sit just above the
+    real axis and the count depends on im_min), so the verdict states it.
+    """
+    from .modes import unstable_count
+
+    q = VERDICT_KH if kH is None else check("kH", kH)
+    p = dict(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
+    growth = float(growth_analysis(q, **p).growth)
+    counts = np.array([unstable_count(float(k), **p, re_max=re_max, im_min=im_min, im_max=im_max) for k in q])
+    ok = (not growth > 0.0) and not np.any(counts > 0)
+    return StabilityVerdict(bool(ok), growth, counts, np.asarray(q), (re_max, im_min, im_max))
+
+
+def stable(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, re_max=5.0, im_min=1e-4, im_max=2.0):
+    """True if steady sliding is linearly stable: see :func:`stability_verdict` (which gives the details)."""
+    return stability_verdict(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi, kH=kH, re_max=re_max,
+                             im_min=im_min, im_max=im_max).stable

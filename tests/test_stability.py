@@ -81,3 +81,14 @@ def test_criterion_chi_check_values_and_oracle():
 
 def test_critical_chi_is_gamma_c_times_f():
     assert model.critical_chi(0.3, f=0.9) == pytest.approx(2.4149 * 0.9, rel=2e-5)
+
+
+def test_global_verdict():
+    sym = model.stability_verdict(gamma=3.0, f=0.9, beta=0.3, eta=1.0)
+    assert sym.stable and sym.rayleigh_growth < 0 and not sym.counts.any()
+    assert model.stable(gamma=3.0, f=0.9, beta=0.3, eta=1.0)
+    # eta = inf: the Rayleigh branch itself is unstable
+    assert not model.stable(gamma=3.0, f=0.9, beta=0.3)
+    # eta = 3 < eta_c: the Rayleigh branch is stable, but another branch is unstable near kH = 0.45
+    v = model.stability_verdict(gamma=3.0, f=0.9, beta=0.3, eta=3.0, kH=np.array([0.3, 0.45, 0.6]))
+    assert v.rayleigh_growth < 0 and v.counts[1] >= 1 and not v.stable
