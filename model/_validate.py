@@ -41,6 +41,12 @@ def check(name: str, value, *, complex_ok: bool = False, domain: str | None = No
             return np.array(v, dtype=np.complex128 if complex_ok else np.float64)
         if v == math.inf and allow_inf:
             return np.array(v)
+    if isinstance(value, np.ndarray) and value.dtype == np.float64 and not complex_ok:
+        # fast path: one vectorised range test (NaN fails every comparison)
+        above = value >= lo if lo_inc else value > lo
+        below = value <= hi if hi_inc else value < hi
+        if np.all(above & below):
+            return value
     try:
         arr = np.asarray(value)
         if arr.dtype.kind not in "biufc":

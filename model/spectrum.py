@@ -83,8 +83,12 @@ def rayleigh_branch(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0) -> S
     Shapes: parameters broadcast against each other; result shape = broadcast shape + kH.shape.
     """
     q, params = _check_spectrum_args(kH, gamma, f, beta, eta, Delta, xi)
-    pshape = np.broadcast_shapes(*(p.shape for p in params))
-    flat = [np.array(np.broadcast_to(p, pshape), order="C").ravel() for p in params]
+    if all(p.ndim == 0 for p in params):  # common case: one parameter set
+        pshape: tuple[int, ...] = ()
+        flat = [p.reshape(1).astype(np.float64) for p in params]
+    else:
+        pshape = np.broadcast_shapes(*(p.shape for p in params))
+        flat = [np.array(np.broadcast_to(p, pshape), order="C").ravel() for p in params]
     s = np.ascontiguousarray(np.log(q).ravel())
     n = flat[0].size
     z = np.empty((n, s.size), np.complex128)
