@@ -139,7 +139,9 @@ def main() -> None:
     from benchmarks import bench_maps
 
     text += "\n## Stability maps and thresholds (model.stability)\n\n" + bench_maps.table(bench_maps.run())
-    from benchmarks import bench_modes
+    from benchmarks import bench_modes, bench_pareto
+
+    text += "\n## Run time against error (spectrum solvers; threshold vs kH grid)\n\n" + bench_pareto.markdown()
 
     text += ("\n## All unstable roots in |Re z| <= 5, im_min <= Im z <= 2 (model.unstable_modes vs cxroots)\n\n"
              + bench_modes.markdown(bench_modes.run()))

@@ -100,14 +100,23 @@ def unstable_band(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0):
 
 
 def _threshold(fun, lo: float, hi: float, name: str, valid: str) -> float:
-    """Root in log space of fun (max growth) on [lo, hi], to 1e-12 relative; ValueError without a crossing."""
-    a, b = math.log(lo), math.log(hi)
-    fa, fb = fun(math.exp(a)), fun(math.exp(b))
-    if not (np.isfinite(fa) and np.isfinite(fb)) or fa * fb > 0:
-        raise ValueError(f"no stability threshold for {name} in {valid}: max growth is {fa:.3g} at the lower end "
-                         f"and {fb:.3g} at the upper end")
-    x = optimize.brentq(lambda t: fun(math.exp(t)), a, b, xtol=1e-14, rtol=4 * np.finfo(float).eps, maxiter=200)
-    return math.exp(x)
+    """Zero crossing of fun (max growth) on [lo, hi] in log space, to ~1e-12 relative.
+
+    A coarse log-spaced scan (17 values) brackets the first crossing from the stable (negative) side
+    among finite values (NaN = branch masked on the whole kH grid), then Brent's method refines it.
+    ValueError when no crossing exists in the range.
+    """
+    ts = np.linspace(math.log(lo), math.log(hi), 17)
+    vals = np.array([fun(math.exp(t)) for t in ts])
+    for i in range(ts.size - 1):
+        a, b = vals[i], vals[i + 1]
+        if np.isfinite(a) and np.isfinite(b) and (a < 0) != (b < 0):
+            x = optimize.brentq(lambda t: fun(math.exp(t)), ts[i], ts[i + 1], xtol=1e-14,
+                                rtol=4 * np.finfo(float).eps, maxiter=200)
+            return math.exp(x)
+    finite = vals[np.isfinite(vals)]
+    span = f"between {finite.min():.3g} and {finite.max():.3g}" if finite.size else "undefined (branch masked)"
+    raise ValueError(f"no stability threshold for {name} in {valid}: max growth stays {span} over the range")
 
 
 def _scalar_growth(kH: np.ndarray, **p) -> float:
