@@ -1,4 +1,4 @@
-"""asymslide web app (placeholder page).
+"""asymslide web app: one tab per scene (currently "Spectrum").
 
 Serve it with ``make serve`` (``panel serve app/main.py ...``) and open http://localhost:5006.
 Tests build the same page through :func:`create_app`.
@@ -10,6 +10,8 @@ from pathlib import Path
 
 import panel as pn
 
+from app.spectrum import SpectrumScene
+
 TITLE = "asymslide — frictional sliding without reflection symmetry"
 
 STATIC_DIR = Path(__file__).resolve().parent.parent / "static"
@@ -18,15 +20,15 @@ FAVICON = STATIC_DIR / "favicon.svg"
 CSS = STATIC_DIR / "asymslide.css"
 
 INTRO = """
-## Under construction
+## Frictional sliding without reflection symmetry
 
-**asymslide** will let you explore how steady frictional sliding between two blocks of the
+**asymslide** lets you explore how steady frictional sliding between two blocks of the
 *same* material but *different* thicknesses can lose stability. Without a mirror symmetry
 across the interface, slip along it changes the normal stress on it, and through friction
 this feedback can make small perturbations grow.
 
-The interactive stability maps, spectra and paper figures are being built; this page is a
-placeholder that shows the server is up.
+The **Spectrum** tab shows the Rayleigh branch of the linear stability spectrum (Sect. IV,
+Fig. 4a-b); stability maps and the other paper figures will follow in further tabs.
 
 > E. Aldam, Y. Bar-Sinai, I. Svetlizky, E. A. Brener, J. Fineberg and E. Bouchbinder,
 > *Frictional sliding without geometrical reflection symmetry*,
@@ -41,11 +43,12 @@ def create_app() -> pn.template.BootstrapTemplate:
         stylesheets=[CSS.read_text(encoding="utf-8")],
         sizing_mode="stretch_width",
     )
+    tabs = pn.Tabs(("Spectrum", SpectrumScene().panel()), dynamic=False, sizing_mode="stretch_width")
     return pn.template.BootstrapTemplate(
         title=TITLE,
         logo=str(LOGO),
         favicon=str(FAVICON),
-        main=[intro],
+        main=[intro, tabs],
         header_background="#1f4e79",
     )
 

@@ -34,7 +34,7 @@ def test_page_renders_in_chromium(served_app: str, browser_page) -> None:
     page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
     assert page.evaluate("() => Bokeh.documents[0] !== undefined")
     page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
-    page.get_by_text("Under construction").first.wait_for(state="visible", timeout=30_000)
+    page.get_by_text("lets you explore").first.wait_for(state="visible", timeout=30_000)
     assert page.title() == TITLE
     page.wait_for_load_state("networkidle")
     SCREENSHOT.parent.mkdir(parents=True, exist_ok=True)

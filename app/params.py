@@ -1,0 +1,82 @@
+"""User-facing parameters of the spectrum scene and their widgets (paper symbols as labels).
+
+Data flow: widget (throttled) -> :class:`SpectrumParams` parameter -> cached model call -> plot.
+"""
+
+from __future__ import annotations
+
+import math
+
+import panel as pn
+import param
+from bokeh.models import CustomJSTickFormatter
+
+#: the widget labels, in display order (the paper's symbols)
+LABELS = {
+    "gamma": "γ",
+    "f": "f",
+    "beta": "β",
+    "log10_eta": "η",
+    "eta_infinite": "η = ∞",
+    "Delta": "Δ",
+    "xi": "ξ",
+}
+
+
+class SpectrumParams(param.Parameterized):
+    """Physical parameters of the Rayleigh-branch spectrum (paper Sect. IV)."""
+
+    gamma = param.Number(3.0, bounds=(1e-2, 1e3), softbounds=(0.1, 30), label=LABELS["gamma"],
+                         doc="gamma: ratio of the elastic to the frictional (rate-and-state) stiffness")
+    f = param.Number(0.9, bounds=(0, 2), label=LABELS["f"], doc="friction coefficient f")
+    beta = param.Number(0.3, bounds=(0.01, 0.7071), label=LABELS["beta"], doc="beta = c_s / c_d")
+    log10_eta = param.Number(8.0, bounds=(-2, 12), label=LABELS["log10_eta"],
+                             doc="log10 of the viscosity parameter eta (used when eta_infinite is False)")
+    eta_infinite = param.Boolean(True, label=LABELS["eta_infinite"], doc="eta = inf (no viscous dissipation)")
+    Delta = param.Number(1.0, bounds=(0.01, 1), label=LABELS["Delta"],
+                         doc="Delta (1 = no rate dependence of the normal stress)")
+    xi = param.Number(0.0, bounds=(0, 1e4), softbounds=(0, 10), label=LABELS["xi"],
+                      doc="xi: normal-stress relaxation length (irrelevant when Delta = 1)")
+
+    @property
+    def eta(self) -> float:
+        return math.inf if self.eta_infinite else 10.0**self.log10_eta
+
+    def model_args(self) -> tuple[float, float, float, float, float, float]:
+        """(gamma, f, beta, eta, Delta, xi) as passed to the model; xi is normalised to 0 when Delta == 1
+        (it does not enter F then), so that changing it is not a new cache key."""
+        xi = 0.0 if self.Delta == 1 else float(self.xi)
+        return (float(self.gamma), float(self.f), float(self.beta), float(self.eta), float(self.Delta), xi)
+
+    # ----------------------------------------------------------------------------------------
+    # widgets
+    # ----------------------------------------------------------------------------------------
+
+    def make_widgets(self) -> dict[str, pn.widgets.Widget]:
+        """Fresh widgets bound to this object: sliders update it on release (value_throttled)."""
+        w: dict[str, pn.widgets.Widget] = {}
+        for name, step in (("gamma", 0.01), ("f", 0.01), ("beta", 0.001), ("Delta", 0.01), ("xi", 0.01)):
+            p = self.param[name]
+            lo, hi = p.softbounds if p.softbounds is not None else p.bounds
+            w[name] = pn.widgets.FloatSlider(label=LABELS[name], start=lo, end=hi, step=step,
+                                             value=getattr(self, name), sizing_mode="stretch_width")
+        w["log10_eta"] = pn.widgets.FloatSlider(
+            label=LABELS["log10_eta"], start=self.param.log10_eta.bounds[0], end=self.param.log10_eta.bounds[1],
+            step=0.1, value=self.log10_eta, disabled=self.eta_infinite, sizing_mode="stretch_width",
+            format=CustomJSTickFormatter(code="return '10^' + tick.toFixed(1)"),
+        )
+        w["eta_infinite"] = pn.widgets.Checkbox(label=LABELS["eta_infinite"], value=self.eta_infinite)
+        w = {name: w[name] for name in LABELS}  # display order
+        w["xi"].disabled = self.Delta == 1
+
+        for name, widget in w.items():
+            event = "value" if isinstance(widget, pn.widgets.Checkbox) else "value_throttled"
+            widget.param.watch(lambda e, n=name: setattr(self, n, e.new), event)
+
+        def to_widget(event: param.parameterized.Event) -> None:
+            w[event.name].value = event.new
+
+        self.param.watch(to_widget, list(w))
+        self.param.watch(lambda e: setattr(w["xi"], "disabled", e.new == 1), "Delta")
+        self.param.watch(lambda e: setattr(w["log10_eta"], "disabled", e.new), "eta_infinite")
+        return w

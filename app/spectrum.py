@@ -1,0 +1,147 @@
+"""Scene "Spectrum" (paper Sect. IV, Fig. 4a-b): the Rayleigh branch c/c_s(kH) and its stability.
+
+The app computes no physics: :func:`compute_spectrum` only calls the public API of :mod:`model`
+(cached with ``pn.cache``), and the plots are HoloViews DynamicMaps over parameter-dependent
+methods, so they update in place.
+"""
+
+from __future__ import annotations
+
+import collections
+
+import holoviews as hv
+import numpy as np
+import panel as pn
+import param
+
+import model
+
+from .params import SpectrumParams
+
+hv.extension("bokeh", logo=False)
+
+#: kH grid of the plots
+KH = np.logspace(-3, 3, 400)
+
+#: number of model calls made (keys: model function names and "compute_spectrum"), for tests
+CALLS: collections.Counter[str] = collections.Counter()
+
+#: the dispersion relation whose Rayleigh-branch root z(kH) is plotted (rendered by KaTeX)
+EQUATION = (r"$F(z;\,kH) = \gamma\,\big(G_x + i f\,G_y\big) + i z\left[1 + \frac{\Delta - 1}{1 - i\,\xi\,z\,kH}\right]"
+            r" = 0, \qquad z = c/c_s$")
+
+IM_LABEL = "Im[c/c_s]"
+RE_LABEL = "Re[c/c_s]"
+
+
+@pn.cache(max_items=64)
+def compute_spectrum(gamma: float, f: float, beta: float, eta: float, Delta: float, xi: float) -> dict:
+    """Rayleigh branch, linear expansion (Delta == 1 only) and growth analysis on :data:`KH`."""
+    CALLS["compute_spectrum"] += 1
+    p = dict(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
+    CALLS["rayleigh_branch"] += 1
+    branch = model.rayleigh_branch(KH, **p)
+    out = {"kH": KH, "z": branch.z, "status": branch.status, "error": branch.error}
+    if Delta == 1:
+        CALLS["linear_expansion"] += 1
+        out["linear"] = model.linear_expansion(KH, gamma=gamma, f=f, beta=beta, eta=eta)
+    else:
+        out["linear"] = np.full(KH.shape, np.nan + 0j)
+    CALLS["growth_analysis"] += 1
+    g = model.growth_analysis(KH, **p)
+    out.update(growth=float(g.growth), kH_at_max=float(g.kH_at_max), kH_min=float(g.kH_min),
+               kH_max=float(g.kH_max))
+    return out
+
+
+def _fmt(x: float) -> str:
+    return "—" if not np.isfinite(x) else f"{x:.4g}"
+
+
+class SpectrumScene(param.Parameterized):
+    """Widgets, plots and readout of the spectrum for one :class:`SpectrumParams`."""
+
+    params = param.ClassSelector(class_=SpectrumParams)
+    #: normalised model arguments; the plots depend only on this, so a change that does not change
+    #: the model call (xi while Delta == 1) re-renders nothing
+    inputs = param.Tuple(default=None, length=6, allow_None=True)
+
+    def __init__(self, **kwargs):
+        if "params" not in kwargs:
+            kwargs["params"] = SpectrumParams()
+        super().__init__(**kwargs)
+        self.inputs = self.params.model_args()
+        self.params.param.watch(self._update_inputs, list(self.params.param))
+        self.im_dmap = hv.DynamicMap(self.im_plot)
+        self.re_dmap = hv.DynamicMap(self.re_plot)
+
+    def _update_inputs(self, *_events) -> None:
+        args = self.params.model_args()
+        if args != self.inputs:
+            self.inputs = args
+
+    def data(self) -> dict:
+        return compute_spectrum(*self.inputs)
+
+    @param.depends("inputs")
+    def im_plot(self) -> hv.Overlay:
+        d = self.data()
+        kH, z = d["kH"], d["z"]
+        band = [(d["kH_min"], d["kH_max"])] if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]) else []
+        span = hv.VSpans(band, label="unstable band").opts(color="#f4a582", alpha=0.35)
+        zero = hv.HLine(0.0).opts(color="black", line_width=1)
+        curve = hv.Curve((kH, z.imag), "kH", IM_LABEL, label="Rayleigh branch").opts(color="#1f4e79", line_width=2)
+        linear = hv.Curve((kH, d["linear"].imag), "kH", IM_LABEL, label="linear expansion").opts(
+            color="#b2182b", line_dash="dashed", line_width=1.5)
+        return (span * zero * curve * linear).opts(
+            hv.opts.Overlay(logx=True, responsive=True, height=340, title="Growth rate", legend_position="top_right",
+                            framewise=True, xlabel="kH", ylabel=IM_LABEL))
+
+    @param.depends("inputs")
+    def re_plot(self) -> hv.Overlay:
+        d = self.data()
+        kH = d["kH"]
+        curve = hv.Curve((kH, d["z"].real), "kH", RE_LABEL, label="Rayleigh branch").opts(color="#1f4e79", line_width=2)
+        linear = hv.Curve((kH, d["linear"].real), "kH", RE_LABEL, label="linear expansion").opts(
+            color="#b2182b", line_dash="dashed", line_width=1.5)
+        return (curve * linear).opts(
+            hv.opts.Overlay(logx=True, responsive=True, height=300, title="Phase velocity", legend_position="top_right",
+                            framewise=True, xlabel="kH", ylabel=RE_LABEL))
+
+    @param.depends("inputs")
+    def readout(self) -> str:
+        d = self.data()
+        z, status, error = d["z"], d["status"], d["error"]
+        shown = np.isfinite(z)
+        rel = float(np.max(error[shown] / np.abs(z[shown]))) if shown.any() else np.nan
+        lines = [f"**Max growth** Im[c/c_s] = {_fmt(d['growth'])} at kH = {_fmt(d['kH_at_max'])}"]
+        if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]):
+            lines.append(f"**Unstable band** {_fmt(d['kH_min'])} < kH < {_fmt(d['kH_max'])}")
+        elif np.isfinite(d["growth"]) and d["growth"] > 0:
+            lines.append("**Unstable band** extends beyond the plotted kH range")
+        else:
+            lines.append("**Stable** on the Rayleigh branch (no unstable band in the plotted range)")
+        lines.append(f"**Accuracy** max error/|z| = {rel:.1e} over {int(shown.sum())} points")
+        masked = {model.STATUS[int(c)]: int(n) for c, n in zip(*np.unique(status[~shown], return_counts=True),
+                                                               strict=True)}
+        if masked:
+            lines.extend(f"**Masked** {n} point(s): {reason}" for reason, n in masked.items())
+        else:
+            lines.append("**Masked** none")
+        return "\n\n".join(lines)
+
+    def panel(self) -> pn.viewable.Viewable:
+        widgets = self.params.make_widgets()
+        controls = pn.Column(
+            "### Parameters",
+            *widgets.values(),
+            pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
+            width=320,
+        )
+        plots = pn.Column(
+            pn.pane.LaTeX(EQUATION, renderer="katex", styles={"font-size": "1.15em"}),
+            pn.pane.HoloViews(self.im_dmap, sizing_mode="stretch_width"),
+            pn.pane.HoloViews(self.re_dmap, sizing_mode="stretch_width"),
+            sizing_mode="stretch_width",
+        )
+        return pn.Row(controls, plots, sizing_mode="stretch_width", name="Spectrum")

@@ -1,0 +1,235 @@
+"""The "Spectrum" scene: the param graph, caching, the plotted data and the widgets (headless),
+plus one real-browser test that a slider updates the plot in place."""
+
+from __future__ import annotations
+
+import math
+
+import holoviews as hv
+import numpy as np
+import panel as pn
+import param
+import pytest
+
+import model
+from app import spectrum as sp
+from app.params import SpectrumParams
+from app.spectrum import CALLS, KH, SpectrumScene
+
+
+@pytest.fixture(autouse=True)
+def _fresh_cache():
+    pn.state.clear_caches()
+    CALLS.clear()
+    yield
+    pn.state.clear_caches()
+
+
+def _render_all(scene: SpectrumScene) -> None:
+    """Evaluate every view the page shows (both DynamicMaps and the readout)."""
+    scene.im_dmap[()]
+    scene.re_dmap[()]
+    scene.readout()
+
+
+def _curve(overlay: hv.Overlay, label: str, ylabel: str) -> hv.Curve:
+    (curve,) = [el for el in overlay if isinstance(el, hv.Curve) and el.label == label]
+    assert curve.vdims[0].name == ylabel
+    return curve
+
+
+# --------------------------------------------------------------------------------------------
+# the param graph and the cache
+# --------------------------------------------------------------------------------------------
+
+
+def test_changing_gamma_recomputes_exactly_once() -> None:
+    scene = SpectrumScene()
+    _render_all(scene)
+    assert CALLS["compute_spectrum"] == 1
+    assert CALLS["rayleigh_branch"] == 1
+    scene.params.gamma = 5.0
+    _render_all(scene)
+    assert CALLS["compute_spectrum"] == 2
+    assert CALLS["rayleigh_branch"] == 2
+    assert CALLS["growth_analysis"] == 2
+
+
+def test_xi_is_ignored_when_delta_is_one() -> None:
+    scene = SpectrumScene()
+    _render_all(scene)
+    inputs = scene.inputs
+    fired = []
+    scene.param.watch(fired.append, "inputs")
+    scene.params.xi = 3.0
+    _render_all(scene)
+    assert scene.inputs == inputs and fired == []
+    assert CALLS["compute_spectrum"] == 1
+    scene.params.Delta = 0.5  # now xi matters
+    _render_all(scene)
+    assert CALLS["compute_spectrum"] == 2
+    assert scene.inputs[-2:] == (0.5, 3.0)
+    scene.params.xi = 4.0
+    _render_all(scene)
+    assert CALLS["compute_spectrum"] == 3
+
+
+def test_eta_infinite_and_finite_eta_are_distinct_keys() -> None:
+    p = SpectrumParams(eta_infinite=True, log10_eta=8)
+    assert p.eta == math.inf
+    args_inf = p.model_args()
+    p.eta_infinite = False
+    assert p.eta == 1e8
+    args_fin = p.model_args()
+    assert args_inf != args_fin
+    sp.compute_spectrum(*args_inf)
+    sp.compute_spectrum(*args_fin)
+    assert CALLS["compute_spectrum"] == 2
+    sp.compute_spectrum(*args_inf)
+    assert CALLS["compute_spectrum"] == 2
+
+
+def test_linear_expansion_only_when_delta_is_one() -> None:
+    d1 = sp.compute_spectrum(3.0, 0.9, 0.3, math.inf, 1.0, 0.0)
+    np.testing.assert_array_equal(d1["linear"], model.linear_expansion(KH, gamma=3.0, f=0.9, beta=0.3))
+    d2 = sp.compute_spectrum(3.0, 0.9, 0.3, math.inf, 0.5, 1.0)
+    assert np.all(np.isnan(d2["linear"]))
+    assert CALLS["linear_expansion"] == 1
+
+
+# --------------------------------------------------------------------------------------------
+# the plotted data is the model's
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "p",
+    [
+        dict(gamma=3.0, f=0.9, beta=0.3, eta_infinite=True, Delta=1.0, xi=0.0),
+        dict(gamma=1.5, f=0.6, beta=0.5, eta_infinite=False, log10_eta=2.0, Delta=0.4, xi=2.0),
+    ],
+)
+def test_plotted_curves_equal_model_spectrum(p: dict) -> None:
+    scene = SpectrumScene(params=SpectrumParams(**p))
+    eta = math.inf if p["eta_infinite"] else 10.0 ** p["log10_eta"]
+    z = model.spectrum(KH, gamma=p["gamma"], f=p["f"], beta=p["beta"], eta=eta, Delta=p["Delta"], xi=p["xi"])
+    im = _curve(scene.im_dmap[()], "Rayleigh branch", "Im[c/c_s]")
+    re = _curve(scene.re_dmap[()], "Rayleigh branch", "Re[c/c_s]")
+    np.testing.assert_array_equal(im.dimension_values("kH"), KH)
+    np.testing.assert_array_equal(im.dimension_values("Im[c/c_s]"), z.imag)
+    np.testing.assert_array_equal(re.dimension_values("Re[c/c_s]"), z.real)
+    assert im.kdims[0].name == "kH"
+
+
+def test_bokeh_plot_has_log_x_axis_and_labels() -> None:
+    scene = SpectrumScene()
+    fig = hv.render(scene.im_dmap, backend="bokeh")
+    assert type(fig.x_scale).__name__ == "LogScale"
+    assert fig.xaxis[0].axis_label == "kH"
+    assert fig.yaxis[0].axis_label == "Im[c/c_s]"
+
+
+def test_unstable_band_and_readout() -> None:
+    scene = SpectrumScene()
+    g = model.growth_analysis(KH, gamma=3.0, f=0.9, beta=0.3)
+    (spans,) = [el for el in scene.im_dmap[()] if isinstance(el, hv.VSpans)]
+    np.testing.assert_allclose(spans.array()[0], [g.kH_min, g.kH_max])
+    text = scene.readout()
+    assert f"{float(g.growth):.4g}" in text and "Masked** none" in text
+    scene.params.gamma = 0.1  # stable at these parameters
+    if not float(model.growth_analysis(KH, gamma=0.1, f=0.9, beta=0.3).growth) > 0:
+        (spans,) = [el for el in scene.im_dmap[()] if isinstance(el, hv.VSpans)]
+        assert len(spans) == 0
+
+
+# --------------------------------------------------------------------------------------------
+# the widgets
+# --------------------------------------------------------------------------------------------
+
+
+def _release(slider, value: float) -> None:
+    """What the browser does when a slider handle is released (value_throttled is read-only in Python)."""
+    with param.edit_constant(slider):
+        slider.value = value
+        slider.value_throttled = value
+
+
+def test_widget_labels_are_the_papers_symbols() -> None:
+    w = SpectrumParams().make_widgets()
+    labels = [w[n].label for n in ("gamma", "f", "beta", "log10_eta", "Delta", "xi")]
+    assert labels == ["γ", "f", "β", "η", "Δ", "ξ"]
+    assert w["eta_infinite"].label == "η = ∞"
+
+
+def test_widgets_are_throttled_and_xi_disabled_when_delta_is_one() -> None:
+    p = SpectrumParams()
+    w = p.make_widgets()
+    assert w["xi"].disabled and w["log10_eta"].disabled
+    w["gamma"].value = 7.0  # dragging (not released) does not change the parameter
+    assert p.gamma == 3.0
+    _release(w["gamma"], 7.0)
+    assert p.gamma == 7.0
+    _release(w["Delta"], 0.5)
+    assert p.Delta == 0.5 and not w["xi"].disabled
+    w["eta_infinite"].value = False
+    assert not p.eta_infinite and not w["log10_eta"].disabled
+    p.beta = 0.4  # programmatic changes show in the widget
+    assert w["beta"].value == 0.4
+
+
+def test_app_builds_with_spectrum_tab() -> None:
+    from app.main import create_app
+
+    template = create_app()
+    tabs = [obj for obj in template.main.objects if isinstance(obj, pn.Tabs)]
+    assert tabs and tabs[0]._names == ["Spectrum"]
+
+
+# --------------------------------------------------------------------------------------------
+# browser
+# --------------------------------------------------------------------------------------------
+
+_IM_SOURCE_JS = """() => {
+  const doc = Bokeh.documents[0];
+  for (const m of doc.all_models) {
+    if (m.type === 'ColumnDataSource' || (m.constructor && m.constructor.__name__ === 'ColumnDataSource')) {
+      const cols = Object.keys(m.data ?? {});
+      if (cols.some(c => c.startsWith('Im')) && m.data.kH !== undefined) {
+        const y = m.data[cols.find(c => c.startsWith('Im'))];
+        const arr = Array.from(y);
+        if (arr.some(v => Number.isFinite(v) && v !== 0)) return arr.map(v => Number.isFinite(v) ? v : null);
+      }
+    }
+  }
+  return null;
+}"""
+
+_SET_GAMMA_JS = """(value) => {
+  const doc = Bokeh.documents[0];
+  for (const m of doc.all_models) {
+    if (m.title === 'γ' && m.start !== undefined && m.end !== undefined) {
+      m.value = value;
+      m.value_throttled = value;
+      return true;
+    }
+  }
+  return false;
+}"""
+
+
+@pytest.mark.ui
+def test_gamma_slider_updates_the_im_curve(served_app: str, browser_page) -> None:
+    page = browser_page
+    page.goto(served_app, wait_until="load")
+    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    page.wait_for_function(_IM_SOURCE_JS, timeout=30_000)
+    before = page.evaluate(_IM_SOURCE_JS)
+    expected = model.spectrum(KH, gamma=3.0, f=0.9, beta=0.3).imag
+    np.testing.assert_allclose(np.array(before, dtype=float), expected, rtol=1e-12, atol=0)
+    assert page.evaluate(_SET_GAMMA_JS, 6.0)
+    changed = f"() => {{ const y = ({_IM_SOURCE_JS})(); return y !== null && y[200] !== {before[200]!r}; }}"
+    page.wait_for_function(changed, timeout=30_000)
+    after = np.array(page.evaluate(_IM_SOURCE_JS), dtype=float)
+    np.testing.assert_allclose(after, model.spectrum(KH, gamma=6.0, f=0.9, beta=0.3).imag, rtol=1e-12, atol=0)
+    assert page.console_errors == []
