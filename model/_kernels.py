@@ -351,12 +351,27 @@ MAX_NODES = 8192
 
 @njit(cache=True)
 def _eval_mode(z, s, mode, q, gamma, f, beta, eta, delta, xi):
-    """F along a continuation path: mode 0 varies ln kH = s; mode 1 varies ln gamma = s (F/gamma)."""
+    """F along a continuation path: mode 0 varies ln kH = s; mode 1 varies tau = 1/gamma = s at fixed kH = q.
+
+    Mode 1 evaluates F/gamma = G_x + i f G_y + tau i z S, which is linear in tau and finite at
+    tau = 0 (gamma = inf), where its root is the Rayleigh root of the large-kH response.
+    """
     if mode == 0:
         return dispersion_eval(z, math.exp(s), gamma, f, beta, eta, delta, xi)
-    g = math.exp(s)
-    fv, dfv, sc = dispersion_eval(z, q, g, f, beta, eta, delta, xi)
-    return fv / g, dfv / g, sc / g
+    gx, gy, dgx, dgy, sc = response(z, q, beta, eta)
+    if delta == 1.0:
+        sf = 1.0 + 0j
+        dsf = 0j
+        sabs = 1.0
+    else:
+        inv_den = 1.0 / (1.0 - 1j * xi * z * q)
+        sf = 1.0 + (delta - 1.0) * inv_den
+        dsf = (delta - 1.0) * (1j * xi * q) * inv_den * inv_den
+        sabs = 1.0 + _abs1((delta - 1.0) * inv_den)
+    fval = gx + 1j * f * gy + s * 1j * z * sf
+    dfval = dgx + 1j * f * dgy + s * 1j * (sf + z * dsf)
+    scale = sc + _abs1(f * gy) + s * _abs1(z) * sabs + _abs1(z * dfval)
+    return fval, dfval, scale
 
 
 @njit(cache=True)
@@ -484,7 +499,8 @@ def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, de
     if lz_ok:
         lz[0] = cmath.log(z0)
     n = 1
-    h = 0.05 if mode == 0 else 0.25
+    h = 0.05 if mode == 0 else 0.25 * abs(s_stop - s0)
+    h_cap = H_MAX if mode == 0 else abs(s_stop - s0)
     beyond = 0
     kt = 0
     nt = targets.shape[0]
@@ -536,7 +552,7 @@ def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, de
                 fac = 2.0 if err == 0.0 else 0.9 * (PRED_TOL / err) ** (1.0 / 3.0)
                 fac = min(2.0, max(0.5, fac))
                 if not (landing and fac >= 1.0):  # a step shortened to land on a target keeps h
-                    h = min(H_MAX if mode == 0 else 1.0, h_try * fac)
+                    h = min(h_cap, h_try * fac)
             else:
                 h_try *= 0.5
                 h = h_try
@@ -544,18 +560,16 @@ def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, de
 
 @njit(cache=True)
 def rayleigh_start(z_r, gamma, f, beta, eta, delta, xi):
-    """The Rayleigh-branch root at kH = 1e4: homotopy in ln(gamma) from 1e7 (root = z_R) down to gamma."""
+    """The Rayleigh-branch root at kH = 1e4: homotopy in tau = 1/gamma from tau = 0 (gamma = inf, where
+    the root is the Rayleigh root of the large-kH response, found by Newton from z_R) to 1/gamma."""
     q = math.exp(S_TOP)
-    g_hi = math.log(max(1e7, gamma))
     work_s = np.empty(4096)
     work_z = np.empty(4096, dtype=np.complex128)
     work_c = np.empty(4096)
-    z, ok, _, _, _, _, _ = _newton(z_r + 0j, g_hi, 1, q, gamma, f, beta, eta, delta, xi, 20)
+    z, ok, _, _, _, _, _ = _newton(z_r + 0j, 0.0, 1, q, gamma, f, beta, eta, delta, xi, 20)
     if not ok:
         return z, False
-    if g_hi == math.log(gamma):
-        return z, True
-    n, lost = _continue(z, g_hi, math.log(gamma), 0, -1.0, 1, q, gamma, f, beta, eta, delta, xi, work_s, work_z,
+    n, lost = _continue(z, 0.0, 1.0 / gamma, 0, 1.0, 1, q, gamma, f, beta, eta, delta, xi, work_s, work_z,
                         work_c, np.empty(0))
     if lost:
         return work_z[n - 1], False
