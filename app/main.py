@@ -1,4 +1,4 @@
-"""asymslide web app: one tab per scene (currently "Spectrum").
+"""asymslide web app: one tab per scene ("Spectrum", "Thin-on-thick").
 
 Serve it with ``make serve`` (``panel serve app/main.py ...``) and open http://localhost:5006.
 Tests build the same page through :func:`create_app`.
@@ -11,6 +11,7 @@ from pathlib import Path
 import panel as pn
 
 from app.spectrum import SpectrumScene
+from app.thin_on_thick import ThinOnThickScene
 
 TITLE = "asymslide — frictional sliding without reflection symmetry"
 
@@ -28,7 +29,9 @@ across the interface, slip along it changes the normal stress on it, and through
 this feedback can make small perturbations grow.
 
 The **Spectrum** tab shows the Rayleigh branch of the linear stability spectrum (Sect. IV,
-Fig. 4a-b); stability maps and the other paper figures will follow in further tabs.
+Fig. 4a-b); the **Thin-on-thick** tab shows a thin block sliding on a thick one: the
+effective moduli, the effective bimaterial response G_y and the slip-induced normal-stress change
+(Sect. III, Fig. 3). Stability maps and the other paper figures will follow in further tabs.
 
 > E. Aldam, Y. Bar-Sinai, I. Svetlizky, E. A. Brener, J. Fineberg and E. Bouchbinder,
 > *Frictional sliding without geometrical reflection symmetry*,
@@ -43,7 +46,12 @@ def create_app() -> pn.template.BootstrapTemplate:
         stylesheets=[CSS.read_text(encoding="utf-8")],
         sizing_mode="stretch_width",
     )
-    tabs = pn.Tabs(("Spectrum", SpectrumScene().panel()), dynamic=False, sizing_mode="stretch_width")
+    tabs = pn.Tabs(
+        ("Spectrum", SpectrumScene().panel()),
+        ("Thin-on-thick", ThinOnThickScene().panel()),
+        dynamic=False,
+        sizing_mode="stretch_width",
+    )
     return pn.template.BootstrapTemplate(
         title=TITLE,
         logo=str(LOGO),

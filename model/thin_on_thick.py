@@ -115,8 +115,10 @@ def effective_modulus_excess(kW, nu):
 def _half_space_m(z: np.ndarray, b2: np.ndarray):
     """Entries of mu k D M for a half-space (Eq. S-m2s) divided by z^2, cancellation-free.
 
-    Returns (a_s, a_d, p, Dt) with D/z^2 = Dt = z^2 - 4 + 4(1+b2-b2 z^2)/(1+a_s a_d) and
-    (1 + a_s^2 - 2 a_s a_d)/z^2 = p = 1 - 2 a_s (1-b2)/(a_s + a_d).
+    Returns (a_s, a_d, p, Dt, kappa) with D/z^2 = Dt = z^2 - 4 + 4(1+b2-b2 z^2)/(1+a_s a_d),
+    (1 + a_s^2 - 2 a_s a_d)/z^2 = p = 1 - 2 a_s (1-b2)/(a_s + a_d), and the determinant identity
+    a_s a_d - p^2 = kappa Dt with kappa = -(1 + b2 - b2 z^2)/(1 + a_s a_d) (so det M = kappa/(mu k)^2 Dt:
+    the half-space compliance has a simple pole at its Rayleigh speed).
     """
     us = (1.0 - z) * (1.0 + z)
     ud = 1.0 - b2 * z * z
@@ -124,9 +126,11 @@ def _half_space_m(z: np.ndarray, b2: np.ndarray):
     ud = ud.real + 1j * (ud.imag + 0.0)
     a_s = np.sqrt(us)
     a_d = np.sqrt(ud)
-    dt = z * z - 4.0 + 4.0 * (1.0 + b2 - b2 * z * z) / (1.0 + a_s * a_d)
+    cnum = 1.0 + b2 - b2 * z * z
+    one = 1.0 + a_s * a_d
+    dt = z * z - 4.0 + 4.0 * cnum / one
     p = 1.0 - 2.0 * a_s * (1.0 - b2) / (a_s + a_d)
-    return a_s, a_d, p, dt
+    return a_s, a_d, p, dt, -cnum / one
 
 
 def thin_on_thick_response(z, kW, *, nu):
@@ -136,8 +140,14 @@ def thin_on_thick_response(z, kW, *, nu):
     lower: a half-space with mu_eff(kW), nu_eff(kW) (Eq. effective_constants) and the same density,
     so its shear speed is c_s sqrt(mu_eff/mu). z = c/c_s of the thin block. With M of Eq. S-m2s for
     each half-space (lower: diagonal negated), G = (M_upper - M_lower)^-1, G_x = G_xx/(mu k),
-    G_y = G_yx/(i mu k). The 0/0 of both M's at z -> 0 is removed analytically, so the quasi-static
-    limit (Eq. S-M_QS_inf_H) is exact. Principal square roots; real z are on the upper lip.
+    G_y = G_yx/(i mu k). Written with the determinant identity of :func:`_half_space_m`:
+
+        G_x = (a_d1 Dt2 + r a_d2 Dt1) / N,   G_y = (p1 Dt2 - r p2 Dt1) / N,
+        N = kappa1 Dt2 + r (a_s1 a_d2 + a_s2 a_d1 + 2 p1 p2) + r^2 kappa2 Dt1,   r = mu/mu_eff,
+
+    so neither the 0/0 of both M's at z -> 0 (the quasi-static limit, Eq. S-M_QS_inf_H, comes out
+    exact) nor the poles of the M's at each block's Rayleigh speed appear. Principal square roots;
+    real z are on the upper lip.
     """
     zz = check("z", z, complex_ok=True)
     q = check("kW", kW)
@@ -148,15 +158,12 @@ def thin_on_thick_response(z, kW, *, nu):
     b1 = (1.0 - 2.0 * nu1) / (2.0 - 2.0 * nu1)
     nu2 = num / den
     b2 = (1.0 - 2.0 * nu2) / (2.0 - 2.0 * nu2)
-    z2 = zz * np.sqrt(den)  # c / c_s of the lower block; mu/mu_eff = den
-    as1, ad1, p1, dt1 = _half_space_m(zz, b1)
-    as2, ad2, p2, dt2 = _half_space_m(z2, b2)
-    mxx = as1 / dt1 + den * as2 / dt2
-    myy = ad1 / dt1 + den * ad2 / dt2
-    mxy = 1j * (p1 / dt1 - den * p2 / dt2)
-    myx = -mxy
-    det = mxx * myy - mxy * myx
-    return myy / det, (-myx / det) / 1j
+    r = den  # mu/mu_eff
+    z2 = zz * np.sqrt(den)  # c / c_s of the lower block
+    as1, ad1, p1, dt1, k1 = _half_space_m(zz, b1)
+    as2, ad2, p2, dt2, k2 = _half_space_m(z2, b2)
+    big_n = k1 * dt2 + r * (as1 * ad2 + as2 * ad1 + 2.0 * p1 * p2) + r * r * k2 * dt1
+    return (ad1 * dt2 + r * ad2 * dt1) / big_n, (p1 * dt2 - r * p2 * dt1) / big_n
 
 
 def normal_stress_change(v, *, c, c_s, kW, nu, mu):

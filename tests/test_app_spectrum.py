@@ -182,7 +182,7 @@ def test_app_builds_with_spectrum_tab() -> None:
 
     template = create_app()
     tabs = [obj for obj in template.main.objects if isinstance(obj, pn.Tabs)]
-    assert tabs and tabs[0]._names == ["Spectrum"]
+    assert tabs and tabs[0]._names[0] == "Spectrum"
 
 
 # --------------------------------------------------------------------------------------------

@@ -239,6 +239,17 @@ def test_thin_on_thick_vs_oracle(kW, frac):
     assert rel(gy, oy) <= 1e-10
 
 
+def test_thin_on_thick_smooth_through_the_thin_blocks_rayleigh_speed():
+    """c = c_R of the thin block is a pole of its compliance M_upper, not of G: finite, smooth, oracle-exact."""
+    zr = float(model.rayleigh_speed(math.sqrt((1 - 0.33) / 2)))
+    zs = np.array([zr * (1 - 1e-9), np.nextafter(zr, 0), zr, np.nextafter(zr, 2), zr * (1 + 1e-9)])
+    gy = model.thin_on_thick_response(zs, 5.0, nu=0.33)[1]
+    assert np.all(np.isfinite(gy)) and np.ptp(gy.real) < 1e-9
+    assert rel(gy[2], oracle.thin_on_thick_response(zr * (1 + 1e-12), 5.0, 0.33)[1]) <= 1e-10
+    ds = model.normal_stress_change(np.array([1.0]), c=zr * 1345.0, c_s=1345.0, kW=5.0, nu=0.33, mu=1180 * 1345.0**2)
+    assert np.isfinite(ds).all() and ds[0] > 0
+
+
 def test_thin_on_thick_quasistatic_limit_vs_independent_formula():
     for kW in (0.01, 1.0, 5.0, 100.0):
         assert rel(model.thin_on_thick_response(1e-8, kW, nu=0.33)[1], oracle.thin_on_thick_quasistatic_gy(kW, 0.33)) \

@@ -1,0 +1,280 @@
+"""Scene "Thin-on-thick" (paper Sect. III, Fig. 3): effective moduli, effective bimaterial G_y and the
+normal-stress change of a thin block (width W) sliding on a thick one of the same material.
+
+The app computes no physics: the cached ``compute_*`` functions only call the public API of :mod:`model`,
+one function per dependency group, so that e.g. changing ρ or σ₀ recomputes only the (cheap) Δσ_yy line
+and changing kW recomputes neither the μ_eff(kW) curve nor anything that depends only on ν.
+"""
+
+from __future__ import annotations
+
+import collections
+import math
+
+import holoviews as hv
+import numpy as np
+import panel as pn
+import param
+from bokeh.models import CustomJSTickFormatter
+
+import model
+
+hv.extension("bokeh", logo=False)
+
+#: the widget labels, in display order (the paper's symbols)
+LABELS = {
+    "log10_kW": "kW",
+    "nu": "ν",
+    "c_s": "c_s [m/s]",
+    "rho": "ρ [kg/m³]",
+    "sigma0_MPa": "σ₀ [MPa]",
+}
+
+#: kW grid of the effective-moduli plots (Fig. 3a and inset)
+KW = np.logspace(-2, 3, 400)
+#: slip-velocity grid of Fig. 3c [m/s]
+V = np.linspace(0.0, 2.0, 201)
+#: number of points of the c/c_s grid of Fig. 3b
+N_Z = 400
+Z_MIN = 1e-3
+#: fraction of the limiting speed min(1, sqrt(mu_eff/mu)) at which the c/c_s grid stops
+Z_MAX_FRACTION = 0.999
+
+MU_LABEL = "μ_eff/μ"
+NU_LABEL = "ν_eff"
+Z_LABEL = "c/c_s"
+GY_LABEL = "G_y"
+V_LABEL = "v [m/s]"
+DS_LABEL = "Δσ_yy/σ₀"
+
+
+
+def _quiet() -> np.errstate:
+    """The model may return NaN (with a RuntimeWarning) where it cannot evaluate, e.g. exactly at c = c_R;
+    the page shows such points as gaps and says so in the readout instead of failing."""
+    return np.errstate(divide="ignore", invalid="ignore")
+
+
+#: number of calls (keys: the cached ``compute_*`` functions and the model functions), for tests
+CALLS: collections.Counter[str] = collections.Counter()
+
+
+def _kw(log10_kw: float) -> float:
+    """kW from its log10, rounded to 12 significant digits (10**log10(5) is 5, not 4.999999999999999)."""
+    return float(f"{10.0 ** log10_kw:.12g}")
+
+
+# --------------------------------------------------------------------------------------------
+# cached model calls, one per dependency group
+# --------------------------------------------------------------------------------------------
+
+
+@pn.cache(max_items=64)
+def compute_moduli_curve(nu: float) -> dict:
+    """mu_eff/mu and nu_eff on :data:`KW` (depends on nu only)."""
+    CALLS["compute_moduli_curve"] += 1
+    CALLS["effective_moduli"] += 1
+    mu_ratio, nu_eff = model.effective_moduli(KW, nu)
+    return {"kW": KW, "mu_ratio": mu_ratio, "nu_eff": nu_eff}
+
+
+@pn.cache(max_items=256)
+def compute_point(kW: float, nu: float) -> dict:
+    """Scalars at the current (kW, nu): effective moduli, mu_eff/mu - 1, z_R of the thin block, G_y(z_R)."""
+    CALLS["compute_point"] += 1
+    CALLS["effective_moduli"] += 1
+    mu_ratio, nu_eff = model.effective_moduli(kW, nu)
+    CALLS["effective_modulus_excess"] += 1
+    excess = model.effective_modulus_excess(kW, nu)
+    # thin block under plane stress: beta1^2 = (c_s/c_d)^2 = (1 - nu)/2 (PHYSICS section 6)
+    CALLS["rayleigh_speed"] += 1
+    z_R = float(model.rayleigh_speed(math.sqrt((1.0 - nu) / 2.0)))
+    CALLS["thin_on_thick_response"] += 1
+    with _quiet():
+        _, gy = model.thin_on_thick_response(z_R, kW, nu=nu)
+    return {"kW": kW, "nu": nu, "mu_ratio": float(mu_ratio), "nu_eff": float(nu_eff), "excess": float(excess),
+            "z_R": z_R, "gy_R": float(np.real(gy)),
+            "z_max": Z_MAX_FRACTION * min(1.0, math.sqrt(float(mu_ratio)))}
+
+
+@pn.cache(max_items=64)
+def compute_gy_curve(kW: float, nu: float) -> dict:
+    """Re G_y on c/c_s from :data:`Z_MIN` to 0.999 min(1, sqrt(mu_eff/mu)) (Fig. 3b)."""
+    CALLS["compute_gy_curve"] += 1
+    z = np.linspace(Z_MIN, compute_point(kW, nu)["z_max"], N_Z)
+    CALLS["thin_on_thick_response"] += 1
+    with _quiet():
+        _, gy = model.thin_on_thick_response(z, kW, nu=nu)
+    return {"z": z, "gy": np.real(gy)}
+
+
+@pn.cache(max_items=256)
+def compute_stress_line(kW: float, nu: float, c_s: float, rho: float, sigma0: float) -> dict:
+    """Δσ_yy/σ₀ on :data:`V` at c = c_R of the thin block (Fig. 3c); sigma0 in Pa, mu = rho c_s^2."""
+    CALLS["compute_stress_line"] += 1
+    c = compute_point(kW, nu)["z_R"] * c_s
+    mu = rho * c_s**2
+    CALLS["normal_stress_change"] += 2
+    with _quiet():
+        ds = model.normal_stress_change(V, c=c, c_s=c_s, kW=kW, nu=nu, mu=mu) / sigma0
+        slope = float(model.normal_stress_change(1.0, c=c, c_s=c_s, kW=kW, nu=nu, mu=mu)) / sigma0
+    return {"v": V, "ds": ds, "slope": slope, "c": c, "mu": mu}
+
+
+# --------------------------------------------------------------------------------------------
+# parameters and widgets
+# --------------------------------------------------------------------------------------------
+
+
+class ThinOnThickParams(param.Parameterized):
+    """User-facing parameters of the thin-on-thick scene (paper Sect. III; PMMA defaults of Sect. S-V)."""
+
+    log10_kW = param.Number(math.log10(5.0), bounds=(-2, 2), label=LABELS["log10_kW"],
+                            doc="log10 of kW (wavenumber k times the thin block's width W)")
+    nu = param.Number(0.33, bounds=(0, 0.49), label=LABELS["nu"], doc="Poisson ratio ν")
+    c_s = param.Number(1345.0, bounds=(1.0, 1e4), label=LABELS["c_s"], doc="shear wave speed c_s [m/s] (PMMA)")
+    rho = param.Number(1180.0, bounds=(1.0, 3e4), label=LABELS["rho"], doc="density ρ [kg/m³]; μ = ρ c_s²")
+    sigma0_MPa = param.Number(4.5, bounds=(1e-3, 1e4), label=LABELS["sigma0_MPa"], doc="normal stress σ₀ [MPa]")
+
+    @property
+    def kW(self) -> float:
+        return _kw(self.log10_kW)
+
+    def make_widgets(self) -> dict[str, pn.widgets.Widget]:
+        """Fresh widgets bound to this object: sliders update it on release (value_throttled)."""
+        w: dict[str, pn.widgets.Widget] = {
+            "log10_kW": pn.widgets.FloatSlider(
+                label=LABELS["log10_kW"], start=self.param.log10_kW.bounds[0], end=self.param.log10_kW.bounds[1],
+                step=0.01, value=self.log10_kW, sizing_mode="stretch_width",
+                format=CustomJSTickFormatter(code="return Math.pow(10, tick).toPrecision(3)"),
+            ),
+            "nu": pn.widgets.FloatSlider(label=LABELS["nu"], start=0.0, end=0.49, step=0.005, value=self.nu,
+                                         sizing_mode="stretch_width"),
+        }
+        for name, step in (("c_s", 1.0), ("rho", 10.0), ("sigma0_MPa", 0.1)):
+            lo, hi = self.param[name].bounds
+            w[name] = pn.widgets.FloatInput(label=LABELS[name], start=lo, end=hi, step=step, value=getattr(self, name),
+                                            sizing_mode="stretch_width")
+        for name, widget in w.items():
+            event = "value_throttled" if isinstance(widget, pn.widgets.FloatSlider) else "value"
+            widget.param.watch(lambda e, n=name: setattr(self, n, e.new), event)
+
+        def to_widget(event: param.parameterized.Event) -> None:
+            w[event.name].value = event.new
+
+        self.param.watch(to_widget, list(w))
+        return w
+
+
+def _fmt(x: float, digits: int = 6) -> str:
+    return "—" if not np.isfinite(x) else f"{x:.{digits}g}"
+
+
+class ThinOnThickScene(param.Parameterized):
+    """Widgets, plots (Fig. 3a-c) and readout for one :class:`ThinOnThickParams`."""
+
+    params = param.ClassSelector(class_=ThinOnThickParams)
+    #: normalised model arguments per dependency group; a plot depends only on the keys it uses
+    nu_key = param.Number(default=None, allow_None=True)
+    point_key = param.Tuple(default=None, length=2, allow_None=True)  # (kW, nu)
+    stress_key = param.Tuple(default=None, length=5, allow_None=True)  # (kW, nu, c_s, rho, sigma0 [Pa])
+
+    def __init__(self, **kwargs):
+        if "params" not in kwargs:
+            kwargs["params"] = ThinOnThickParams()
+        super().__init__(**kwargs)
+        self._update_keys()
+        self.params.param.watch(self._update_keys, list(LABELS))
+        self.moduli_dmap = hv.DynamicMap(self.moduli_plot)
+        self.nu_eff_dmap = hv.DynamicMap(self.nu_eff_plot)
+        self.gy_dmap = hv.DynamicMap(self.gy_plot)
+        self.stress_dmap = hv.DynamicMap(self.stress_plot)
+
+    def _update_keys(self, *_events) -> None:
+        p = self.params
+        kw, nu = p.kW, float(p.nu)
+        stress = (kw, nu, float(p.c_s), float(p.rho), float(p.sigma0_MPa) * 1e6)
+        with param.parameterized.batch_call_watchers(self):
+            if nu != self.nu_key:
+                self.nu_key = nu
+            if (kw, nu) != self.point_key:
+                self.point_key = (kw, nu)
+            if stress != self.stress_key:
+                self.stress_key = stress
+
+    def point(self) -> dict:
+        return compute_point(*self.point_key)
+
+    @param.depends("nu_key", "point_key")
+    def moduli_plot(self) -> hv.Overlay:
+        d, pt = compute_moduli_curve(self.nu_key), self.point()
+        one = hv.HLine(1.0).opts(color="black", line_width=1, line_dash="dotted")
+        curve = hv.Curve((d["kW"], d["mu_ratio"]), "kW", MU_LABEL, label=MU_LABEL).opts(color="#1f4e79", line_width=2)
+        marker = hv.Scatter(([pt["kW"]], [pt["mu_ratio"]]), "kW", MU_LABEL, label="current kW").opts(
+            color="#b2182b", size=9)
+        return (one * curve * marker).opts(
+            hv.opts.Overlay(logx=True, responsive=True, height=320, title="(a) Effective shear modulus",
+                            show_legend=False, framewise=True, xlabel="kW", ylabel=MU_LABEL))
+
+    @param.depends("nu_key", "point_key")
+    def nu_eff_plot(self) -> hv.Overlay:
+        d, pt = compute_moduli_curve(self.nu_key), self.point()
+        curve = hv.Curve((d["kW"], d["nu_eff"]), "kW", NU_LABEL, label=NU_LABEL).opts(color="#1f4e79", line_width=2)
+        marker = hv.Scatter(([pt["kW"]], [pt["nu_eff"]]), "kW", NU_LABEL, label="current kW").opts(
+            color="#b2182b", size=7)
+        return (curve * marker).opts(
+            hv.opts.Overlay(logx=True, width=300, height=220, title="(a, inset) ν_eff",
+                            show_legend=False, framewise=True, xlabel="kW", ylabel=NU_LABEL))
+
+    @param.depends("point_key")
+    def gy_plot(self) -> hv.Overlay:
+        d, pt = compute_gy_curve(*self.point_key), self.point()
+        zero = hv.HLine(0.0).opts(color="black", line_width=1)
+        c_r = hv.VLine(pt["z_R"], label="c_R").opts(color="#999999", line_dash="dashed", line_width=1)
+        curve = hv.Curve((d["z"], d["gy"]), Z_LABEL, GY_LABEL, label="Re G_y").opts(color="#1f4e79", line_width=2)
+        return (zero * c_r * curve).opts(
+            hv.opts.Overlay(responsive=True, height=300, title=f"(b) G_y at kW = {_fmt(pt['kW'], 4)}",
+                            show_legend=False, framewise=True, xlabel=Z_LABEL, ylabel=GY_LABEL))
+
+    @param.depends("stress_key")
+    def stress_plot(self) -> hv.Overlay:
+        d = compute_stress_line(*self.stress_key)
+        zero = hv.HLine(0.0).opts(color="black", line_width=1)
+        curve = hv.Curve((d["v"], d["ds"]), V_LABEL, DS_LABEL, label=DS_LABEL).opts(color="#b2182b", line_width=2)
+        return (zero * curve).opts(
+            hv.opts.Overlay(responsive=True, height=300, title="(c) Normal-stress change at c = c_R",
+                            show_legend=False, framewise=True, xlabel=V_LABEL, ylabel=DS_LABEL))
+
+    @param.depends("stress_key")
+    def readout(self) -> str:
+        pt = self.point()
+        d = compute_stress_line(*self.stress_key)
+        lines = [
+            f"**kW** = {_fmt(pt['kW'], 4)}, **ν** = {_fmt(pt['nu'], 4)}",
+            f"**μ_eff/μ** = {_fmt(pt['mu_ratio'], 10)}",
+            f"**μ_eff/μ − 1** = {pt['excess']:.6e}" if np.isfinite(pt["excess"]) else "**μ_eff/μ − 1** = —",
+            f"**ν_eff** = {_fmt(pt['nu_eff'], 6)}",
+            f"**c_R/c_s** (thin block, plane stress) = {_fmt(pt['z_R'], 6)}, c_R = {_fmt(d['c'], 5)} m/s",
+            f"**G_y(c_R)** = {_fmt(pt['gy_R'], 6)}",
+            f"**dΔσ_yy/σ₀/dv** = {_fmt(d['slope'], 5)} s/m (μ = ρc_s² = {_fmt(d['mu'] / 1e9, 4)} GPa)",
+        ]
+        if not (np.all(np.isfinite(d["ds"])) and np.isfinite(pt["gy_R"])):
+            lines.append("**Warning** the model returned non-finite values at c = c_R")
+        return "\n\n".join(lines)
+
+    def panel(self) -> pn.viewable.Viewable:
+        widgets = self.params.make_widgets()
+        controls = pn.Column(
+            "### Parameters",
+            *widgets.values(),
+            pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
+            width=320,
+        )
+        plots = pn.Column(
+            pn.Row(pn.pane.HoloViews(self.moduli_dmap, sizing_mode="stretch_width"),
+                   pn.pane.HoloViews(self.nu_eff_dmap), sizing_mode="stretch_width"),
+            pn.pane.HoloViews(self.gy_dmap, sizing_mode="stretch_width"),
+            pn.pane.HoloViews(self.stress_dmap, sizing_mode="stretch_width"),
+            sizing_mode="stretch_width",
+        )
+        return pn.Row(controls, plots, sizing_mode="stretch_width", name="Thin-on-thick")

@@ -1,0 +1,272 @@
+"""The "Thin-on-thick" scene (Fig. 3), headless: caching per dependency group, plotted data equal to the
+model's values, the widgets, and the page with two tabs."""
+
+from __future__ import annotations
+
+import math
+
+import holoviews as hv
+import numpy as np
+import panel as pn
+import param
+import pytest
+
+import model
+from app import thin_on_thick as tt
+from app.thin_on_thick import CALLS, KW, ThinOnThickParams, ThinOnThickScene
+
+
+@pytest.fixture(autouse=True)
+def _fresh_cache():
+    pn.state.clear_caches()
+    CALLS.clear()
+    yield
+    pn.state.clear_caches()
+
+
+def _render_all(scene: ThinOnThickScene) -> None:
+    scene.moduli_dmap[()]
+    scene.nu_eff_dmap[()]
+    scene.gy_dmap[()]
+    scene.stress_dmap[()]
+    scene.readout()
+
+
+def _el(overlay: hv.Overlay, kind: type, label: str) -> hv.Element:
+    (el,) = [e for e in overlay if isinstance(e, kind) and e.label == label]
+    return el
+
+
+def _z_R(nu: float) -> float:
+    return float(model.rayleigh_speed(math.sqrt((1 - nu) / 2)))
+
+
+# --------------------------------------------------------------------------------------------
+# the cache: one cached function per dependency group
+# --------------------------------------------------------------------------------------------
+
+
+def test_each_group_computed_once_and_rerender_is_free() -> None:
+    scene = ThinOnThickScene()
+    _render_all(scene)
+    _render_all(scene)
+    assert CALLS["compute_moduli_curve"] == 1
+    assert CALLS["compute_point"] == 1
+    assert CALLS["compute_gy_curve"] == 1
+    assert CALLS["compute_stress_line"] == 1
+    assert CALLS["thin_on_thick_response"] == 2  # G_y curve and G_y(c_R)
+
+
+@pytest.mark.parametrize("name, value", [("rho", 1000.0), ("sigma0_MPa", 3.0), ("c_s", 1200.0)])
+def test_material_inputs_recompute_only_the_stress_line(name: str, value: float) -> None:
+    scene = ThinOnThickScene()
+    _render_all(scene)
+    before = dict(CALLS)
+    setattr(scene.params, name, value)
+    _render_all(scene)
+    assert CALLS["compute_stress_line"] == before["compute_stress_line"] + 1
+    for key in ("compute_moduli_curve", "compute_point", "compute_gy_curve", "thin_on_thick_response",
+                "effective_moduli"):
+        assert CALLS[key] == before[key], key
+
+
+def test_kW_does_not_recompute_the_moduli_curve() -> None:
+    scene = ThinOnThickScene()
+    _render_all(scene)
+    scene.params.log10_kW = 1.0
+    _render_all(scene)
+    assert CALLS["compute_moduli_curve"] == 1
+    assert CALLS["compute_point"] == 2
+    assert CALLS["compute_gy_curve"] == 2
+    assert CALLS["compute_stress_line"] == 2
+    # the marker moved, the curve is the same object's data
+    marker = _el(scene.moduli_dmap[()], hv.Scatter, "current kW")
+    assert marker.dimension_values("kW")[0] == 10.0
+
+
+def test_nu_recomputes_everything_once() -> None:
+    scene = ThinOnThickScene()
+    _render_all(scene)
+    scene.params.nu = 0.25
+    _render_all(scene)
+    for key in ("compute_moduli_curve", "compute_point", "compute_gy_curve", "compute_stress_line"):
+        assert CALLS[key] == 2, key
+
+
+def test_kW_is_rounded_so_the_default_is_exactly_5() -> None:
+    assert ThinOnThickParams().kW == 5.0
+    scene = ThinOnThickScene()
+    assert scene.point_key == (5.0, 0.33)
+    assert scene.stress_key == (5.0, 0.33, 1345.0, 1180.0, 4.5e6)
+
+
+# --------------------------------------------------------------------------------------------
+# the plotted data is the model's
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("kW, nu", [(5.0, 0.33), (0.1, 0.2), (50.0, 0.45)])
+def test_moduli_plots_equal_model(kW: float, nu: float) -> None:
+    scene = ThinOnThickScene(params=ThinOnThickParams(log10_kW=math.log10(kW), nu=nu))
+    mu_ratio, nu_eff = model.effective_moduli(KW, nu)
+    curve = _el(scene.moduli_dmap[()], hv.Curve, "μ_eff/μ")
+    np.testing.assert_array_equal(curve.dimension_values("kW"), KW)
+    np.testing.assert_array_equal(curve.dimension_values("μ_eff/μ"), mu_ratio)
+    assert KW[0] == 1e-2 and KW[-1] == 1e3
+    inset = _el(scene.nu_eff_dmap[()], hv.Curve, "ν_eff")
+    np.testing.assert_array_equal(inset.dimension_values("ν_eff"), nu_eff)
+    mk = _el(scene.moduli_dmap[()], hv.Scatter, "current kW")
+    m_pt, n_pt = model.effective_moduli(kW, nu)
+    assert mk.dimension_values("kW")[0] == pytest.approx(kW, rel=1e-12)
+    assert mk.dimension_values("μ_eff/μ")[0] == pytest.approx(float(m_pt), rel=1e-14)
+    mk2 = _el(scene.nu_eff_dmap[()], hv.Scatter, "current kW")
+    assert mk2.dimension_values("ν_eff")[0] == pytest.approx(float(n_pt), rel=1e-14)
+
+
+@pytest.mark.parametrize("kW, nu", [(5.0, 0.33), (0.3, 0.33), (20.0, 0.1)])
+def test_gy_plot_equals_model(kW: float, nu: float) -> None:
+    scene = ThinOnThickScene(params=ThinOnThickParams(log10_kW=math.log10(kW), nu=nu))
+    kW = scene.params.kW
+    curve = _el(scene.gy_dmap[()], hv.Curve, "Re G_y")
+    assert [d.name for d in curve.dimensions()] == ["c/c_s", "G_y"]
+    z = curve.dimension_values("c/c_s")
+    mu_ratio = float(model.effective_moduli(kW, nu)[0])
+    assert z[0] == 1e-3
+    assert z[-1] == pytest.approx(0.999 * min(1.0, math.sqrt(mu_ratio)), rel=1e-14)
+    np.testing.assert_array_equal(curve.dimension_values("G_y"), model.thin_on_thick_response(z, kW, nu=nu)[1].real)
+
+
+@pytest.mark.parametrize("c_s, rho, sigma0_MPa, kW", [(1345.0, 1180.0, 4.5, 5.0), (1000.0, 1180.0, 4.5, 5.0),
+                                                      (1500.0, 900.0, 2.0, 3.0)])
+def test_stress_plot_equals_model(c_s: float, rho: float, sigma0_MPa: float, kW: float) -> None:
+    p = ThinOnThickParams(log10_kW=math.log10(kW), c_s=c_s, rho=rho, sigma0_MPa=sigma0_MPa)
+    scene = ThinOnThickScene(params=p)
+    kW = p.kW
+    curve = _el(scene.stress_dmap[()], hv.Curve, "Δσ_yy/σ₀")
+    assert [d.name for d in curve.dimensions()] == ["v [m/s]", "Δσ_yy/σ₀"]
+    v = curve.dimension_values("v [m/s]")
+    assert v[0] == 0.0 and v[-1] == 2.0
+    c = _z_R(0.33) * c_s
+    with np.errstate(divide="ignore", invalid="ignore"):
+        expected = model.normal_stress_change(v, c=c, c_s=c_s, kW=kW, nu=0.33, mu=rho * c_s**2) / (sigma0_MPa * 1e6)
+    np.testing.assert_array_equal(curve.dimension_values("Δσ_yy/σ₀"), expected)
+
+
+def test_readout_shows_model_values() -> None:
+    scene = ThinOnThickScene(params=ThinOnThickParams(log10_kW=math.log10(50.0), c_s=1000.0))
+    text = scene.readout()
+    excess = float(model.effective_modulus_excess(50.0, 0.33))
+    assert f"{excess:.6e}" in text  # exact even where it is tiny
+    assert f"{float(model.effective_moduli(50.0, 0.33)[1]):.6g}" in text
+    gy = float(model.thin_on_thick_response(_z_R(0.33), 50.0, nu=0.33)[1].real)
+    assert f"{gy:.6g}" in text
+    slope = float(model.normal_stress_change(1.0, c=_z_R(0.33) * 1000.0, c_s=1000.0, kW=50.0, nu=0.33,
+                                             mu=1180.0 * 1000.0**2)) / 4.5e6
+    assert f"{slope:.5g}" in text
+
+
+def test_stress_line_is_finite_at_pmma_defaults() -> None:
+    """At c = c_R of the thin block (a pole of its own compliance) the stress line is finite."""
+    d = tt.compute_stress_line(5.0, 0.33, 1345.0, 1180.0, 4.5e6)
+    assert np.isfinite(d["slope"])
+    assert np.all(np.isfinite(d["ds"]))
+
+
+def test_bokeh_axes() -> None:
+    scene = ThinOnThickScene()
+    fig = hv.render(scene.moduli_dmap, backend="bokeh")
+    assert type(fig.x_scale).__name__ == "LogScale"
+    assert fig.xaxis[0].axis_label == "kW"
+    fig = hv.render(scene.gy_dmap, backend="bokeh")
+    assert (fig.xaxis[0].axis_label, fig.yaxis[0].axis_label) == ("c/c_s", "G_y")
+    fig = hv.render(scene.stress_dmap, backend="bokeh")
+    assert (fig.xaxis[0].axis_label, fig.yaxis[0].axis_label) == ("v [m/s]", "Δσ_yy/σ₀")
+
+
+# --------------------------------------------------------------------------------------------
+# the widgets and the page
+# --------------------------------------------------------------------------------------------
+
+
+def _release(slider, value: float) -> None:
+    with param.edit_constant(slider):
+        slider.value = value
+        slider.value_throttled = value
+
+
+def test_widget_labels_and_throttling() -> None:
+    p = ThinOnThickParams()
+    w = p.make_widgets()
+    assert w["log10_kW"].label == "kW" and w["nu"].label == "ν"
+    assert [w[n].label for n in ("c_s", "rho", "sigma0_MPa")] == ["c_s [m/s]", "ρ [kg/m³]", "σ₀ [MPa]"]
+    assert (w["log10_kW"].start, w["log10_kW"].end) == (-2, 2)
+    assert (w["nu"].start, w["nu"].end, w["nu"].value) == (0.0, 0.49, 0.33)
+    w["log10_kW"].value = 1.0  # dragging (not released) does not change the parameter
+    assert p.kW == 5.0
+    _release(w["log10_kW"], 1.0)
+    assert p.kW == 10.0
+    w["rho"].value = 1000.0
+    assert p.rho == 1000.0
+    p.nu = 0.2
+    assert w["nu"].value == 0.2
+
+
+def test_app_builds_with_two_tabs() -> None:
+    from app.main import create_app
+
+    template = create_app()
+    (tabs,) = [obj for obj in template.main.objects if isinstance(obj, pn.Tabs)]
+    assert tabs._names == ["Spectrum", "Thin-on-thick"]
+
+
+# --------------------------------------------------------------------------------------------
+# browser
+# --------------------------------------------------------------------------------------------
+
+_GY_SOURCE_JS = """() => {
+  const doc = Bokeh.documents[0];
+  for (const m of doc.all_models) {
+    if (m.type === 'ColumnDataSource' || (m.constructor && m.constructor.__name__ === 'ColumnDataSource')) {
+      const cols = Object.keys(m.data ?? {});
+      const y = cols.find(c => c.startsWith('G_y'));
+      if (y !== undefined && cols.some(c => c.startsWith('c/c_s'))) {
+        const arr = Array.from(m.data[y]);
+        if (arr.length > 10) return arr.map(v => Number.isFinite(v) ? v : null);
+      }
+    }
+  }
+  return null;
+}"""
+
+_SET_KW_JS = """(value) => {
+  const doc = Bokeh.documents[0];
+  for (const m of doc.all_models) {
+    if (m.title === 'kW' && m.start !== undefined && m.end !== undefined) {
+      m.value = value;
+      m.value_throttled = value;
+      return true;
+    }
+  }
+  return false;
+}"""
+
+
+@pytest.mark.ui
+def test_kW_slider_updates_the_gy_curve(served_app: str, browser_page) -> None:
+    page = browser_page
+    page.goto(served_app, wait_until="load")
+    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    page.locator(".bk-tab", has_text="Thin-on-thick").first.click()
+    page.wait_for_function(_GY_SOURCE_JS, timeout=30_000)
+    before = np.array(page.evaluate(_GY_SOURCE_JS), dtype=float)
+    z = np.linspace(1e-3, 0.999 * min(1.0, math.sqrt(float(model.effective_moduli(5.0, 0.33)[0]))), tt.N_Z)
+    np.testing.assert_allclose(before, model.thin_on_thick_response(z, 5.0, nu=0.33)[1].real, rtol=1e-12, atol=0)
+    assert page.evaluate(_SET_KW_JS, 0.0)  # log10 kW = 0: kW = 1
+    changed = f"() => {{ const y = ({_GY_SOURCE_JS})(); return y !== null && y[0] !== {float(before[0])!r}; }}"
+    page.wait_for_function(changed, timeout=30_000)
+    after = np.array(page.evaluate(_GY_SOURCE_JS), dtype=float)
+    z = np.linspace(1e-3, 0.999 * min(1.0, math.sqrt(float(model.effective_moduli(1.0, 0.33)[0]))), tt.N_Z)
+    np.testing.assert_allclose(after, model.thin_on_thick_response(z, 1.0, nu=0.33)[1].real, rtol=1e-12, atol=0)
+    page.screenshot(path="/tmp/thin_on_thick.png", full_page=True)
+    assert page.console_errors == []
