@@ -308,26 +308,34 @@ def response(z: complex, q: float, beta: float, eta: float) -> tuple[complex, co
 
 
 @njit(cache=True)
+def _weighted_dispersion(z, q, wg, wz, f, beta, eta, delta, xi):
+    """wg (G_x + i f G_y) + wz i z S with S = 1 + (Delta - 1)/(1 - i xi z kH), its z-derivative and rounding scale.
+
+    The rounding scale is the sum of the magnitudes of the terms plus |z F'| (the change of F under a
+    relative perturbation of z by one unit: no evaluation can resolve F below eps times this).
+    """
+    gx, gy, dgx, dgy, sc = response(z, q, beta, eta)
+    if delta == 1.0:
+        sf = 1.0 + 0j
+        dsf = 0j
+        sabs = 1.0
+    else:
+        inv_den = 1.0 / (1.0 - 1j * xi * z * q)
+        sf = 1.0 + (delta - 1.0) * inv_den
+        dsf = (delta - 1.0) * (1j * xi * q) * inv_den * inv_den
+        sabs = 1.0 + _abs1((delta - 1.0) * inv_den)
+    fval = wg * (gx + 1j * f * gy) + wz * 1j * z * sf
+    dfval = wg * (dgx + 1j * f * dgy) + wz * 1j * (sf + z * dsf)
+    scale = wg * (sc + _abs1(f * gy)) + wz * _abs1(z) * sabs + _abs1(z * dfval)
+    return fval, dfval, scale
+
+
+@njit(cache=True)
 def dispersion_eval(
     z: complex, q: float, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float
 ) -> tuple[complex, complex, float]:
     """F(z; q) of Eq. implicit_spectrum with Eq. delta f RSF, dF/dz, and the rounding scale of F."""
-    gx, gy, dgx, dgy, sc = response(z, q, beta, eta)
-    if delta == 1.0:
-        s = 1.0 + 0j
-        ds = 0j
-        sabs = 1.0
-    else:
-        inv_den = 1.0 / (1.0 - 1j * xi * z * q)
-        s = 1.0 + (delta - 1.0) * inv_den
-        ds = (delta - 1.0) * (1j * xi * q) * inv_den * inv_den
-        sabs = 1.0 + _abs1((delta - 1.0) * inv_den)
-    fval = gamma * (gx + 1j * f * gy) + 1j * z * s
-    dfval = gamma * (dgx + 1j * f * dgy) + 1j * (s + z * ds)
-    # rounding scale: magnitudes of the terms of F plus |z F'| (the change of F under a relative
-    # perturbation of z by one unit: no evaluation can resolve F below eps times this)
-    scale = gamma * (sc + _abs1(f * gy)) + _abs1(z) * sabs + _abs1(z * dfval)
-    return fval, dfval, scale
+    return _weighted_dispersion(z, q, gamma, 1.0, f, beta, eta, delta, xi)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -358,20 +366,7 @@ def _eval_mode(z, s, mode, q, gamma, f, beta, eta, delta, xi):
     """
     if mode == 0:
         return dispersion_eval(z, math.exp(s), gamma, f, beta, eta, delta, xi)
-    gx, gy, dgx, dgy, sc = response(z, q, beta, eta)
-    if delta == 1.0:
-        sf = 1.0 + 0j
-        dsf = 0j
-        sabs = 1.0
-    else:
-        inv_den = 1.0 / (1.0 - 1j * xi * z * q)
-        sf = 1.0 + (delta - 1.0) * inv_den
-        dsf = (delta - 1.0) * (1j * xi * q) * inv_den * inv_den
-        sabs = 1.0 + _abs1((delta - 1.0) * inv_den)
-    fval = gx + 1j * f * gy + s * 1j * z * sf
-    dfval = dgx + 1j * f * dgy + s * 1j * (sf + z * dsf)
-    scale = sc + _abs1(f * gy) + s * _abs1(z) * sabs + _abs1(z * dfval)
-    return fval, dfval, scale
+    return _weighted_dispersion(z, q, 1.0, s, f, beta, eta, delta, xi)
 
 
 @njit(cache=True)

@@ -129,20 +129,25 @@ def _param_threshold(kH: np.ndarray, base: dict, name: str, bounds: tuple[float,
     return _threshold(lambda v: _scalar_growth(kH, **base, **{name: v}), *bounds, name, valid)
 
 
+def _thresholds(name: str, bounds: tuple[float, float], kH, fixed: dict):
+    """Threshold of `name` for every element of the broadcast fixed parameters (validated by name)."""
+    q = DEFAULT_KH if kH is None else kH
+    names = list(fixed)
+    arrays = np.broadcast_arrays(*(check(k, v) for k, v in fixed.items()))
+    out = np.empty(arrays[0].shape)
+    for idx in np.ndindex(out.shape):
+        base = dict(zip(names, (float(a[idx]) for a in arrays), strict=True))
+        out[idx] = _param_threshold(q, base, name, bounds)
+    return out if out.ndim else float(out)
+
+
 def critical_gamma(*, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, gamma_range=(1e-2, 1e3)):
     """gamma at which the max growth on the Rayleigh branch crosses zero (stable below), to ~1e-12 relative.
 
     Check value: 2.4149 for f = 0.9, beta = 0.3, eta = inf (paper: "between 2 and 3"). Parameters may be
     arrays (broadcast; one threshold per element). ValueError if there is no crossing in gamma_range.
     """
-    q = DEFAULT_KH if kH is None else kH
-    arrays = np.broadcast_arrays(check("f", f), check("beta", beta), check("eta", eta), check("Delta", Delta),
-                                 check("xi", xi))
-    out = np.empty(arrays[0].shape)
-    for idx in np.ndindex(out.shape):
-        base = dict(zip(("f", "beta", "eta", "Delta", "xi"), (float(a[idx]) for a in arrays), strict=True))
-        out[idx] = _param_threshold(q, base, "gamma", gamma_range)
-    return out if out.ndim else float(out)
+    return _thresholds("gamma", gamma_range, kH, dict(f=f, beta=beta, eta=eta, Delta=Delta, xi=xi))
 
 
 def critical_eta(*, gamma, f, beta, Delta=1.0, xi=0.0, kH=None, eta_range=(1.0, 1e8)):
@@ -150,14 +155,7 @@ def critical_eta(*, gamma, f, beta, Delta=1.0, xi=0.0, kH=None, eta_range=(1.0, 
 
     Check value: 3.2982 for gamma = 3, f = 0.9, beta = 0.3 (paper: "~3.3"). ValueError without a crossing.
     """
-    q = DEFAULT_KH if kH is None else kH
-    arrays = np.broadcast_arrays(check("gamma", gamma), check("f", f), check("beta", beta), check("Delta", Delta),
-                                 check("xi", xi))
-    out = np.empty(arrays[0].shape)
-    for idx in np.ndindex(out.shape):
-        base = dict(zip(("gamma", "f", "beta", "Delta", "xi"), (float(a[idx]) for a in arrays), strict=True))
-        out[idx] = _param_threshold(q, base, "eta", eta_range)
-    return out if out.ndim else float(out)
+    return _thresholds("eta", eta_range, kH, dict(gamma=gamma, f=f, beta=beta, Delta=Delta, xi=xi))
 
 
 def min_gy_at_rayleigh_speed(beta, *, eta=math.inf):
