@@ -23,6 +23,24 @@ LABELS = {
 }
 
 
+def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]) -> None:
+    """Widget -> parameter (sliders on release, `value_throttled`; other widgets on `value`) and back."""
+    for name, widget in widgets.items():
+        event = "value_throttled" if isinstance(widget, pn.widgets.FloatSlider) else "value"
+        widget.param.watch(lambda e, n=name: setattr(obj, n, e.new), event)
+
+    def to_widget(event: param.parameterized.Event) -> None:
+        widgets[event.name].value = event.new
+
+    obj.param.watch(to_widget, list(widgets))
+
+
+def controls_column(widgets: dict[str, pn.widgets.Widget], readout) -> pn.Column:
+    """The left column of a scene: parameter widgets, then the readout."""
+    return pn.Column("### Parameters", *widgets.values(), pn.pane.Markdown(readout, sizing_mode="stretch_width"),
+                     width=320)
+
+
 class SpectrumParams(param.Parameterized):
     """Physical parameters of the Rayleigh-branch spectrum (paper Sect. IV)."""
 
@@ -69,14 +87,7 @@ class SpectrumParams(param.Parameterized):
         w = {name: w[name] for name in LABELS}  # display order
         w["xi"].disabled = self.Delta == 1
 
-        for name, widget in w.items():
-            event = "value" if isinstance(widget, pn.widgets.Checkbox) else "value_throttled"
-            widget.param.watch(lambda e, n=name: setattr(self, n, e.new), event)
-
-        def to_widget(event: param.parameterized.Event) -> None:
-            w[event.name].value = event.new
-
-        self.param.watch(to_widget, list(w))
+        bind_two_way(self, w)
         self.param.watch(lambda e: setattr(w["xi"], "disabled", e.new == 1), "Delta")
         self.param.watch(lambda e: setattr(w["log10_eta"], "disabled", e.new), "eta_infinite")
         return w

@@ -16,7 +16,7 @@ import param
 
 import model
 
-from .params import SpectrumParams
+from .params import SpectrumParams, controls_column
 
 hv.extension("bokeh", logo=False)
 
@@ -131,13 +131,7 @@ class SpectrumScene(param.Parameterized):
         return "\n\n".join(lines)
 
     def panel(self) -> pn.viewable.Viewable:
-        widgets = self.params.make_widgets()
-        controls = pn.Column(
-            "### Parameters",
-            *widgets.values(),
-            pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
-            width=320,
-        )
+        controls = controls_column(self.params.make_widgets(), self.readout)
         plots = pn.Column(
             pn.pane.LaTeX(EQUATION, renderer="katex", styles={"font-size": "1.15em"}),
             pn.pane.HoloViews(self.im_dmap, sizing_mode="stretch_width"),

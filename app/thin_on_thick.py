@@ -19,6 +19,8 @@ from bokeh.models import CustomJSTickFormatter
 
 import model
 
+from .params import bind_two_way, controls_column
+
 hv.extension("bokeh", logo=False)
 
 #: the widget labels, in display order (the paper's symbols)
@@ -155,14 +157,7 @@ class ThinOnThickParams(param.Parameterized):
             lo, hi = self.param[name].bounds
             w[name] = pn.widgets.FloatInput(label=LABELS[name], start=lo, end=hi, step=step, value=getattr(self, name),
                                             sizing_mode="stretch_width")
-        for name, widget in w.items():
-            event = "value_throttled" if isinstance(widget, pn.widgets.FloatSlider) else "value"
-            widget.param.watch(lambda e, n=name: setattr(self, n, e.new), event)
-
-        def to_widget(event: param.parameterized.Event) -> None:
-            w[event.name].value = event.new
-
-        self.param.watch(to_widget, list(w))
+        bind_two_way(self, w)
         return w
 
 
@@ -263,13 +258,7 @@ class ThinOnThickScene(param.Parameterized):
         return "\n\n".join(lines)
 
     def panel(self) -> pn.viewable.Viewable:
-        widgets = self.params.make_widgets()
-        controls = pn.Column(
-            "### Parameters",
-            *widgets.values(),
-            pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
-            width=320,
-        )
+        controls = controls_column(self.params.make_widgets(), self.readout)
         plots = pn.Column(
             pn.Row(pn.pane.HoloViews(self.moduli_dmap, sizing_mode="stretch_width"),
                    pn.pane.HoloViews(self.nu_eff_dmap), sizing_mode="stretch_width"),

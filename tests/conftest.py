@@ -148,3 +148,20 @@ def browser_page(_browser):
         context.close()
     if errors:
         pytest.fail("browser console errors:\n" + "\n".join(errors), pytrace=False)
+
+
+_SET_SLIDER_JS = """([title, value]) => {
+  for (const m of Bokeh.documents[0].all_models) {
+    if (m.title === title && m.start !== undefined && m.end !== undefined) {
+      m.value = value;
+      m.value_throttled = value;
+      return true;
+    }
+  }
+  return false;
+}"""
+
+
+def set_slider(page, title: str, value: float) -> bool:
+    """Set the Bokeh slider labelled `title` as a release of its handle would (value and value_throttled)."""
+    return page.evaluate(_SET_SLIDER_JS, [title, value])

@@ -15,6 +15,7 @@ import model
 from app import spectrum as sp
 from app.params import SpectrumParams
 from app.spectrum import CALLS, KH, SpectrumScene
+from tests.conftest import set_slider
 
 
 @pytest.fixture(autouse=True)
@@ -204,19 +205,6 @@ _IM_SOURCE_JS = """() => {
   return null;
 }"""
 
-_SET_GAMMA_JS = """(value) => {
-  const doc = Bokeh.documents[0];
-  for (const m of doc.all_models) {
-    if (m.title === 'γ' && m.start !== undefined && m.end !== undefined) {
-      m.value = value;
-      m.value_throttled = value;
-      return true;
-    }
-  }
-  return false;
-}"""
-
-
 @pytest.mark.ui
 def test_gamma_slider_updates_the_im_curve(served_app: str, browser_page) -> None:
     page = browser_page
@@ -227,7 +215,7 @@ def test_gamma_slider_updates_the_im_curve(served_app: str, browser_page) -> Non
     before = page.evaluate(_IM_SOURCE_JS)
     expected = model.spectrum(KH, gamma=3.0, f=0.9, beta=0.3).imag
     np.testing.assert_allclose(np.array(before, dtype=float), expected, rtol=1e-12, atol=0)
-    assert page.evaluate(_SET_GAMMA_JS, 6.0)
+    assert set_slider(page, "γ", 6.0)
     changed = f"() => {{ const y = ({_IM_SOURCE_JS})(); return y !== null && y[200] !== {before[200]!r}; }}"
     page.wait_for_function(changed, timeout=30_000)
     after = np.array(page.evaluate(_IM_SOURCE_JS), dtype=float)

@@ -14,6 +14,7 @@ import pytest
 import model
 from app import thin_on_thick as tt
 from app.thin_on_thick import CALLS, KW, ThinOnThickParams, ThinOnThickScene
+from tests.conftest import set_slider
 
 
 @pytest.fixture(autouse=True)
@@ -238,19 +239,6 @@ _GY_SOURCE_JS = """() => {
   return null;
 }"""
 
-_SET_KW_JS = """(value) => {
-  const doc = Bokeh.documents[0];
-  for (const m of doc.all_models) {
-    if (m.title === 'kW' && m.start !== undefined && m.end !== undefined) {
-      m.value = value;
-      m.value_throttled = value;
-      return true;
-    }
-  }
-  return false;
-}"""
-
-
 @pytest.mark.ui
 def test_kW_slider_updates_the_gy_curve(served_app: str, browser_page) -> None:
     page = browser_page
@@ -262,7 +250,7 @@ def test_kW_slider_updates_the_gy_curve(served_app: str, browser_page) -> None:
     before = np.array(page.evaluate(_GY_SOURCE_JS), dtype=float)
     z = np.linspace(1e-3, 0.999 * min(1.0, math.sqrt(float(model.effective_moduli(5.0, 0.33)[0]))), tt.N_Z)
     np.testing.assert_allclose(before, model.thin_on_thick_response(z, 5.0, nu=0.33)[1].real, rtol=1e-12, atol=0)
-    assert page.evaluate(_SET_KW_JS, 0.0)  # log10 kW = 0: kW = 1
+    assert set_slider(page, "kW", 0.0)  # log10 kW = 0: kW = 1
     changed = f"() => {{ const y = ({_GY_SOURCE_JS})(); return y !== null && y[0] !== {float(before[0])!r}; }}"
     page.wait_for_function(changed, timeout=30_000)
     after = np.array(page.evaluate(_GY_SOURCE_JS), dtype=float)
