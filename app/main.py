@@ -10,7 +10,10 @@ from pathlib import Path
 
 import panel as pn
 
+from app.all_branches import AllBranchesScene
+from app.params import SpectrumParams
 from app.spectrum import SpectrumScene
+from app.stability_map import StabilityMapScene
 from app.thin_on_thick import ThinOnThickScene
 
 TITLE = "asymslide — frictional sliding without reflection symmetry"
@@ -46,10 +49,13 @@ def create_app() -> pn.template.BootstrapTemplate:
         stylesheets=[CSS.read_text(encoding="utf-8")],
         sizing_mode="stretch_width",
     )
+    params = SpectrumParams()  # shared by the Spectrum, Stability-map and All-branches scenes
     tabs = pn.Tabs(
-        ("Spectrum", SpectrumScene().panel()),
+        ("Spectrum", SpectrumScene(params=params).panel()),
+        ("Stability map", StabilityMapScene(params=params).panel()),
         ("Thin-on-thick", ThinOnThickScene().panel()),
-        dynamic=False,
+        ("All branches", AllBranchesScene(params=params).panel()),
+        dynamic=True,  # only the visible scene is rendered (and computes)
         sizing_mode="stretch_width",
     )
     return pn.template.BootstrapTemplate(
