@@ -1,4 +1,4 @@
-"""asymslide web app: one tab per scene ("Spectrum", "Thin-on-thick").
+"""asymslide web app: four scenes in tabs, paper-figure presets, and the state in the URL query.
 
 Serve it with ``make serve`` (``panel serve app/main.py ...``) and open http://localhost:5006.
 Tests build the same page through :func:`create_app`.
@@ -12,9 +12,11 @@ import panel as pn
 
 from app.all_branches import AllBranchesScene
 from app.params import SpectrumParams
+from app.presets import Preset, load_presets, preset_args
 from app.spectrum import SpectrumScene
 from app.stability_map import StabilityMapScene
-from app.thin_on_thick import ThinOnThickScene
+from app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
+from app.urlstate import TABS, Updates, parse_query, query_string
 
 TITLE = "asymslide — frictional sliding without reflection symmetry"
 
@@ -31,10 +33,12 @@ INTRO = """
 across the interface, slip along it changes the normal stress on it, and through friction
 this feedback can make small perturbations grow.
 
-The **Spectrum** tab shows the Rayleigh branch of the linear stability spectrum (Sect. IV,
-Fig. 4a-b); the **Thin-on-thick** tab shows a thin block sliding on a thick one: the
-effective moduli, the effective bimaterial response G_y and the slip-induced normal-stress change
-(Sect. III, Fig. 3). Stability maps and the other paper figures will follow in further tabs.
+**Spectrum**: the Rayleigh branch c(kH) of the linear stability spectrum (Sect. IV, Figs. 4a-b, 5).
+**Stability map**: where sliding is unstable in a parameter plane, and the threshold χ_c(β) (Fig. 4c).
+**Thin-on-thick**: effective moduli, effective bimaterial coupling G_y and the slip-induced
+normal-stress change of a thin block on a thick one (Sect. III, Fig. 3).
+**All branches**: every unstable root in the complex plane, beyond the Rayleigh branch.
+The parameters are kept in the page's URL: copy it to share what you see.
 
 > E. Aldam, Y. Bar-Sinai, I. Svetlizky, E. A. Brener, J. Fineberg and E. Bouchbinder,
 > *Frictional sliding without geometrical reflection symmetry*,
@@ -42,29 +46,108 @@ effective moduli, the effective bimaterial response G_y and the slip-induced nor
 """
 
 
-def create_app() -> pn.template.BootstrapTemplate:
-    """Build a fresh page (one per browser session)."""
-    intro = pn.pane.Markdown(
-        INTRO,
-        stylesheets=[CSS.read_text(encoding="utf-8")],
-        sizing_mode="stretch_width",
-    )
-    params = SpectrumParams()  # shared by the Spectrum, Stability-map and All-branches scenes
-    tabs = pn.Tabs(
-        ("Spectrum", SpectrumScene(params=params).panel()),
-        ("Stability map", StabilityMapScene(params=params).panel()),
-        ("Thin-on-thick", ThinOnThickScene().panel()),
-        ("All branches", AllBranchesScene(params=params).panel()),
-        dynamic=True,  # only the visible scene is rendered (and computes)
-        sizing_mode="stretch_width",
-    )
-    return pn.template.BootstrapTemplate(
-        title=TITLE,
-        logo=str(LOGO),
-        favicon=str(FAVICON),
-        main=[intro, tabs],
-        header_background="#1f4e79",
-    )
+def request_args() -> dict[str, list[bytes]]:
+    """The URL query of the current session (empty outside a server session, e.g. in tests)."""
+    try:
+        return dict(pn.state.session_args or {})
+    except Exception:  # no session context
+        return {}
+
+
+class App:
+    """One browser session: shared parameters, scenes, presets, URL state and messages."""
+
+    def __init__(self, args: dict[str, list[bytes]] | None = None) -> None:
+        self.spectrum_params = SpectrumParams()  # shared by Spectrum, Stability map and All branches
+        self.thin_params = ThinOnThickParams()
+        self.messages = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
+        updates, tab, messages = parse_query(request_args() if args is None else args)
+        self._apply(updates)
+        self.spectrum = SpectrumScene(params=self.spectrum_params)
+        self.map = StabilityMapScene(params=self.spectrum_params)
+        self.thin = ThinOnThickScene(params=self.thin_params)
+        self.branches = AllBranchesScene(params=self.spectrum_params)
+        self.tabs = pn.Tabs(
+            ("Spectrum", self.spectrum.panel()),
+            ("Stability map", self.map.panel()),
+            ("Thin-on-thick", self.thin.panel()),
+            ("All branches", self.branches.panel()),
+            active=TABS.index(tab) if tab else 0,
+            dynamic=True,  # only the visible scene is rendered (and computes)
+            sizing_mode="stretch_width",
+        )
+        self.presets = load_presets()
+        self.show_messages(messages, "Some values in the URL were not used as given")
+        self.spectrum_params.param.watch(self.write_url, list(self.spectrum_params.param))
+        self.thin_params.param.watch(self.write_url, list(self.thin_params.param))
+        self.tabs.param.watch(self.write_url, "active")
+
+    def _apply(self, updates: Updates) -> None:
+        self.spectrum_params.param.update(**updates["spectrum"])
+        self.thin_params.param.update(**updates["thin"])
+
+    def show_messages(self, messages: list[str], title: str) -> None:
+        self.messages.object = f"**{title}:**\n\n" + "\n".join(f"- {m}" for m in messages) if messages else ""
+        self.messages.visible = bool(messages)
+
+    def write_url(self, *_events) -> None:
+        """Current parameters -> the browser's URL (replaces the query; the page is not reloaded)."""
+        location = pn.state.location
+        if location is not None:
+            location.search = query_string(self.spectrum_params, self.thin_params, TABS[self.tabs.active])
+
+    def apply_preset(self, preset: Preset) -> None:
+        """Reset to the defaults, set the preset's values and family of curves, and show its tab."""
+        updates, _, messages = parse_query(preset_args(preset))
+        defaults = {name: p.default for name, p in self.spectrum_params.param.objects().items() if name != "name"}
+        self.spectrum_params.param.update(**{**defaults, **updates["spectrum"]})  # one change event
+        self.thin_params.param.update(**updates["thin"])
+        if preset.compare_key == "kW":
+            self.thin.compare_kW = list(preset.compare_values)
+            self.spectrum.param.update(compare_key="", compare_values=[])
+        else:
+            self.spectrum.param.update(compare_key=preset.compare_key, compare_values=list(preset.compare_values))
+            self.thin.compare_kW = []
+        self.tabs.active = TABS.index(preset.tab)
+        note = " (curve values representative: the paper's legend is not in its text)" if preset.representative else ""
+        self.preset_info.object = f"**{preset.label}**: {preset.title}{note}"
+        self.show_messages(messages, f"Preset {preset.label}")
+
+    def clear_families(self, *_events) -> None:
+        self.spectrum.param.update(compare_key="", compare_values=[])
+        self.thin.compare_kW = []
+        self.preset_info.object = ""
+
+    def preset_bar(self) -> pn.Row:
+        buttons = []
+        for preset in self.presets:
+            button = pn.widgets.Button(label=preset.label, description=preset.title, color="light", width=95)
+            button.on_click(lambda _e, p=preset: self.apply_preset(p))
+            buttons.append(button)
+        clear = pn.widgets.Button(label="Clear curves", color="light", width=110,
+                                  description="Remove the family of curves drawn by a preset")
+        clear.on_click(self.clear_families)
+        self.preset_info = pn.pane.Markdown("", sizing_mode="stretch_width")
+        return pn.Column(pn.Row(pn.pane.Markdown("**Paper figures:**", width=120), *buttons, clear),
+                         self.preset_info, sizing_mode="stretch_width")
+
+    def template(self) -> pn.template.BootstrapTemplate:
+        intro = pn.pane.Markdown(INTRO, stylesheets=[CSS.read_text(encoding="utf-8")], sizing_mode="stretch_width")
+        return pn.template.BootstrapTemplate(
+            title=TITLE,
+            logo=str(LOGO),
+            favicon=str(FAVICON),
+            main=[intro, self.messages, self.preset_bar(), self.tabs],
+            header_background="#1f4e79",
+        )
+
+
+def create_app(args: dict[str, list[bytes]] | None = None) -> pn.template.BootstrapTemplate:
+    """Build a fresh page (one per browser session); `args` overrides the URL query (tests)."""
+    app = App(args)
+    template = app.template()
+    template.app = app  # for tests
+    return template
 
 
 if __name__.startswith("bokeh"):

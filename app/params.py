@@ -5,8 +5,11 @@ Data flow: widget (throttled) -> :class:`SpectrumParams` parameter -> cached mod
 
 from __future__ import annotations
 
+import io
 import math
+from collections.abc import Callable, Mapping
 
+import numpy as np
 import panel as pn
 import param
 from bokeh.models import CustomJSTickFormatter
@@ -23,14 +26,39 @@ LABELS = {
 }
 
 
+#: colours of families of curves (colour-blind safe, Okabe-Ito)
+PALETTE = ("#E69F00", "#56B4E9", "#009E73", "#CC79A7", "#D55E00", "#0072B2", "#999999", "#F0E442")
+
+
+def csv_table(header: str, columns: Mapping[str, np.ndarray]) -> io.StringIO:
+    """Columns of equal length as CSV with full float precision; `header` becomes a '#' comment line."""
+    out = io.StringIO()
+    data = np.column_stack([np.asarray(c, dtype=float) for c in columns.values()])
+    np.savetxt(out, data, delimiter=",", fmt="%.17g", comments="",
+               header="# " + header.replace("\n", " ") + "\n" + ",".join(columns))
+    out.seek(0)
+    return out
+
+
+def csv_download(callback: Callable[[], io.StringIO], filename: str, label: str) -> pn.widgets.FileDownload:
+    """A button that downloads what `callback` returns (computed on click, from the cached data)."""
+    return pn.widgets.FileDownload(callback=callback, filename=filename, label=label, color="primary",
+                                   width=200)
+
+
 def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]) -> None:
     """Widget -> parameter (sliders on release, `value_throttled`; other widgets on `value`) and back."""
     for name, widget in widgets.items():
         event = "value_throttled" if isinstance(widget, pn.widgets.FloatSlider) else "value"
         widget.param.watch(lambda e, n=name: setattr(obj, n, e.new), event)
 
-    def to_widget(event: param.parameterized.Event) -> None:
-        widgets[event.name].value = event.new
+    def to_widget(*events: param.parameterized.Event) -> None:
+        for event in events:
+            widget = widgets[event.name]
+            if isinstance(widget, pn.widgets.FloatSlider):  # a value set from the URL or a preset may lie
+                widget.start = min(widget.start, event.new)  # outside the slider's soft range: widen it
+                widget.end = max(widget.end, event.new)
+            widget.value = event.new
 
     obj.param.watch(to_widget, list(widgets))
 
@@ -76,6 +104,7 @@ class SpectrumParams(param.Parameterized):
         for name, step in (("gamma", 0.01), ("f", 0.01), ("beta", 0.001), ("Delta", 0.01), ("xi", 0.01)):
             p = self.param[name]
             lo, hi = p.softbounds if p.softbounds is not None else p.bounds
+            lo, hi = min(lo, getattr(self, name)), max(hi, getattr(self, name))  # e.g. gamma = 1e3 from a URL
             w[name] = pn.widgets.FloatSlider(label=LABELS[name], start=lo, end=hi, step=step,
                                              value=getattr(self, name), sizing_mode="stretch_width")
         w["log10_eta"] = pn.widgets.FloatSlider(

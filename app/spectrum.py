@@ -8,6 +8,8 @@ methods, so they update in place.
 from __future__ import annotations
 
 import collections
+import io
+import math
 
 import holoviews as hv
 import numpy as np
@@ -16,7 +18,7 @@ import param
 
 import model
 
-from .params import SpectrumParams, controls_column
+from .params import PALETTE, SpectrumParams, controls_column, csv_download, csv_table
 
 hv.extension("bokeh", logo=False)
 
@@ -32,6 +34,10 @@ EQUATION = (r"$F(z;\,kH) = \gamma\,\big(G_x + i f\,G_y\big) + i z\left[1 + \frac
 
 IM_LABEL = "Im[c/c_s]"
 RE_LABEL = "Re[c/c_s]"
+GY_LABEL = "G_y(c_R, kH)"
+
+#: model-argument index and symbol of each parameter a family of curves can vary (preset 'compare')
+FAMILY = {"gamma": (0, "γ"), "f": (1, "f"), "beta": (2, "β"), "eta": (3, "η"), "Delta": (4, "Δ"), "xi": (5, "ξ")}
 
 
 @pn.cache(max_items=64)
@@ -54,6 +60,28 @@ def compute_spectrum(gamma: float, f: float, beta: float, eta: float, Delta: flo
     return out
 
 
+@pn.cache(max_items=16)
+def compute_gy_rayleigh(beta: float, eta: float) -> dict:
+    """G_y(z_R, kH) on :data:`KH` (Eq. Gs_general at the Rayleigh speed), for the criterion of Eq. criterion."""
+    CALLS["compute_gy_rayleigh"] += 1
+    z_r = float(model.rayleigh_speed(beta))
+    _, gy = model.response_functions(np.full(KH.shape, z_r), KH, beta=beta, eta=eta)
+    return {"kH": KH, "gy": np.real(gy), "z_R": z_r}
+
+
+def family_args(base: tuple, key: str, value: float) -> tuple:
+    """Model arguments of one family curve: `base` with parameter `key` set to `value`."""
+    args = list(base)
+    args[FAMILY[key][0]] = float(value)
+    if args[4] == 1:
+        args[5] = 0.0  # xi does not enter F at Delta = 1 (same normalisation as SpectrumParams.model_args)
+    return tuple(args)
+
+
+def family_label(key: str, value: float) -> str:
+    return f"{FAMILY[key][1]} = {'∞' if math.isinf(value) else f'{value:g}'}"
+
+
 def _fmt(x: float) -> str:
     return "—" if not np.isfinite(x) else f"{x:.4g}"
 
@@ -65,6 +93,9 @@ class SpectrumScene(param.Parameterized):
     #: normalised model arguments; the plots depend only on this, so a change that does not change
     #: the model call (xi while Delta == 1) re-renders nothing
     inputs = param.Tuple(default=None, length=6, allow_None=True)
+    #: a family of curves drawn behind the current one (set by the paper-figure presets)
+    compare_key = param.Selector(default="", objects=["", *FAMILY])
+    compare_values = param.List(default=[], item_type=float)
 
     def __init__(self, **kwargs):
         if "params" not in kwargs:
@@ -74,6 +105,7 @@ class SpectrumScene(param.Parameterized):
         self.params.param.watch(self._update_inputs, list(self.params.param))
         self.im_dmap = hv.DynamicMap(self.im_plot)
         self.re_dmap = hv.DynamicMap(self.re_plot)
+        self.gy_dmap = hv.DynamicMap(self.gy_plot)
 
     def _update_inputs(self, *_events) -> None:
         args = self.params.model_args()
@@ -83,7 +115,17 @@ class SpectrumScene(param.Parameterized):
     def data(self) -> dict:
         return compute_spectrum(*self.inputs)
 
-    @param.depends("inputs")
+    def family(self, part: str, ylabel: str) -> list[hv.Curve]:
+        """The preset's family of curves (real or imaginary part), each a cached model call."""
+        curves = []
+        for i, value in enumerate(self.compare_values):
+            d = compute_spectrum(*family_args(self.inputs, self.compare_key, value))
+            curves.append(hv.Curve((d["kH"], getattr(d["z"], part)), "kH", ylabel,
+                                   label=family_label(self.compare_key, value)).opts(
+                color=PALETTE[i % len(PALETTE)], line_width=1.2, alpha=0.9))
+        return curves
+
+    @param.depends("inputs", "compare_key", "compare_values")
     def im_plot(self) -> hv.Overlay:
         d = self.data()
         kH, z = d["kH"], d["z"]
@@ -93,20 +135,46 @@ class SpectrumScene(param.Parameterized):
         curve = hv.Curve((kH, z.imag), "kH", IM_LABEL, label="Rayleigh branch").opts(color="#1f4e79", line_width=2)
         linear = hv.Curve((kH, d["linear"].imag), "kH", IM_LABEL, label="linear expansion").opts(
             color="#b2182b", line_dash="dashed", line_width=1.5)
-        return (span * zero * curve * linear).opts(
+        return hv.Overlay([span, zero, *self.family("imag", IM_LABEL), curve, linear]).opts(
             hv.opts.Overlay(logx=True, responsive=True, height=340, title="Growth rate", legend_position="top_right",
                             framewise=True, xlabel="kH", ylabel=IM_LABEL))
 
-    @param.depends("inputs")
+    @param.depends("inputs", "compare_key", "compare_values")
     def re_plot(self) -> hv.Overlay:
         d = self.data()
         kH = d["kH"]
         curve = hv.Curve((kH, d["z"].real), "kH", RE_LABEL, label="Rayleigh branch").opts(color="#1f4e79", line_width=2)
         linear = hv.Curve((kH, d["linear"].real), "kH", RE_LABEL, label="linear expansion").opts(
             color="#b2182b", line_dash="dashed", line_width=1.5)
-        return (curve * linear).opts(
+        return hv.Overlay([*self.family("real", RE_LABEL), curve, linear]).opts(
             hv.opts.Overlay(logx=True, responsive=True, height=300, title="Phase velocity", legend_position="top_right",
                             framewise=True, xlabel="kH", ylabel=RE_LABEL))
+
+    @param.depends("inputs")
+    def gy_plot(self) -> hv.Overlay:
+        gamma, f, beta, eta = self.inputs[:4]
+        d = compute_gy_rayleigh(beta, eta)
+        curve = hv.Curve((d["kH"], d["gy"]), "kH", GY_LABEL, label="G_y(c_R, kH)").opts(color="#1f4e79", line_width=2)
+        layers = [hv.HLine(0.0).opts(color="black", line_width=1), curve]
+        if gamma * f > 0:
+            layers.append(hv.HLine(-d["z_R"] / (gamma * f), label="criterion −c_R/(c_s γ f)").opts(
+                color="#b2182b", line_dash="dashed", line_width=1.5))
+        return hv.Overlay(layers).opts(
+            hv.opts.Overlay(logx=True, responsive=True, height=260, framewise=True, legend_position="bottom_right",
+                            title="Slip–normal-stress coupling at c = c_R (unstable approx. where G_y is below the "
+                                  "dashed line)", xlabel="kH", ylabel=GY_LABEL))
+
+    def csv(self) -> io.StringIO:
+        """What the plots show, as CSV (kH, z on the Rayleigh branch, its error and status, linear expansion,
+        G_y at the Rayleigh speed)."""
+        d = self.data()
+        gy = compute_gy_rayleigh(self.inputs[2], self.inputs[3])
+        names = ("gamma", "f", "beta", "eta", "Delta", "xi")
+        header = "asymslide spectrum (Rayleigh branch); " + ", ".join(
+            f"{n} = {v!r}" for n, v in zip(names, self.inputs, strict=True))
+        return csv_table(header, {"kH": d["kH"], "Re_z": d["z"].real, "Im_z": d["z"].imag, "error": d["error"],
+                                  "status": d["status"], "linear_Re_z": d["linear"].real,
+                                  "linear_Im_z": d["linear"].imag, "G_y_at_z_R": gy["gy"]})
 
     @param.depends("inputs")
     def readout(self) -> str:
@@ -136,6 +204,8 @@ class SpectrumScene(param.Parameterized):
             pn.pane.LaTeX(EQUATION, renderer="katex", styles={"font-size": "1.15em"}),
             pn.pane.HoloViews(self.im_dmap, sizing_mode="stretch_width"),
             pn.pane.HoloViews(self.re_dmap, sizing_mode="stretch_width"),
+            pn.pane.HoloViews(self.gy_dmap, sizing_mode="stretch_width"),
+            csv_download(self.csv, "spectrum.csv", "Download CSV"),
             sizing_mode="stretch_width",
         )
         return pn.Row(controls, plots, sizing_mode="stretch_width", name="Spectrum")

@@ -9,6 +9,7 @@ and changing kW recomputes neither the μ_eff(kW) curve nor anything that depend
 from __future__ import annotations
 
 import collections
+import io
 import math
 
 import holoviews as hv
@@ -19,7 +20,7 @@ from bokeh.models import CustomJSTickFormatter
 
 import model
 
-from .params import bind_two_way, controls_column
+from .params import PALETTE, bind_two_way, controls_column, csv_download, csv_table
 
 hv.extension("bokeh", logo=False)
 
@@ -173,6 +174,8 @@ class ThinOnThickScene(param.Parameterized):
     nu_key = param.Number(default=None, allow_None=True)
     point_key = param.Tuple(default=None, length=2, allow_None=True)  # (kW, nu)
     stress_key = param.Tuple(default=None, length=5, allow_None=True)  # (kW, nu, c_s, rho, sigma0 [Pa])
+    #: selected kW values drawn as a family (Fig. 3b curves, Fig. 3a markers; set by the Fig. 3 preset)
+    compare_kW = param.List(default=[], item_type=float)
 
     def __init__(self, **kwargs):
         if "params" not in kwargs:
@@ -200,36 +203,50 @@ class ThinOnThickScene(param.Parameterized):
     def point(self) -> dict:
         return compute_point(*self.point_key)
 
-    @param.depends("nu_key", "point_key")
+    def family_points(self) -> list[dict]:
+        return [compute_point(kw, self.nu_key) for kw in self.compare_kW]
+
+    @param.depends("nu_key", "point_key", "compare_kW")
     def moduli_plot(self) -> hv.Overlay:
         d, pt = compute_moduli_curve(self.nu_key), self.point()
         one = hv.HLine(1.0).opts(color="black", line_width=1, line_dash="dotted")
         curve = hv.Curve((d["kW"], d["mu_ratio"]), "kW", MU_LABEL, label=MU_LABEL).opts(color="#1f4e79", line_width=2)
         marker = hv.Scatter(([pt["kW"]], [pt["mu_ratio"]]), "kW", MU_LABEL, label="current kW").opts(
             color="#b2182b", size=9)
-        return (one * curve * marker).opts(
+        fam = [hv.Scatter(([q["kW"]], [q["mu_ratio"]]), "kW", MU_LABEL, label=f"kW = {q['kW']:g}").opts(
+            color=PALETTE[i % len(PALETTE)], size=8, marker="square") for i, q in enumerate(self.family_points())]
+        return hv.Overlay([one, curve, *fam, marker]).opts(
             hv.opts.Overlay(logx=True, responsive=True, height=320, title="(a) Effective shear modulus",
                             show_legend=False, framewise=True, xlabel="kW", ylabel=MU_LABEL))
 
-    @param.depends("nu_key", "point_key")
+    @param.depends("nu_key", "point_key", "compare_kW")
     def nu_eff_plot(self) -> hv.Overlay:
         d, pt = compute_moduli_curve(self.nu_key), self.point()
         curve = hv.Curve((d["kW"], d["nu_eff"]), "kW", NU_LABEL, label=NU_LABEL).opts(color="#1f4e79", line_width=2)
         marker = hv.Scatter(([pt["kW"]], [pt["nu_eff"]]), "kW", NU_LABEL, label="current kW").opts(
             color="#b2182b", size=7)
-        return (curve * marker).opts(
+        fam = [hv.Scatter(([q["kW"]], [q["nu_eff"]]), "kW", NU_LABEL, label=f"kW = {q['kW']:g}").opts(
+            color=PALETTE[i % len(PALETTE)], size=6, marker="square") for i, q in enumerate(self.family_points())]
+        return hv.Overlay([curve, *fam, marker]).opts(
             hv.opts.Overlay(logx=True, width=300, height=220, title="(a, inset) ν_eff",
                             show_legend=False, framewise=True, xlabel="kW", ylabel=NU_LABEL))
 
-    @param.depends("point_key")
+    @param.depends("point_key", "compare_kW")
     def gy_plot(self) -> hv.Overlay:
         d, pt = compute_gy_curve(*self.point_key), self.point()
         zero = hv.HLine(0.0).opts(color="black", line_width=1)
         c_r = hv.VLine(pt["z_R"], label="c_R").opts(color="#999999", line_dash="dashed", line_width=1)
-        curve = hv.Curve((d["z"], d["gy"]), Z_LABEL, GY_LABEL, label="Re G_y").opts(color="#1f4e79", line_width=2)
-        return (zero * c_r * curve).opts(
+        fam = []
+        for i, kw in enumerate(self.compare_kW):
+            e = compute_gy_curve(kw, self.point_key[1])
+            fam.append(hv.Curve((e["z"], e["gy"]), Z_LABEL, GY_LABEL, label=f"kW = {kw:g}").opts(
+                color=PALETTE[i % len(PALETTE)], line_width=1.2))
+        curve = hv.Curve((d["z"], d["gy"]), Z_LABEL, GY_LABEL, label="current kW").opts(
+            color="#1f4e79", line_width=2)
+        return hv.Overlay([zero, c_r, *fam, curve]).opts(
             hv.opts.Overlay(responsive=True, height=300, title=f"(b) G_y at kW = {_fmt(pt['kW'], 4)}",
-                            show_legend=False, framewise=True, xlabel=Z_LABEL, ylabel=GY_LABEL))
+                            show_legend=bool(fam), legend_position="bottom_left", framewise=True,
+                            xlabel=Z_LABEL, ylabel=GY_LABEL))
 
     @param.depends("stress_key")
     def stress_plot(self) -> hv.Overlay:
@@ -257,6 +274,26 @@ class ThinOnThickScene(param.Parameterized):
             lines.append("**Warning** the model returned non-finite values at c = c_R")
         return "\n\n".join(lines)
 
+    def csv_moduli(self) -> io.StringIO:
+        d = compute_moduli_curve(self.nu_key)
+        return csv_table(f"asymslide thin-on-thick Fig. 3a; nu = {self.nu_key!r}",
+                         {"kW": d["kW"], "mu_eff_over_mu": d["mu_ratio"], "nu_eff": d["nu_eff"]})
+
+    def csv_gy(self) -> io.StringIO:
+        kw, nu = self.point_key
+        cols = {}
+        for k in (kw, *self.compare_kW):
+            d = compute_gy_curve(k, nu)
+            cols[f"c_over_c_s(kW={k!r})"], cols[f"G_y(kW={k!r})"] = d["z"], d["gy"]
+        return csv_table(f"asymslide thin-on-thick Fig. 3b; nu = {nu!r}", cols)
+
+    def csv_stress(self) -> io.StringIO:
+        d = compute_stress_line(*self.stress_key)
+        kw, nu, c_s, rho, sigma0 = self.stress_key
+        return csv_table(f"asymslide thin-on-thick Fig. 3c at c = c_R; kW = {kw!r}, nu = {nu!r}, c_s = {c_s!r} m/s, "
+                         f"rho = {rho!r} kg/m^3, sigma0 = {sigma0!r} Pa",
+                         {"v_m_per_s": d["v"], "dsigma_yy_over_sigma0": d["ds"]})
+
     def panel(self) -> pn.viewable.Viewable:
         controls = controls_column(self.params.make_widgets(), self.readout)
         plots = pn.Column(
@@ -264,6 +301,9 @@ class ThinOnThickScene(param.Parameterized):
                    pn.pane.HoloViews(self.nu_eff_dmap), sizing_mode="stretch_width"),
             pn.pane.HoloViews(self.gy_dmap, sizing_mode="stretch_width"),
             pn.pane.HoloViews(self.stress_dmap, sizing_mode="stretch_width"),
+            pn.Row(csv_download(self.csv_moduli, "thin_on_thick_moduli.csv", "CSV (a)"),
+                   csv_download(self.csv_gy, "thin_on_thick_gy.csv", "CSV (b)"),
+                   csv_download(self.csv_stress, "thin_on_thick_stress.csv", "CSV (c)")),
             sizing_mode="stretch_width",
         )
         return pn.Row(controls, plots, sizing_mode="stretch_width", name="Thin-on-thick")

@@ -128,7 +128,7 @@ def test_moduli_plots_equal_model(kW: float, nu: float) -> None:
 def test_gy_plot_equals_model(kW: float, nu: float) -> None:
     scene = ThinOnThickScene(params=ThinOnThickParams(log10_kW=math.log10(kW), nu=nu))
     kW = scene.params.kW
-    curve = _el(scene.gy_dmap[()], hv.Curve, "Re G_y")
+    curve = _el(scene.gy_dmap[()], hv.Curve, "current kW")
     assert [d.name for d in curve.dimensions()] == ["c/c_s", "G_y"]
     z = curve.dimension_values("c/c_s")
     mu_ratio = float(model.effective_moduli(kW, nu)[0])
