@@ -47,6 +47,8 @@ bench: venv  ## run the benchmarks (timings live here, not in tests)
 	@if [ -f benchmarks/run.py ]; then $(PY) benchmarks/run.py; \
 	elif [ -f benchmarks/__main__.py ]; then $(PY) -m benchmarks; \
 	else echo "no benchmarks yet: add benchmarks/run.py or benchmarks/__main__.py"; fi
+	$(PY) benchmarks/latency.py  # browser slider-to-plot latency (needs $(CHROMIUM)); prints PASS/MISS, exits 0
+	$(PY) benchmarks/load_test.py  # 20 sessions for 60 s; exits 1 on errors, p95 > 1 s or unbounded memory
 
 lint: venv  ## ruff on the Python code, hadolint on the Dockerfile
 	$(VENV)/bin/ruff check $(LINT_DIRS)

@@ -81,6 +81,10 @@ class App:
         self.spectrum_params.param.watch(self.write_url, list(self.spectrum_params.param))
         self.thin_params.param.watch(self.write_url, list(self.thin_params.param))
         self.tabs.param.watch(self.write_url, "active")
+        # a hidden All-branches tab defers its (up to ~1.5 s) recomputation until it is shown again
+        branches_tab = TABS.index("branches")
+        self.branches.active = self.tabs.active == branches_tab
+        self.tabs.param.watch(lambda e: setattr(self.branches, "active", e.new == branches_tab), "active")
 
     def _apply(self, updates: Updates) -> None:
         self.spectrum_params.param.update(**updates["spectrum"])
@@ -112,6 +116,7 @@ class App:
         note = " (curve values representative: the paper's legend is not in its text)" if preset.representative else ""
         self.preset_info.object = f"**{preset.label}**: {preset.title}{note}"
         self.show_messages(messages, f"Preset {preset.label}")
+        self.write_url()  # also when the preset's values equal the current ones
 
     def clear_families(self, *_events) -> None:
         self.spectrum.param.update(compare_key="", compare_values=[])

@@ -55,6 +55,8 @@ def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]
     def to_widget(*events: param.parameterized.Event) -> None:
         for event in events:
             widget = widgets[event.name]
+            if widget.value == event.new or (event.new != event.new and widget.value != widget.value):
+                continue  # already shown (NaN != NaN would otherwise loop)
             if isinstance(widget, pn.widgets.FloatSlider):  # a value set from the URL or a preset may lie
                 widget.start = min(widget.start, event.new)  # outside the slider's soft range: widen it
                 widget.end = max(widget.end, event.new)

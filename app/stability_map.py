@@ -1,22 +1,656 @@
-"""Scene "Stability map" (placeholder; being built)."""
+"""Scene "Stability map" (paper Sect. IV, Figs. 4c and 5): where steady sliding is unstable in a parameter plane.
+
+The map is the maximal growth rate max_kH Im[c/c_s] on the Rayleigh branch (:func:`model.growth_analysis`, the
+function behind :func:`model.max_growth`) over a plane of two parameters (η-γ, Δ-ξ, f-γ or β-γ), the other four
+taken from the sliders shared with the other scenes. It shows the neutral curve (zero contour of the growth) and a
+marker at the sliders' values; clicking the map moves the two sliders there. The second plot is Fig. 4c: the exact
+threshold χ_c(β) = γ_c f (:func:`model.critical_chi`) and the approximate criterion (:func:`model.criterion_chi`).
+
+The app computes no physics: every number comes from a ``pn.cache``'d call into the public :mod:`model` API.
+
+Computation on demand. The map is computed only when its plot is rendered (dynamic tabs render the visible
+scene only, and building the page computes nothing), on a background thread, in chunks of rows; each chunk is a
+pure cached call (:func:`compute_chunk`), so a map seen before, or the unchanged part of one, comes back from the
+cache. A progress bar advances per chunk. When the map's inputs change, a generation counter makes the stale
+computation stop after its current chunk and the new one starts. The worker thread never touches the Bokeh
+document: it writes its progress into a job record, which a periodic callback of the session
+(``pn.state.add_periodic_callback``, on the session's event loop, stopped when the map is shown) carries to the
+progress bar and the plot; without a server (tests) the worker applies it itself. (Scheduling each update from
+the thread with ``pn.state.execute`` was tried: in about one served run in three the first update, which sets
+the progress bar's maximum, did not take effect before the later ones.)
+
+What the map depends on: its plane, resolution, and the four parameters off the plane (ξ normalised to 0 at Δ = 1,
+where it does not enter F). Moving a parameter of the plane moves only the marker.
+"""
 
 from __future__ import annotations
 
+import collections
+import io
+import logging
+import math
+import os
+import threading
+import time
+from dataclasses import dataclass
+from functools import partial
+
+import contourpy
+import holoviews as hv
+import numpy as np
 import panel as pn
 import param
 
-from .params import SpectrumParams
+import model
+
+from .params import SpectrumParams, controls_column, csv_download, csv_table
+
+hv.extension("bokeh", logo=False)
+
+log = logging.getLogger(__name__)
+
+# --------------------------------------------------------------------------------------------
+# grids
+# --------------------------------------------------------------------------------------------
+
+#: kH grid on which the maximum over kH is bracketed (then refined between grid points by the model)
+KH = np.logspace(-3, 3, 96)
+
+#: points per axis of the map. The η-γ plane is the slowest (finite η costs ~20x more per point): on 2 cores
+#: ~0.6 / 0.9 / 2.0 s coarse / medium / fine (2-4x that when the cores are busy); the others take <= 0.2 s at η = ∞
+RESOLUTIONS = {"coarse": 24, "medium": 40, "fine": 64}
+
+#: |max growth| at or below this is drawn as neutral: not counted unstable and not a neutral-curve crossing
+#: (where the branch only tends to Im z = 0 at the end of the kH grid the maximum is 0 up to round-off)
+MARGINAL = 1e-6
+
+#: a chunk has up to 256 parameter points per CPU (the model runs blocks of 256 on parallel threads), and a map
+#: has at least MIN_CHUNKS chunks (progress steps, and how soon a stale computation stops)
+CHUNK_POINTS = 256 * (os.cpu_count() or 1)
+MIN_CHUNKS = 4
+
+#: the order of SpectrumParams.model_args()
+ARG_NAMES = ("gamma", "f", "beta", "eta", "Delta", "xi")
+SYMBOLS = {"gamma": "γ", "f": "f", "beta": "β", "eta": "η", "Delta": "Δ", "xi": "ξ"}
+
+#: β grids of Fig. 4c: the criterion (line) and, at every other of its points, the exact threshold (symbols)
+BETA_CRITERION = np.linspace(0.025, 0.70, 28)
+BETA_EXACT = BETA_CRITERION[1::2].copy()
+#: Fig. 4c y range; a current χ off this range is drawn at its edge
+CHI_RANGE = (0.0, 5.0)
+
+#: how often (ms) a served session shows the progress of a computation
+POLL_MS = 150
+
+GROWTH_LABEL = "max Im[c/c_s]"
+NAN_COLOR = "#bdbdbd"
+
+#: number of calls (keys: the cached ``compute_*`` functions, the model functions, "chunks_cancelled"), for tests
+CALLS: collections.Counter[str] = collections.Counter()
+
+#: serialises the worker threads' calls into the chunk cache (pn.cache prunes its store without a lock)
+_COMPUTE_LOCK = threading.Lock()
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One axis of a plane: the model keyword, the paper's symbol, the plotted range, log or linear."""
+
+    name: str
+    lo: float
+    hi: float
+    log: bool
+    step: float = 0.0  # a click on a linear axis is rounded to this (the slider's step)
+
+    @property
+    def label(self) -> str:
+        return SYMBOLS[self.name]
+
+    def values(self, n: int) -> np.ndarray:
+        """The n grid values (cell centres), log- or linearly spaced from lo to hi."""
+        if self.log:
+            return np.logspace(math.log10(self.lo), math.log10(self.hi), n)
+        return np.linspace(self.lo, self.hi, n)
+
+    def edges(self, n: int) -> np.ndarray:
+        """The n + 1 cell edges around :meth:`values` (midpoints in the axis' own scale)."""
+        t = np.log10(self.values(n)) if self.log else self.values(n)
+        h = t[1] - t[0]
+        e = np.concatenate([[t[0] - h / 2], (t[:-1] + t[1:]) / 2, [t[-1] + h / 2]])
+        return 10.0**e if self.log else e
+
+    def scale(self, v: np.ndarray) -> np.ndarray:
+        return np.log10(v) if self.log else v
+
+    def unscale(self, t: np.ndarray) -> np.ndarray:
+        return 10.0**t if self.log else t
+
+
+GAMMA_AXIS = Axis("gamma", 0.1, 30.0, log=True)
+
+#: the planes: (x axis, y axis); the name reads "x-y"
+PLANES: dict[str, tuple[Axis, Axis]] = {
+    "η-γ": (Axis("eta", 1.0, 1e8, log=True), GAMMA_AXIS),
+    "Δ-ξ": (Axis("Delta", 0.01, 1.0, log=False, step=0.01), Axis("xi", 1e-2, 1e3, log=True)),
+    "f-γ": (Axis("f", 0.0, 2.0, log=False, step=0.01), GAMMA_AXIS),
+    "β-γ": (Axis("beta", 0.01, 0.7071, log=False, step=0.001), GAMMA_AXIS),
+}
+
+
+def plane_axes(plane: str, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) grid values of a plane at n points per axis."""
+    ax, ay = PLANES[plane]
+    return ax.values(n), ay.values(n)
+
+
+def chunk_rows(n: int) -> list[tuple[int, int]]:
+    """Row ranges [start, stop) of the chunks of an n x n map: <= CHUNK_POINTS points each, at least MIN_CHUNKS."""
+    rows = max(1, min(CHUNK_POINTS // n, math.ceil(n / MIN_CHUNKS)))
+    return [(a, min(a + rows, n)) for a in range(0, n, rows)]
+
+
+# --------------------------------------------------------------------------------------------
+# cached model calls
+# --------------------------------------------------------------------------------------------
+
+
+@pn.cache(max_items=1024)
+def compute_chunk(plane: str, n: int, start: int, stop: int, fixed: tuple[tuple[str, float], ...]) -> dict:
+    """Rows start..stop-1 (y values) of the map of `plane` at n x n points; `fixed` = the other parameters.
+
+    growth, kH_at_max (NaN growth: the branch could not be followed at any kH), n_masked (kH points masked).
+    """
+    CALLS["compute_chunk"] += 1
+    ax, ay = PLANES[plane]
+    x, y = plane_axes(plane, n)
+    p = dict(fixed)
+    p[ax.name] = x[None, :]
+    p[ay.name] = y[start:stop, None]
+    CALLS["growth_analysis"] += 1
+    r = model.growth_analysis(KH, **p)
+    return {"growth": np.asarray(r.growth, float), "kH_at_max": np.asarray(r.kH_at_max, float),
+            "n_masked": np.asarray(r.n_masked, int)}
+
+
+@pn.cache(max_items=1)
+def compute_criterion() -> np.ndarray:
+    """χ_c of the approximate criterion (Eq. criterion) on :data:`BETA_CRITERION` (independent of f)."""
+    CALLS["compute_criterion"] += 1
+    CALLS["criterion_chi"] += 1
+    return np.asarray(model.criterion_chi(BETA_CRITERION), float)
+
+
+@pn.cache(max_items=32)
+def compute_fig4c(f: float) -> dict:
+    """Fig. 4c at friction coefficient f: exact χ_c(β) (NaN where there is no threshold) and the criterion."""
+    CALLS["compute_fig4c"] += 1
+    exact = np.full(BETA_EXACT.shape, np.nan)
+    reason = ""
+    try:
+        CALLS["critical_chi"] += 1
+        exact = np.asarray(model.critical_chi(BETA_EXACT, f=f), float)
+    except ValueError:  # no threshold at some beta: per point, NaN there
+        for i, b in enumerate(BETA_EXACT):
+            try:
+                CALLS["critical_chi"] += 1
+                exact[i] = float(model.critical_chi(float(b), f=f))
+            except ValueError as exc:
+                reason = str(exc)
+    return {"beta": BETA_EXACT, "exact": exact, "beta_criterion": BETA_CRITERION, "criterion": compute_criterion(),
+            "reason": reason}
+
+
+# --------------------------------------------------------------------------------------------
+# the computed map
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class MapResult:
+    """A finished map: the key it was computed for, its grid and the model's values on it."""
+
+    key: tuple
+    x: np.ndarray
+    y: np.ndarray
+    growth: np.ndarray  # (ny, nx)
+    kH_at_max: np.ndarray
+    n_masked: np.ndarray
+    seconds: float
+    chunks_computed: int  # chunks that were not in the cache
+    chunks_total: int
+
+    @property
+    def plane(self) -> str:
+        return self.key[0]
+
+
+@dataclass(eq=False)
+class _Job:
+    """One computation of a map: written by its worker thread, read by :meth:`StabilityMapScene._apply`."""
+
+    gen: int
+    key: tuple
+    total: int  # chunks
+    done: int = 0
+    finished: bool = False
+    applied: bool = False  # its end has been shown
+    result: MapResult | None = None
+    error: str = ""
+
+
+def key_for(plane: str, resolution: str, args: tuple[float, ...]) -> tuple:
+    """What a map depends on: plane, points per axis, and the model arguments off the plane (normalised)."""
+    names = {a.name for a in PLANES[plane]}
+    fixed = tuple((k, float(v)) for k, v in zip(ARG_NAMES, args, strict=True) if k not in names)
+    return (plane, RESOLUTIONS[resolution], fixed)
+
+
+def neutral_curve(plane: str, x: np.ndarray, y: np.ndarray, growth: np.ndarray) -> list[np.ndarray]:
+    """The zero contour of the growth (|growth| <= MARGINAL counted as not unstable; NaN masked), interpolated
+    in the plotted (log or linear) coordinates; a list of (m, 2) arrays of (x, y)."""
+    ax, ay = PLANES[plane]
+    z = np.where(np.abs(growth) <= MARGINAL, -MARGINAL, growth)
+    if not np.isfinite(z).any():
+        return []
+    gen = contourpy.contour_generator(ax.scale(x), ay.scale(y), np.ma.masked_invalid(z), line_type="Separate")
+    return [np.column_stack([ax.unscale(s[:, 0]), ay.unscale(s[:, 1])]) for s in gen.lines(0.0) if len(s) > 1]
+
+
+def _fmt(v: float) -> str:
+    return "—" if not np.isfinite(v) else f"{v:.4g}"
+
+
+def _round_sig(v: float, digits: int = 3) -> float:
+    return float(f"{v:.{digits - 1}e}") if v != 0 else 0.0
 
 
 class StabilityMapScene(param.Parameterized):
-    """Heat map of the maximal growth rate over a parameter plane (to be built)."""
+    """Heat map of the maximal growth rate over a parameter plane, with Fig. 4c, for one :class:`SpectrumParams`."""
 
     params = param.ClassSelector(class_=SpectrumParams)
+    plane = param.Selector(objects=list(PLANES), default="η-γ", label="Plane (x-y)")
+    resolution = param.Selector(objects=list(RESOLUTIONS), default="medium", label="Resolution")
+    #: what the map depends on (see :func:`key_for`); changes only when the map must be recomputed
+    map_key = param.Tuple(default=None, length=3, allow_None=True, precedence=-1)
+    #: the last finished map (possibly for an older key)
+    result = param.ClassSelector(class_=MapResult, allow_None=True, precedence=-1)
+    #: "idle", "computing", "done", "error: ..."
+    status = param.String("idle", precedence=-1)
 
     def __init__(self, **kwargs):
         if "params" not in kwargs:
             kwargs["params"] = SpectrumParams()
         super().__init__(**kwargs)
+        self._lock = threading.Lock()
+        self._generation = 0
+        self._job: _Job | None = None  # the latest computation started
+        self._thread: threading.Thread | None = None
+        self._poller: pn.io.PeriodicCallback | None = None
+        self._docs: set[int] = set()
+        self._views: dict[str, hv.DynamicMap] = {}
+        self.tap_streams: dict[str, hv.streams.Tap] = {}
+        self.progress = pn.indicators.Progress(value=0, max=1, bar_color="primary", sizing_mode="stretch_width",
+                                               height=18)
+        self.map_key = key_for(self.plane, self.resolution, self.params.model_args())
+        self.params.param.watch(self._update_key, list(self.params.param))
+        self.param.watch(self._update_key, ["plane", "resolution"])
+        self.param.watch(self._key_changed, "map_key")
+        self.fig4c_dmap = (hv.DynamicMap(self._fig4c_curves, streams=[hv.streams.Params(self.params, ["f"])])
+                           * hv.DynamicMap(self._fig4c_marker, streams=[hv.streams.Params(
+                               self.params, ["beta", "gamma", "f", "eta_infinite", "Delta"])])).opts(
+            hv.opts.Overlay(title="Fig. 4c: instability threshold χ_c vs β (η = ∞, Δ = 1)", responsive=True,
+                            height=340, legend_position="top_left", xlim=(0.0, 0.7071), ylim=CHI_RANGE))
+        self.map_download = csv_download(self.map_csv, "stability_map.csv", "Download map (CSV)")
+        self.map_download.disabled = True
+        self.fig4c_download = csv_download(self.fig4c_csv, "stability_fig4c.csv", "Download Fig. 4c (CSV)")
+
+    # ----------------------------------------------------------------------------------------
+    # keys and the background computation
+    # ----------------------------------------------------------------------------------------
+
+    def _update_key(self, *_events) -> None:
+        key = key_for(self.plane, self.resolution, self.params.model_args())
+        if key != self.map_key:
+            self.map_key = key
+
+    def _key_changed(self, event: param.parameterized.Event) -> None:
+        """Inputs changed: stop a running computation after its chunk; if one was running (the map is shown),
+        start the new one at once (otherwise the next render starts it)."""
+        with self._lock:
+            running = self._job is not None and not self._job.finished
+            self._generation += 1
+        self.map_download.disabled = not self._current()
+        if running:
+            self.ensure_map()
+
+    def _current(self) -> bool:
+        return self.result is not None and self.result.key == self.map_key
+
+    def ensure_map(self) -> None:
+        """Start computing the map of the current key unless it is finished or already being computed.
+
+        Called where the session may be modified (a render, a parameter change); when served, a periodic callback
+        of the session carries the worker's progress to the page (the worker never touches the document)."""
+        key = self.map_key
+        with self._lock:
+            job = self._job
+            if self._current() or (job is not None and job.key == key and job.gen == self._generation
+                                   and not job.applied):
+                return
+            self._generation += 1
+            self._job = job = _Job(gen=self._generation, key=key, total=len(chunk_rows(key[1])))
+        doc = pn.state.curdoc
+        served = doc is not None and doc.session_context is not None
+        if served:
+            if id(doc) not in self._docs:
+                self._docs.add(id(doc))
+                doc.on_session_destroyed(lambda _ctx: self.cancel())
+            if self._poller is None or not self._poller.running:
+                self._poller = pn.state.add_periodic_callback(self._apply, period=POLL_MS)
+        self._show_progress(job)
+        self.status = "computing"
+        self._thread = threading.Thread(target=self._run, args=(job, served), daemon=True,
+                                        name="asymslide-stability-map")
+        self._thread.start()
+
+    def cancel(self) -> None:
+        """Stop any running computation after its current chunk."""
+        with self._lock:
+            self._generation += 1
+
+    def wait(self, timeout: float = 60.0) -> None:
+        """Block until the current worker thread (if any) has finished (tests, headless use)."""
+        thread = self._thread
+        if thread is not None:
+            thread.join(timeout)
+            if thread.is_alive():
+                raise TimeoutError(f"the stability map was not computed within {timeout} s")
+
+    def _show_progress(self, job: _Job) -> None:
+        if self.progress.max != job.total:
+            self.progress.value = 0
+            self.progress.max = job.total
+        self.progress.value = job.done
+
+    def _apply(self) -> None:
+        """Carry the current job's state to the page (on the session's event loop when served; from the worker
+        without a server). Stale jobs are ignored; the periodic callback stops once nothing is left to show."""
+        with self._lock:
+            job = self._job
+            stale = job is None or job.gen != self._generation
+        if stale or job.applied:
+            if self._poller is not None:
+                self._poller.stop()
+            return
+        self._show_progress(job)
+        if not job.finished:
+            return
+        job.applied = True
+        if job.error:
+            self.status = job.error
+        else:
+            self.param.update(result=job.result, status="done")
+            ax, ay = PLANES[job.key[0]]
+            self.map_download.param.update(disabled=not self._current(),
+                                           filename=f"stability_map_{ax.name}_{ay.name}.csv")
+        if self._poller is not None:
+            self._poller.stop()
+
+    def _run(self, job: _Job, served: bool) -> None:
+        """Worker thread: the chunks of the job's key in order, stopping as soon as the generation has moved on."""
+        plane, n, fixed = job.key
+        chunks = chunk_rows(n)
+        t0 = time.perf_counter()
+        parts, computed = [], 0
+        try:
+            for i, (a, b) in enumerate(chunks):
+                if job.gen != self._generation:
+                    CALLS["chunks_cancelled"] += len(chunks) - i
+                    return
+                with _COMPUTE_LOCK:
+                    before = CALLS["compute_chunk"]
+                    parts.append(compute_chunk(plane, n, a, b, fixed))
+                    computed += CALLS["compute_chunk"] - before
+                job.done = i + 1
+                if not served and i + 1 < len(chunks):
+                    self._apply()
+            x, y = plane_axes(plane, n)
+            job.result = MapResult(
+                key=job.key, x=x, y=y, growth=np.concatenate([p["growth"] for p in parts]),
+                kH_at_max=np.concatenate([p["kH_at_max"] for p in parts]),
+                n_masked=np.concatenate([p["n_masked"] for p in parts]),
+                seconds=time.perf_counter() - t0, chunks_computed=computed, chunks_total=len(chunks))
+        except Exception as exc:  # the session keeps working; the message is shown
+            log.exception("stability map failed for %r", job.key)
+            job.error = f"error: {type(exc).__name__}: {exc}"
+        job.finished = True
+        if not served:
+            self._apply()
+
+    # ----------------------------------------------------------------------------------------
+    # the map plot (one DynamicMap per plane: the axes' scales differ)
+    # ----------------------------------------------------------------------------------------
+
+    def view(self, plane: str | None = None) -> hv.DynamicMap:
+        """The map of `plane` (default: the current one): heat map * neutral curve * marker; a click on the heat map
+        (its Tap stream, :attr:`tap_streams`) sets the sliders."""
+        plane = plane or self.plane
+        if plane not in self._views:
+            ax, ay = PLANES[plane]
+            heat = hv.DynamicMap(partial(self._heat, plane), streams=[hv.streams.Params(self, ["result", "map_key"])])
+            neutral = hv.DynamicMap(partial(self._neutral, plane), streams=[hv.streams.Params(self, ["result"])])
+            names = [p for a in (ax, ay) for p in (("log10_eta", "eta_infinite") if a.name == "eta" else (a.name,))]
+            marker = hv.DynamicMap(partial(self._marker, plane), streams=[hv.streams.Params(self.params, names)])
+            tap = hv.streams.Tap(source=heat, x=None, y=None)  # the source must give single elements
+            tap.add_subscriber(partial(self._on_tap, plane))
+            overlay = (heat * neutral * marker).opts(hv.opts.Overlay(
+                title=f"Max growth rate over the {plane} plane", responsive=True, height=460, logx=ax.log,
+                logy=ay.log, show_legend=False, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi)))
+            self._views[plane], self.tap_streams[plane] = overlay, tap
+        return self._views[plane]
+
+    def _dims(self, plane: str) -> tuple[hv.Dimension, hv.Dimension]:
+        ax, ay = PLANES[plane]
+        return hv.Dimension(ax.name, label=ax.label), hv.Dimension(ay.name, label=ay.label)
+
+    def _shown(self, plane: str) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, bool]:
+        """x, y, growth of what the plane's plot shows (growth None: nothing computed for this plane yet) and
+        whether it is the map of the current inputs."""
+        res, key = self.result, self.map_key
+        current = res is not None and res.key == key
+        if res is not None and res.plane == plane:
+            return res.x, res.y, res.growth, current
+        x, y = plane_axes(plane, key[1])
+        return x, y, None, False
+
+    def _heat(self, plane: str, **_stream_values) -> hv.QuadMesh:
+        """The heat map: the finished map; while one is computed, the previous map of this plane (faded) or a
+        blank. Rendering it is what starts the computation (only a shown map computes)."""
+        ax, ay = PLANES[plane]
+        x, y, growth, current = self._shown(plane)
+        if plane == self.plane and not current:
+            self.ensure_map()
+        alpha = 1.0 if current else 0.45
+        if growth is None:  # blank (zeros, transparent: an all-NaN mesh has no colour range)
+            growth, alpha = np.zeros((y.size, x.size)), 0.0
+        finite = np.abs(growth[np.isfinite(growth)])
+        top = float(finite.max()) if finite.size and finite.max() > 0 else 1e-3
+        xd, yd = self._dims(plane)
+        return hv.QuadMesh((ax.edges(x.size), ay.edges(y.size), growth), kdims=[xd, yd],
+                           vdims=[hv.Dimension("growth", label=GROWTH_LABEL)]).opts(
+            cmap="RdBu_r", clim=(-top, top), colorbar=True, clabel=GROWTH_LABEL, framewise=True, alpha=alpha,
+            clipping_colors={"NaN": NAN_COLOR}, line_alpha=0, logx=ax.log, logy=ay.log, tools=["hover"],
+            hover_tooltips=[(ax.label, "$x"), (ay.label, "$y"), (GROWTH_LABEL, "@growth")],
+            responsive=True, height=460, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi))
+
+    def _neutral(self, plane: str, **_stream_values) -> hv.Path:
+        x, y, growth, _ = self._shown(plane)
+        lines = [] if growth is None else neutral_curve(plane, x, y, growth)
+        return hv.Path(lines, kdims=list(self._dims(plane)), label="neutral curve (max Im = 0)").opts(
+            color="black", line_width=2)
+
+    def marker_position(self, plane: str | None = None) -> tuple[float, float, list[str]]:
+        """(x, y) of the sliders' values on the plane, clipped to its range, and notes on the clipping."""
+        plane = plane or self.plane
+        out, notes = [], []
+        for a in PLANES[plane]:
+            v = self.params.eta if a.name == "eta" else float(getattr(self.params, a.name))
+            shown = min(max(v, a.lo), a.hi)
+            if shown != v:
+                notes.append(f"{a.label} = {_fmt(v) if np.isfinite(v) else '∞'} drawn at {_fmt(shown)}")
+            out.append(shown)
+        return out[0], out[1], notes
+
+    def _marker(self, plane: str, **_stream_values) -> hv.Points:
+        x, y, _ = self.marker_position(plane)
+        xd, yd = self._dims(plane)
+        return hv.Points([(x, y)], kdims=[xd, yd], label="current parameters").opts(
+            marker="star", size=18, color="#ffd92f", line_color="black", line_width=1.5)
+
+    def _on_tap(self, plane: str, x: float | None = None, y: float | None = None) -> None:
+        """A click on the map: set the plane's two parameters there (rounded, clamped to their bounds)."""
+        if x is None or y is None or not (np.isfinite(x) and np.isfinite(y)):
+            return
+        updates: dict[str, float | bool] = {}
+        for a, v in zip(PLANES[plane], (x, y), strict=True):
+            if a.name == "eta":
+                if v <= 0:
+                    continue
+                lo, hi = self.params.param.log10_eta.bounds
+                updates.update(eta_infinite=False, log10_eta=min(max(round(math.log10(v), 2), lo), hi))
+            else:
+                lo, hi = self.params.param[a.name].bounds
+                r = _round_sig(v) if a.log else round(round(v / a.step) * a.step, 6)
+                updates[a.name] = float(min(max(r, lo), hi))
+        self.params.param.update(**updates)
+
+    # ----------------------------------------------------------------------------------------
+    # Fig. 4c
+    # ----------------------------------------------------------------------------------------
+
+    def _fig4c_curves(self, f: float, **_stream_values) -> hv.Overlay:
+        d = compute_fig4c(float(f))
+        beta, chi = hv.Dimension("beta", label="β = c_s/c_d"), hv.Dimension("chi", label="χ_c = γ_c f")
+        criterion = hv.Curve((d["beta_criterion"], d["criterion"]), beta, chi, label="criterion (Eq. criterion)").opts(
+            color="#b2182b", line_width=2)
+        exact = hv.Scatter((d["beta"], d["exact"]), beta, chi, label=f"exact threshold (f = {f:g})").opts(
+            marker="circle", size=8, fill_color="white", line_color="#1f4e79", line_width=1.5)
+        return criterion * exact
+
+    def _fig4c_marker(self, **_stream_values) -> hv.Overlay:
+        p = self.params
+        beta = hv.Dimension("beta", label="β = c_s/c_d")
+        chi = hv.Dimension("chi", label="χ_c = γ_c f")
+        point = [(p.beta, min(max(p.gamma * p.f, CHI_RANGE[0]), CHI_RANGE[1]))] if self.fig4c_applies() else []
+        return (hv.VLine(p.beta).opts(color="#666666", line_dash="dotted", line_width=1.5)
+                * hv.Points(point, kdims=[beta, chi], label="current χ = γ f").opts(
+                    marker="star", size=16, color="#ffd92f", line_color="black"))
+
+    def fig4c_applies(self) -> bool:
+        """Fig. 4c is for η = ∞ and Δ = 1: only then is the current χ = γ f comparable with χ_c."""
+        return bool(self.params.eta_infinite and self.params.Delta == 1)
+
+    @param.depends("params.gamma", "params.f", "params.beta", "params.eta_infinite", "params.Delta")
+    def fig4c_readout(self) -> str:
+        p = self.params
+        if self.fig4c_applies():
+            text = (f"**Current** χ = γ f = {_fmt(p.gamma * p.f)} at β = {_fmt(p.beta)} (star; dotted line: β). "
+                    "Sliding is unstable on the Rayleigh branch above the exact threshold (circles).")
+            if not CHI_RANGE[0] <= p.gamma * p.f <= CHI_RANGE[1]:
+                text += f" The star is drawn at the edge of the plotted range {CHI_RANGE}."
+            return text
+        return (f"**Current** β = {_fmt(p.beta)} (dotted line). Fig. 4c is for η = ∞ and Δ = 1; at the current "
+                "η and Δ the threshold differs, so χ = γ f is not drawn.")
+
+    # ----------------------------------------------------------------------------------------
+    # readout and export
+    # ----------------------------------------------------------------------------------------
+
+    @param.depends("result", "map_key", "status", "params.gamma", "params.log10_eta", "params.eta_infinite",
+                   "params.f", "params.beta", "params.Delta", "params.xi")
+    def readout(self) -> str:
+        plane, n, fixed = self.map_key
+        ax, ay = PLANES[plane]
+        others = ", ".join(f"{SYMBOLS[k]} = {'∞' if np.isinf(v) else _fmt(v)}" for k, v in fixed)
+        lines = [f"**Plane** {plane}: x = {ax.label}, y = {ay.label}; {others}",
+                 f"**Grid** {n} × {n} points, max over {KH.size} kH from {KH[0]:g} to {KH[-1]:g}"]
+        res = self.result
+        if self.status.startswith("error"):
+            lines.append(f"**Failed** {self.status[len('error: '):]}")
+        if res is None or res.key != self.map_key:
+            lines.append("**Computing** the map…" if self.status == "computing" else "**Not computed yet**")
+        else:
+            g = res.growth
+            finite = np.isfinite(g)
+            n_nan = int((~finite).sum())
+            unstable = int((g[finite] > MARGINAL).sum())
+            marginal = int((np.abs(g[finite]) <= MARGINAL).sum())
+            partial_mask = int((finite & (res.n_masked > 0)).sum())
+            frac = unstable / finite.sum() if finite.any() else float("nan")
+            largest = float(np.max(g[finite])) if finite.any() else float("nan")
+            lines.append(f"**Unstable** {100 * frac:.1f} % of the {int(finite.sum())} computed points "
+                         f"(max Im[c/c_s] > {MARGINAL:g}); largest growth {_fmt(largest)}")
+            if marginal:
+                lines.append(f"**Marginal** {marginal} point(s) with |max Im| ≤ {MARGINAL:g}, drawn neutral")
+            lines.append(f"**Masked** {n_nan} point(s) (grey): the Rayleigh branch could not be followed at any kH"
+                         if n_nan else "**Masked** none")
+            if partial_mask:
+                lines.append(f"**Partly masked** {partial_mask} point(s): branch not followable on part of the kH "
+                             "grid; maximum over the rest")
+            cached = res.chunks_total - res.chunks_computed
+            lines.append(f"**Time** {res.seconds:.2f} s ({res.chunks_total} chunks"
+                         + (f", {cached} from the cache)" if cached else ")"))
+        _, _, notes = self.marker_position(plane)
+        if notes:
+            lines.append("**Marker** " + "; ".join(notes))
+        return "\n\n".join(lines)
+
+    def map_csv(self) -> io.StringIO:
+        """What the map shows: both plane parameters, max growth, kH at the maximum, masked kH points per point."""
+        res = self.result
+        plane, n, fixed = self.map_key
+        ax, ay = PLANES[plane]
+        header = (f"asymslide stability map, plane {ax.name}-{ay.name}; max over kH = logspace(-3, 3, {KH.size}); "
+                  + ", ".join(f"{k} = {v!r}" for k, v in fixed))
+        if res is None or res.key != self.map_key:
+            return csv_table(header + " (not computed yet)",
+                             {ax.name: [], ay.name: [], "max_growth": [], "kH_at_max": [], "n_masked_kH": []})
+        nx, ny = res.x.size, res.y.size
+        return csv_table(header, {ax.name: np.tile(res.x, ny), ay.name: np.repeat(res.y, nx),
+                                  "max_growth": res.growth.ravel(), "kH_at_max": res.kH_at_max.ravel(),
+                                  "n_masked_kH": res.n_masked.ravel()})
+
+    def fig4c_csv(self) -> io.StringIO:
+        """What Fig. 4c shows: β, the criterion's χ_c, and the exact threshold χ_c at the current f (computed at
+        every other β: NaN at the others, and where there is no threshold)."""
+        f = float(self.params.f)
+        d = compute_fig4c(f)
+        exact = np.full(d["beta_criterion"].shape, np.nan)
+        exact[1::2] = d["exact"]
+        return csv_table(f"asymslide Fig. 4c (eta = inf, Delta = 1); f = {f!r}; chi_c_exact at every other beta",
+                         {"beta": d["beta_criterion"], "chi_c_criterion": d["criterion"], "chi_c_exact": exact})
+
+    # ----------------------------------------------------------------------------------------
+    # layout
+    # ----------------------------------------------------------------------------------------
 
     def panel(self) -> pn.viewable.Viewable:
-        return pn.Column(pn.pane.Markdown("Stability map: coming next."), name="Stability map")
+        controls = controls_column(self.params.make_widgets(), self.readout)
+        plane = pn.widgets.RadioButtonGroup.from_param(self.param.plane, color="primary", variant="outline")
+        resolution = pn.widgets.RadioButtonGroup.from_param(self.param.resolution, color="light")
+        map_pane = pn.pane.HoloViews(self.view(), sizing_mode="stretch_width")
+        self.param.watch(lambda e: setattr(map_pane, "object", self.view(e.new)), "plane")
+        plots = pn.Column(
+            pn.Row(plane, resolution),
+            self.progress,
+            pn.pane.Markdown("Click the map to move the sliders there. Red: unstable, blue: stable, grey: not "
+                             "computable; black line: neutral curve; star: current parameters.",
+                             sizing_mode="stretch_width"),
+            map_pane,
+            self.map_download,
+            pn.pane.HoloViews(self.fig4c_dmap, sizing_mode="stretch_width"),
+            pn.pane.Markdown(self.fig4c_readout, sizing_mode="stretch_width"),
+            self.fig4c_download,
+            sizing_mode="stretch_width",
+        )
+        return pn.Row(controls, plots, sizing_mode="stretch_width", name="Stability map")

@@ -2,7 +2,8 @@
 
 Compares the time of model.growth_analysis over the map with one plain numpy evaluation of the
 dispersion function (Eq. Gs_general + Eq. implicit_spectrum, literal formula) over the same
-4.2 M (parameter, kH) points, in one run, and reports the located thresholds.
+4.2 M (parameter, kH) points, in one run, and reports the located thresholds. Map times are medians
+of 3 runs; the rtol rows are the map at looser accuracy settings.
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ def run(n: int = 128, nk: int = 256) -> list[dict]:
     eta = np.logspace(0.0, 4.0, n)
     model.growth_analysis(q, gamma=gam[:2, None], f=0.9, beta=0.3, eta=eta[None, :2])  # compile / warm up
     rows = []
-    t_map = median_time(lambda: model.growth_analysis(q, gamma=gam[:, None], f=0.9, beta=0.3, eta=eta[None, :]), 1)
+    t_map = median_time(lambda: model.growth_analysis(q, gamma=gam[:, None], f=0.9, beta=0.3, eta=eta[None, :]), 3)
     res = model.growth_analysis(q, gamma=gam[:, None], f=0.9, beta=0.3, eta=eta[None, :])
     zz = np.full((n, n, nk), 0.9 + 0.01j)
     with np.errstate(all="ignore"):
@@ -56,8 +57,15 @@ def run(n: int = 128, nk: int = 256) -> list[dict]:
     rows.append(dict(what=f"one plain numpy evaluation of F over {n * n * nk} points", seconds=t_np, roots=n * n * nk))
     rows.append(dict(what="ratio map / numpy evaluation", seconds=t_map / t_np, roots=0))
     t_inf = median_time(lambda: model.growth_analysis(q, gamma=gam[:, None], f=np.linspace(0.1, 2.0, n)[None, :],
-                                                      beta=0.3), 1)
+                                                      beta=0.3), 3)
     rows.append(dict(what=f"growth map f-gamma (eta = inf) {n}x{n}x{nk}", seconds=t_inf, roots=n * n * nk))
+    for rtol in (1e-10, 1e-6):
+        t_r = median_time(lambda rtol=rtol: model.growth_analysis(q, gamma=gam[:, None], f=0.9, beta=0.3,
+                                                                  eta=eta[None, :], rtol=rtol), 3)
+        res_r = model.growth_analysis(q, gamma=gam[:, None], f=0.9, beta=0.3, eta=eta[None, :], rtol=rtol)
+        dev = float(np.nanmax(np.abs(res_r.growth - res.growth)))
+        rows.append(dict(what=f"growth map eta-gamma rtol={rtol:g} (max growth deviation from default {dev:.1e})",
+                         seconds=t_r, roots=n * n * nk))
     t0 = time.perf_counter()
     gc = model.critical_gamma(f=0.9, beta=0.3)
     ec = model.critical_eta(gamma=3.0, f=0.9, beta=0.3)

@@ -62,7 +62,9 @@ def spectrum_rows(ref: dict[float, complex], q: np.ndarray) -> list[tuple[str, f
 
     rows = []
     for name, fn, rep in [
-        ("model.spectrum", lambda: model.spectrum(q, **PAPER), 200),
+        ("model.spectrum (default: full certified accuracy)", lambda: model.spectrum(q, **PAPER), 200),
+        ("model.spectrum rtol=1e-10", lambda: model.spectrum(q, **PAPER, rtol=1e-10), 200),
+        ("model.spectrum rtol=1e-6", lambda: model.spectrum(q, **PAPER, rtol=1e-6), 200),
         ("scipy newton loop, warm-started (cmath F)", lambda: naive_newton_loop(q, math.inf), 3),
         ("scipy newton, vectorised over kH from z_R (no continuation)", lambda: vectorized_newton(q), 1),
         ("mpmath findroot loop, 15 digits", lambda: mpmath_loop(q), 1),
@@ -75,14 +77,40 @@ def spectrum_rows(ref: dict[float, complex], q: np.ndarray) -> list[tuple[str, f
     return rows
 
 
+GAMMA_C = 2.414880573904  # the oracle's critical gamma for f = 0.9, beta = 0.3, eta = inf (12 digits)
+
+
 def threshold_rows() -> list[tuple[str, float, float]]:
-    ref = 2.414880573904  # the oracle's critical gamma (tests/test_oracle.py, slow test), 12 digits
+    """critical_gamma (threshold refined by Brent's method) against the kH grid it brackets the maximum on."""
     rows = []
+    model.critical_gamma(f=0.9, beta=0.3, kH=np.logspace(-3, 3, 11))  # warm up (compiled code loaded)
     for n in (11, 21, 41, 81, 161, 321):
         q = np.logspace(-3, 3, n)
         t0 = time.perf_counter()
         g = model.critical_gamma(f=0.9, beta=0.3, kH=q)
-        rows.append((f"critical_gamma with {n} kH grid points", time.perf_counter() - t0, abs(g - ref) / ref))
+        rows.append((f"critical_gamma with {n} kH grid points", time.perf_counter() - t0, abs(g - GAMMA_C) / GAMMA_C))
+    return rows
+
+
+def map_threshold(n: int, rtol: float | None = None) -> float:
+    """gamma_c read off a stability map: max growth on n log-spaced gamma in [0.5, 20] (256 kH in [1e-3, 1e3]),
+    the sign change located by linear interpolation of the growth in ln gamma."""
+    gam = np.logspace(math.log10(0.5), math.log10(20.0), n)
+    growth, _ = model.max_growth(np.logspace(-3, 3, 256), gamma=gam, f=0.9, beta=0.3, rtol=rtol)
+    i = int(np.flatnonzero((growth[:-1] < 0) & (growth[1:] >= 0))[0])
+    x0, x1 = math.log(gam[i]), math.log(gam[i + 1])
+    return math.exp(x0 - growth[i] * (x1 - x0) / (growth[i + 1] - growth[i]))
+
+
+def map_rows() -> list[tuple[str, float, float]]:
+    """Threshold from a map against the map's resolution (and accuracy setting)."""
+    rows = []
+    for n, rtol in [(9, None), (17, None), (33, None), (65, None), (129, None), (257, None), (65, 1e-6),
+                    (257, 1e-6)]:
+        t0 = time.perf_counter()
+        g = map_threshold(n, rtol)
+        label = f"gamma map, {n} points" + ("" if rtol is None else f", rtol={rtol:g}")
+        rows.append((label, time.perf_counter() - t0, abs(g - GAMMA_C) / GAMMA_C))
     return rows
 
 
@@ -95,6 +123,9 @@ def markdown() -> str:
     lines += [f"| {n} | {t * 1e3:.3g} | {e:.1e} |" for n, t, e in spectrum_rows(ref, q)]
     lines += ["", "| threshold vs grid resolution | time [ms] | rel. error vs oracle (12 digits) |", "|---|---|---|"]
     lines += [f"| {n} | {t * 1e3:.3g} | {e:.1e} |" for n, t, e in threshold_rows()]
+    lines += ["", "| threshold read off a stability map (linear interpolation between map points) | time [ms] "
+              "| rel. error vs oracle |", "|---|---|---|"]
+    lines += [f"| {n} | {t * 1e3:.3g} | {e:.1e} |" for n, t, e in map_rows()]
     return "\n".join(lines) + "\n"
 
 

@@ -1,7 +1,8 @@
 """`make bench`: run time against error for the model core (issue: model core, point 5).
 
 Prints a table and writes benchmarks/results.md and benchmarks/spectrum_pareto.png.
-Timings are medians of repeated warm runs in one process; compare ratios, not absolute numbers.
+Timings are medians of repeated warm runs in one process (the model and the baseline it is compared with
+measured interleaved); compare ratios, not absolute numbers.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from tests import oracle  # noqa: E402
 
 OUT = Path(__file__).resolve().parent
 PAPER = dict(gamma=3.0, f=0.9, beta=0.3)
+RTOLS = (1e-10, 1e-6)  # accuracy settings shown besides the default (full certified accuracy)
 
 
 def plain_dispersion(z: complex, q: float, gamma: float, f: float, beta: float, eta: float) -> complex:
@@ -83,6 +85,23 @@ def timeit(fn, repeat: int) -> float:
     return statistics.median(times)
 
 
+def paired_medians(fast, slow, rounds: int = 5, inner: int = 100) -> tuple[float, float]:
+    """Median times of `fast` and `slow`, measured interleaved (per round: `inner` calls of fast, one of slow),
+    so that a change of machine load during the run affects both alike (the ratio is what is reported)."""
+    fast()
+    slow()
+    t_fast, t_slow = [], []
+    for _ in range(rounds):
+        for _ in range(inner):
+            t0 = time.perf_counter()
+            fast()
+            t_fast.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        slow()
+        t_slow.append(time.perf_counter() - t0)
+    return statistics.median(t_fast), statistics.median(t_slow)
+
+
 def max_rel_error(z: np.ndarray, q: np.ndarray, ref: dict[float, complex]) -> float:
     """Max relative error at the sampled points (inf if any sampled point is NaN)."""
     errs = [abs(z[i] - ref[q[i]]) / abs(ref[q[i]]) for i in range(q.size) if q[i] in ref]
@@ -97,8 +116,8 @@ def main() -> None:
         sample = q[::32]
         refs = oracle.rayleigh_branch(list(sample), *PAPER.values(), eta)
         ref = {float(s): complex(r) for s, r in zip(sample, refs, strict=True)}
-        def run_model(eta: float = eta) -> np.ndarray:
-            return model.spectrum(q, **PAPER, eta=eta)
+        def run_model(eta: float = eta, rtol: float | None = None) -> np.ndarray:
+            return model.spectrum(q, **PAPER, eta=eta, rtol=rtol)
 
         def run_naive(eta: float = eta) -> np.ndarray:
             return naive_newton_loop(q, eta)
@@ -106,8 +125,7 @@ def main() -> None:
         def run_naive_np(eta: float = eta) -> np.ndarray:
             return naive_newton_loop(q, eta, plain_dispersion_numpy)
 
-        t_model = timeit(run_model, 500)
-        t_naive = timeit(run_naive, 3)
+        t_model, t_naive = paired_medians(run_model, run_naive)
         z_model = run_model()
         z_naive = run_naive()
         e_model = max_rel_error(z_model, q, ref)
@@ -117,16 +135,21 @@ def main() -> None:
         name = "scipy newton loop (plain F)" + (f", {failed} points failed" if failed else "")
         rows.append((label, name, t_naive, e_naive, q.size))
         rows.append((label, "speed ratio (vs cmath F)", t_naive / t_model, math.nan, q.size))
+        for rtol in RTOLS:  # looser accuracy settings of the same solver (Pareto points)
+            t_r = timeit(lambda rtol=rtol: run_model(rtol=rtol), 500)
+            e_r = max_rel_error(run_model(rtol=rtol), q, ref)
+            rows.append((label, f"model.spectrum rtol={rtol:g}", t_r, e_r, q.size))
         if math.isinf(eta):
-            t_np = timeit(run_naive_np, 3)
+            t_model2, t_np = paired_medians(run_model, run_naive_np)
             e_np = max_rel_error(run_naive_np(), q, ref)
             rows.append((label, "scipy newton loop (plain F, numpy scalars)", t_np, e_np, q.size))
-            rows.append((label, "speed ratio (vs numpy-scalar F)", t_np / t_model, math.nan, q.size))
+            rows.append((label, "speed ratio (vs numpy-scalar F)", t_np / t_model2, math.nan, q.size))
     lines = [
         "# Spectrum benchmark (make bench)",
         "",
         "512 log-spaced kH in [1e-4, 1e4], paper parameters f = 0.9, beta = 0.3, gamma = 3.",
-        "Max relative error against the mpmath oracle at 16 of the 512 points.",
+        "Max relative error against the mpmath oracle at 16 of the 512 points. `rtol` rows: the same solver at",
+        "looser accuracy settings (default: full certified accuracy).",
         "",
         "| eta | method | time [ms] / ratio | max rel. error | points |",
         "|---|---|---|---|---|",
@@ -154,6 +177,11 @@ def main() -> None:
         import matplotlib.pyplot as plt
 
         fig, ax = plt.subplots(figsize=(6, 4))
+        for eta_label in dict.fromkeys(r[0] for r in rows):  # the model's settings joined by a line
+            pts = [(t * 1e3, max(e, 1e-17)) for label, name, t, e, _ in rows
+                   if label == eta_label and name.startswith("model.spectrum")]
+            pts.sort(key=lambda p: p[1])  # in the order of the accuracy settings
+            ax.loglog(*zip(*pts, strict=True), "-", color="0.7", zorder=0)
         for label, name, t, e, _ in rows:
             if not name.startswith("speed ratio"):
                 shown = 1.0 if not math.isfinite(e) else max(e, 1e-17)  # failed runs plotted at 1

@@ -23,6 +23,20 @@ Rayleigh function over z^2, Rt = z^2 - 4 + 4 (1 + beta^2 - beta^2 z^2)/(1 + alph
     G_x = Rt h_s / alpha_s + 4 alpha_d Hd,      G_y = -2 (2 - z^2) Hd,
     Hd  = (h_s - h_d)/z^2 = q (1-beta^2) e^{-2 q alpha_s} psi(t) / (alpha_s + alpha_d),
     t   = -2 q (1-beta^2) z^2/(alpha_s + alpha_d),  psi(t) = expm1(t)/t.
+
+Where eta q Re(alpha_j) > HALF_SPACE_ARG the lower block is a half-space to rounding (tanh = 1 in
+double precision) and the finite-eta kernel hands over to the eta = inf one. Every kernel also gives
+the analytic q-derivatives, for the branch slope dz/d(ln kH) = -kH F_kH / F_z.
+
+Rayleigh-branch path (PHYSICS.md section 3)
+-------------------------------------------
+Adaptive predictor-corrector continuation in s = ln kH from the root at kH = 1e4 (_continue): the
+predictor is the cubic Hermite extrapolant of ln z through the last two nodes (values and analytic
+slopes), every node a certified Newton root (contraction rate <= THETA_MAX, predictor error <=
+PRED_REJECT of the distance to the singularities). Requested points are reached from the degree-7
+Hermite interpolant of the four surrounding nodes (_interp_table, accurate to ~1e-12 on the fine
+path), by one Newton step certified with the convergence constants measured at the nodes (solve_at);
+with a looser rtol the interpolant itself is returned where its truncation estimate allows.
 """
 
 from __future__ import annotations
@@ -48,6 +62,22 @@ def _tanh_over_x_coefficients(n: int) -> np.ndarray:
 
 _GCOEF = _tanh_over_x_coefficients(24)
 _SERIES_U = 0.3  # |u| below which g(u) and its divided differences use the Taylor series
+_SERIES_R = math.pi**2 / 4  # radius of convergence of that series in u
+HALF_SPACE_ARG = 22.0  # eta kH Re(alpha) above which tanh(eta kH alpha) = 1 in double precision (e^-44 < 1e-19)
+
+
+@njit(cache=True, inline="always")
+def _nterms(a: float) -> int:
+    """Terms of the tanh(x)/x series (in u = x^2) needed at |u| <= a < _SERIES_U: the smallest n (at most all)
+    with n^2 r^(n-2) <= 1e-18, r = a/(pi^2/4) (|a_k| ~ 0.81 (pi^2/4)^-k: truncation of the values and of the
+    divided differences' derivatives below 1e-18)."""
+    r = a / _SERIES_R
+    n = 3
+    rn = r  # r^(n-2)
+    while n < _GCOEF.shape[0] and n * n * rn > 1e-18:
+        n += 1
+        rn *= r
+    return n
 
 
 @njit(cache=True, inline="always")
@@ -60,17 +90,19 @@ def _fix0(u: complex) -> complex:
 def _tanh_sech(w: complex) -> tuple[complex, complex]:
     """tanh(w) and sech(w) without overflow for any w (exponentials of non-positive real part)."""
     s = 1.0 if w.real >= 0.0 else -1.0
-    e = cmath.exp(-2.0 * s * w)
-    den = 1.0 + e
-    return s * (1.0 - e) / den, 2.0 * cmath.exp(-s * w) / den
+    e1 = cmath.exp(-s * w)
+    e = e1 * e1
+    inv_den = 1.0 / (1.0 + e)
+    return s * (1.0 - e) * inv_den, 2.0 * e1 * inv_den
 
 
 @njit(cache=True)
 def _g(u: complex) -> tuple[complex, complex]:
     """g(u) = tanh(sqrt u)/sqrt u and g'(u)."""
-    if abs(u) < _SERIES_U:
+    a = _cabs(u)
+    if a < _SERIES_U:
         c = _GCOEF
-        n = c.shape[0]
+        n = _nterms(a)
         val = c[n - 1] + 0j
         der = (n - 1) * c[n - 1] + 0j
         for k in range(n - 2, 0, -1):
@@ -106,14 +138,14 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
     D = g[u1, u2] = (w1 X/d - tanh w1) / (w1 w2 (w1 + w2)), d = w2 - w1, X = tanh w2 - tanh w1, where
     X/d = sinh(d)/d sech w1 sech w2 for |d| < 0.5 (no cancellation) and (tanh w2 - tanh w1)/d otherwise.
     """
-    a1 = abs(u1)
-    a2 = abs(u2)
+    a1 = _cabs(u1)
+    a2 = _cabs(u2)
     big = max(a1, a2)
     if big < _SERIES_U:
         g1, d1 = _g(u1)
         g2, d2 = _g(u2)
         c = _GCOEF
-        n = c.shape[0]
+        n = _nterms(big)
         # h_m = sum_{k<m} u1^k u2^(m-1-k);  h_{m+1} = u2 h_m + u1^m
         h = 1.0 + 0j
         h1 = 0j  # dh/du1
@@ -135,14 +167,14 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
             dd2 += c[m + 1] * h2
         return g1, d1, g2, d2, dd, dd1, dd2
     du = u2 - u1
-    if abs(du) >= 0.5 * big:
+    if _cabs(du) >= 0.5 * big:
         g1, d1 = _g(u1)
         g2, d2 = _g(u2)
         dd = (g2 - g1) / du
         return g1, d1, g2, d2, dd, (dd - d1) / du, (d2 - dd) / du
     w1 = cmath.sqrt(u1)
     w2 = cmath.sqrt(u2)
-    if abs(w2 + w1) < abs(w2 - w1):  # g is even: take the square root nearest w1
+    if _cabs(w2 + w1) < _cabs(w2 - w1):  # g is even: take the square root nearest w1
         w2 = -w2
     th1, s1 = _tanh_sech(w1)
     th2, s2 = _tanh_sech(w2)
@@ -151,7 +183,7 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
     d1 = (w1 * s1 * s1 - th1) / (2.0 * w1 * u1)
     d2 = (w2 * s2 * s2 - th2) / (2.0 * w2 * u2)
     d = w2 - w1
-    if abs(d) < 0.5:
+    if _cabs(d) < 0.5:
         sh, dsh = _shc(d)
         xd = sh * s1 * s2
         dxd2 = dsh * s1 * s2 - xd * th2
@@ -168,20 +200,29 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
     return g1, d1, g2, d2, dd, dd_dw1 / (2.0 * w1), dd_dw2 / (2.0 * w2)
 
 
+_PSICOEF = np.array([1.0 / math.factorial(k + 1) for k in range(17)])  # psi(t) = sum_k t^k/(k+1)!
+
+
 @njit(cache=True)
 def _psi(t: complex) -> tuple[complex, complex]:
-    """psi(t) = expm1(t)/t and psi'(t) for |t| < 0.5 (Taylor series)."""
-    val = 0j
-    der = 0j
-    term = 1.0 + 0j  # t^k/(k+1)!
-    for k in range(20):
-        val += term
-        if k > 0:
-            der += k * term / t if t != 0 else 0j
-        term = term * t / (k + 2)
-    if t == 0:
-        der = 0.5 + 0j
-    return val, der
+    """psi(t) = expm1(t)/t and psi'(t) for |t| < 0.5 (Taylor series to t^16: truncation < 1e-19)."""
+    c = _PSICOEF
+    n = c.shape[0]
+    val = c[n - 1] + 0j
+    der = (n - 1) * c[n - 1] + 0j
+    for k in range(n - 2, 0, -1):
+        val = val * t + c[k]
+        der = der * t + k * c[k]
+    return val * t + c[0], der
+
+
+@njit(cache=True, inline="always")
+def _cabs(w: complex) -> float:
+    """|w| by sqrt(re^2 + im^2) (several times faster than hypot), hypot where squares could over/underflow."""
+    m = max(abs(w.real), abs(w.imag))
+    if 1e-150 < m < 1e150:
+        return math.sqrt(w.real * w.real + w.imag * w.imag)
+    return abs(w)
 
 
 @njit(cache=True, inline="always")
@@ -191,8 +232,10 @@ def _abs1(w: complex) -> float:
 
 
 @njit(cache=True)
-def response_inf(z: complex, q: float, beta: float) -> tuple[complex, complex, complex, complex, float]:
-    """G_x, G_y, dG_x/dz, dG_y/dz and a rounding scale for eta = inf (Eqs. Gx_LSA, Gy_LSA)."""
+def response_inf(
+    z: complex, q: float, beta: float
+) -> tuple[complex, complex, complex, complex, complex, complex, float]:
+    """G_x, G_y, dG_x/dz, dG_y/dz, dG_x/dq, dG_y/dq and a rounding scale for eta = inf (Eqs. Gx_LSA, Gy_LSA)."""
     b2 = beta * beta
     z2 = z * z
     us = _fix0((1.0 - z) * (1.0 + z))
@@ -222,17 +265,24 @@ def response_inf(z: complex, q: float, beta: float) -> tuple[complex, complex, c
     k = -2.0 * q * (1.0 - b2)
     t = k * z2 * inv_sum
     dt = k * (2.0 * z - z2 * dssum * inv_sum) * inv_sum
+    # q-derivatives: d e_j/dq = -2 alpha_j e_j, dt/dq = t/q
+    qes = -2.0 * a_s * es
+    qed = -2.0 * a_d * ed
+    qt = -2.0 * (1.0 - b2) * z2 * inv_sum
     if _abs1(t) < 0.5:
         ps, dps = _psi(t)
         qv = es * ps
         dqv = des * ps + es * dps * dt
+        qqv = qes * ps + es * dps * qt
     else:
         inv_t = 1.0 / t
         qv = (ed - es) * inv_t
         dqv = ((ded - des) - qv * dt) * inv_t
+        qqv = ((qed - qes) - qv * qt) * inv_t
     c = q * (1.0 - b2)
     hd = c * qv * inv_sum
     dhd = c * (dqv - qv * dssum * inv_sum) * inv_sum
+    qhd = (1.0 - b2) * (qv + q * qqv) * inv_sum
     hs_as = hs * inv_as
     gx_a = rt * hs_as
     gx_b = 4.0 * a_d * hd
@@ -240,19 +290,31 @@ def response_inf(z: complex, q: float, beta: float) -> tuple[complex, complex, c
     dgx = (drt * hs + rt * dhs) * inv_as - gx_a * das * inv_as + 4.0 * (dad * hd + a_d * dhd)
     gy = -2.0 * (2.0 - z2) * hd
     dgy = -2.0 * (-2.0 * z * hd + (2.0 - z2) * dhd)
+    qgx = 0.5 * rt * qes * inv_as + 4.0 * a_d * qhd
+    qgy = -2.0 * (2.0 - z2) * qhd
     scale = (_abs1(z2) + 4.0 + _abs1(c4)) * _abs1(hs_as) + _abs1(gx_b)
-    return gx, gy, dgx, dgy, scale
+    return gx, gy, dgx, dgy, qgx, qgy, scale
 
 
 @njit(cache=True)
 def response_fin(
     z: complex, q: float, beta: float, eta: float
-) -> tuple[complex, complex, complex, complex, float]:
-    """G_x, G_y, dG_x/dz, dG_y/dz and a rounding scale for finite eta (Eq. Gs_general)."""
+) -> tuple[complex, complex, complex, complex, complex, complex, float]:
+    """G_x, G_y, dG_x/dz, dG_y/dz, dG_x/dq, dG_y/dq and a rounding scale for finite eta (Eq. Gs_general).
+
+    Where eta kH Re(alpha_j) > HALF_SPACE_ARG for both j (and eta != 1, whose G_y = 0 is kept exact),
+    tanh(eta kH alpha_j) = 1 - O(e^-44) is 1 in double precision: the lower block is a half-space to
+    rounding and the cheaper eta = inf kernel gives the same F (difference below 1e-19 of its terms).
+    """
     b2 = beta * beta
     z2 = z * z
     us = _fix0((1.0 - z) * (1.0 + z))
     ud = _fix0((1.0 - beta * z) * (1.0 + beta * z))
+    if eta != 1.0:
+        # Re sqrt(u) = sqrt((|u| + Re u)/2)
+        re_min = min(_cabs(us) + us.real, _cabs(ud) + ud.real)
+        if re_min > 0.0 and eta * q * math.sqrt(0.5 * re_min) > HALF_SPACE_ARG:
+            return response_inf(z, q, beta)
     dus = -2.0 * z
     dud = -2.0 * b2 * z
     a = q * q
@@ -284,24 +346,40 @@ def response_fin(
     dpd = dg1d + dg2d
     pdd = d1 + d2
     dpdd = dd1z + dd2z
+    # q-derivatives: d/dq [q g(q^2 u)] = g + 2 q^2 u g',
+    # d/dq [q^3 g[q^2 u_s, q^2 u_d]] = 3 q^2 g[.] + 2 q^4 (u_s dg[.]/du_1 + u_d dg[.]/du_2)
+    qg1s = gs + 2.0 * a * us * gds
+    qg1d = gd + 2.0 * a * ud * gdd
+    qd1 = 3.0 * a * dd + 2.0 * a * a * (us * dd1 + ud * dd2)
+    qg2s = eta * (hs + 2.0 * b * us * hds)
+    qg2d = eta * (hd + 2.0 * b * ud * hdd)
+    qd2 = eta * (3.0 * b * ee + 2.0 * b * b * (us * ee1 + ud * ee2))
+    qps = qg1s + qg2s
+    qpd = qg1d + qg2d
     c = 1.0 - b2
     pp = ps * pd
     dpp_pp = dps / ps + dpd / pd
+    qpp_pp = qps / ps + qpd / pd
     gx_a = 4.0 * c * pdd / pp
     gx_b = z2 / (us * ps)
     gx = gx_a + gx_b
     dgx = 4.0 * c * (dpdd / pp - pdd * dpp_pp / pp) + (2.0 * z - z2 * (dus / us + dps / ps)) / (us * ps)
+    qgx = 4.0 * c * ((qd1 + qd2) - pdd * qpp_pp) / pp - gx_b * qps / ps
     kk = (g1s * d2 - g2s * d1) / pp
     dkk = (dg1s * d2 + g1s * dd2z - dg2s * d1 - g2s * dd1z) / pp - kk * dpp_pp
+    qkk = (qg1s * d2 + g1s * qd2 - qg2s * d1 - g2s * qd1) / pp - kk * qpp_pp
     gy = 2.0 * (2.0 - z2) * c * kk
     dgy = 2.0 * c * (-2.0 * z * kk + (2.0 - z2) * dkk)
-    scale = abs(gx_a) + abs(gx_b) + 2.0 * abs(2.0 - z2) * c * (abs(g1s * d2) + abs(g2s * d1)) / abs(pp)
-    return gx, gy, dgx, dgy, scale
+    qgy = 2.0 * (2.0 - z2) * c * qkk
+    scale = _cabs(gx_a) + _cabs(gx_b) + 2.0 * _cabs(2.0 - z2) * c * (_cabs(g1s * d2) + _cabs(g2s * d1)) / _cabs(pp)
+    return gx, gy, dgx, dgy, qgx, qgy, scale
 
 
 @njit(cache=True)
-def response(z: complex, q: float, beta: float, eta: float) -> tuple[complex, complex, complex, complex, float]:
-    """Dispatch on eta (inf -> half-space lower block)."""
+def response(
+    z: complex, q: float, beta: float, eta: float
+) -> tuple[complex, complex, complex, complex, complex, complex, float]:
+    """Dispatch on eta (inf -> half-space lower block): G_x, G_y, their z- and q-derivatives, rounding scale."""
     if math.isinf(eta):
         return response_inf(z, q, beta)
     return response_fin(z, q, beta, eta)
@@ -309,25 +387,28 @@ def response(z: complex, q: float, beta: float, eta: float) -> tuple[complex, co
 
 @njit(cache=True)
 def _weighted_dispersion(z, q, wg, wz, f, beta, eta, delta, xi):
-    """wg (G_x + i f G_y) + wz i z S with S = 1 + (Delta - 1)/(1 - i xi z kH), its z-derivative and rounding scale.
+    """wg (G_x + i f G_y) + wz i z S with S = 1 + (Delta - 1)/(1 - i xi z kH): value, dF/dz, rounding scale, dF/dkH.
 
     The rounding scale is the sum of the magnitudes of the terms plus |z F'| (the change of F under a
     relative perturbation of z by one unit: no evaluation can resolve F below eps times this).
     """
-    gx, gy, dgx, dgy, sc = response(z, q, beta, eta)
+    gx, gy, dgx, dgy, qgx, qgy, sc = response(z, q, beta, eta)
     if delta == 1.0:
         sf = 1.0 + 0j
         dsf = 0j
+        qsf = 0j
         sabs = 1.0
     else:
         inv_den = 1.0 / (1.0 - 1j * xi * z * q)
         sf = 1.0 + (delta - 1.0) * inv_den
         dsf = (delta - 1.0) * (1j * xi * q) * inv_den * inv_den
+        qsf = (delta - 1.0) * (1j * xi * z) * inv_den * inv_den
         sabs = 1.0 + _abs1((delta - 1.0) * inv_den)
     fval = wg * (gx + 1j * f * gy) + wz * 1j * z * sf
     dfval = wg * (dgx + 1j * f * dgy) + wz * 1j * (sf + z * dsf)
+    qfval = wg * (qgx + 1j * f * qgy) + wz * 1j * z * qsf
     scale = wg * (sc + _abs1(f * gy)) + wz * _abs1(z) * sabs + _abs1(z * dfval)
-    return fval, dfval, scale
+    return fval, dfval, scale, qfval
 
 
 @njit(cache=True)
@@ -335,7 +416,16 @@ def dispersion_eval(
     z: complex, q: float, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float
 ) -> tuple[complex, complex, float]:
     """F(z; q) of Eq. implicit_spectrum with Eq. delta f RSF, dF/dz, and the rounding scale of F."""
-    return _weighted_dispersion(z, q, gamma, 1.0, f, beta, eta, delta, xi)
+    fv, dfv, sc, _ = _weighted_dispersion(z, q, gamma, 1.0, f, beta, eta, delta, xi)
+    return fv, dfv, sc
+
+
+@njit(cache=True)
+def dispersion_dq(
+    z: complex, q: float, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float
+) -> complex:
+    """dF/dkH of Eq. implicit_spectrum at fixed z (gives the branch slope dz/dkH = -F_kH / F_z)."""
+    return _weighted_dispersion(z, q, gamma, 1.0, f, beta, eta, delta, xi)[3]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -351,101 +441,113 @@ INPUT = 4  # the parameters themselves were NaN
 S_TOP = math.log(1e4)
 H_MAX = 0.4  # largest continuation step in ln(kH)
 H_MIN = 1e-7
-PRED_TOL = 1e-3  # target predictor error per step, relative to _local_scale
+H_START = 0.05  # first continuation step in ln(kH)
+PRED_TOL = 1e-3  # target predictor error per step, relative to _local_scale (coarse paths)
+PRED_TOL_FINE = 1e-4  # the same for paths whose interpolant should be accurate to ~1e-12 (spectrum)
+PRED_OVERSHOOT = 10.0  # steps whose predictor error exceeds this multiple of the target are retried shorter
 PRED_REJECT = 1e-2  # predictor error (relative to _local_scale) above which a step is rejected
 THETA_MAX = 0.1  # largest first Newton contraction rate accepted (basin certificate, see _newton)
 MAX_NODES = 8192
+FULL_TOL = 0.25e-16  # relative error target of a converged root at full accuracy (rtol = None)
+RTOL_MARGIN = 0.1  # with a requested rtol, points are accepted once their estimated error is below 0.1 rtol
+MAP_NODE_TOL = 1e-10  # relative accuracy of the path nodes of a growth map (see _map_node_tol)
+RTOL_COARSE_PATH = 1e-7  # from this rtol on the spectrum uses the coarse path (PRED_TOL, interpolant ~1e-8)
+
+
+@njit(cache=True, inline="always")
+def _path_tol(rtol):
+    """Predictor target of the spectrum's path: fine (interpolant ~1e-12) unless rtol >= RTOL_COARSE_PATH."""
+    return PRED_TOL if rtol >= RTOL_COARSE_PATH else PRED_TOL_FINE
+
+
+@njit(cache=True, inline="always")
+def _map_node_tol(rtol):
+    """Node accuracy of a growth map's path: MAP_NODE_TOL (the grid only brackets; the reported values are
+    re-solved from the nodes), tightened to 1e-3 rtol where a looser rtol lets the interpolant be reported."""
+    return MAP_NODE_TOL if rtol <= 0.0 else max(FULL_TOL, min(MAP_NODE_TOL, 1e-3 * rtol))
+
+
+@njit(cache=True, inline="always")
+def _target(rtol):
+    """Relative error target of one root: full accuracy for rtol <= 0, else RTOL_MARGIN * rtol."""
+    return FULL_TOL if rtol <= 0.0 else max(FULL_TOL, RTOL_MARGIN * rtol)
 
 
 @njit(cache=True)
 def _eval_mode(z, s, mode, q, gamma, f, beta, eta, delta, xi):
-    """F along a continuation path: mode 0 varies ln kH = s; mode 1 varies tau = 1/gamma = s at fixed kH = q.
+    """F, dF/dz, rounding scale and dF/ds along a continuation path.
 
-    Mode 1 evaluates F/gamma = G_x + i f G_y + tau i z S, which is linear in tau and finite at
-    tau = 0 (gamma = inf), where its root is the Rayleigh root of the large-kH response.
+    Mode 0 varies ln kH = s. Mode 1 varies tau = 1/gamma = s at fixed kH = q: it evaluates
+    F/gamma = G_x + i f G_y + tau i z S, which is linear in tau and finite at tau = 0 (gamma = inf),
+    where its root is the Rayleigh root of the large-kH response.
     """
     if mode == 0:
-        return dispersion_eval(z, math.exp(s), gamma, f, beta, eta, delta, xi)
-    return _weighted_dispersion(z, q, 1.0, s, f, beta, eta, delta, xi)
+        kh = math.exp(s)
+        fv, dfv, sc, fq = _weighted_dispersion(z, kh, gamma, 1.0, f, beta, eta, delta, xi)
+        return fv, dfv, sc, kh * fq
+    fv, dfv, sc, _ = _weighted_dispersion(z, q, 1.0, s, f, beta, eta, delta, xi)
+    sf = 1.0 + (delta - 1.0) / (1.0 - 1j * xi * z * q)
+    return fv, dfv, sc, 1j * z * sf
 
 
 @njit(cache=True)
-def _newton(z0, s, mode, q, gamma, f, beta, eta, delta, xi, maxit):
+def _newton(z0, s, mode, q, gamma, f, beta, eta, delta, xi, maxit, tol):
     """Newton's method with contraction safeguards.
 
-    Returns (z, converged, iterations, |first step|, |F|/scale, estimated error of z, theta) where
-    theta = |second step| / |first step| is the first contraction rate (0 if converged at once).
+    Returns (z, converged, iterations, |first step|, |F|/scale, estimated error of z, theta, dz/ds)
+    where theta = |second step| / |first step| is the first contraction rate (0 if converged at once)
+    and dz/ds = -F_s/F_z is the branch slope at z: the slopes at the last two iterates, extrapolated
+    linearly (in z: the slope is analytic in z) to the final z, so its error is O(|last two steps|^2)
+    instead of O(|last step|).
     A small theta certifies that z0 was well inside the quadratic basin of the root found: with two
     roots a distance d apart, theta ~ |z0 - z|/d, so theta <= 0.1 rules out starting nearer the
     other root. Converged means the last step was below max(1e-14 |z|, rounding-level noise), or
-    quadratic convergence predicts the remaining error below 2.5e-17 |z|.
+    quadratic convergence predicts the remaining error below tol |z|.
     """
     z = z0
     prev = math.inf
     first = 0.0
     theta = 0.0
+    nanz = complex(math.nan, math.nan)
+    z_prev = nanz  # previous iterate and its slope
+    d_prev = nanz
     for it in range(maxit):
-        fv, dfv, sc = _eval_mode(z, s, mode, q, gamma, f, beta, eta, delta, xi)
+        fv, dfv, sc, fs = _eval_mode(z, s, mode, q, gamma, f, beta, eta, delta, xi)
         if not (cmath.isfinite(fv) and cmath.isfinite(dfv)) or dfv == 0:
-            return z, False, it, first, math.inf, math.inf, math.inf
+            return z, False, it, first, math.inf, math.inf, math.inf, nanz
         step = fv / dfv
-        a = abs(step)
+        a = _cabs(step)
         if it == 0:
             first = a
         elif it == 1 and first > 0.0:
             theta = a / first
-        noise = 8.0 * EPS * sc / abs(dfv)
+        adf = _cabs(dfv)
+        noise = 8.0 * EPS * sc / adf
+        slope = -fs / dfv
+        z_eval = z
         z = z - step
-        az = max(abs(z), 1e-300)
-        if a <= max(1e-14 * az, noise):
-            return z, True, it + 1, first, abs(fv) / sc, noise + a * a / az, theta
-        if it >= 1 and a < 1e-4 * az and a < 0.1 * prev:
+        az = max(_cabs(z), 1e-300)
+        done = a <= max(1e-14 * az, noise)
+        if done:
+            err = noise + a * a / az
+            resid = _cabs(fv) / sc
+        elif it >= 1 and a < 1e-4 * az and a < 0.1 * prev:
             # quadratic convergence: error after this step ~ C a^2 with C ~ a/prev^2
             rest = a * a * a / (prev * prev)
-            if rest <= 0.25e-16 * az:
-                return z, True, it + 1, first, (rest / az) * abs(dfv) * az / sc, noise + rest, theta
+            if rest <= tol * az:
+                done = True
+                err = noise + rest
+                resid = rest * adf / sc
+        if done:
+            if it >= 1 and z_eval != z_prev:
+                slope = slope + (slope - d_prev) / (z_eval - z_prev) * (z - z_eval)
+            return z, True, it + 1, first, resid, err, theta, slope
         if it >= 1 and a > 0.5 * prev:
-            return z, False, it + 1, first, abs(fv) / sc, math.inf, theta
+            return z, False, it + 1, first, _cabs(fv) / sc, math.inf, theta, nanz
         prev = a
-    return z, False, maxit, first, math.inf, math.inf, theta
-
-
-@njit(cache=True)
-def _log_nodes(zs):
-    """ln z of path nodes with the phase unwrapped along the path (None-safe: z = 0 -> -inf)."""
-    m = zs.shape[0]
-    lz = np.empty(m, dtype=np.complex128)
-    for i in range(m):
-        lz[i] = cmath.log(zs[i])
-        if i > 0:
-            d = lz[i].imag - lz[i - 1].imag
-            k = math.floor(d / (2.0 * math.pi) + 0.5)
-            lz[i] = complex(lz[i].real, lz[i].imag - 2.0 * math.pi * k)
-    return lz
-
-
-@njit(cache=True)
-def _lagrange(ss, zs, s):
-    """Lagrange interpolation/extrapolation in s of ln z through the given nodes (exact for power laws)."""
-    m = ss.shape[0]
-    for i in range(m):
-        if zs[i] == 0:
-            return zs[m - 1]
-    return _lagrange_log(ss, _log_nodes(zs), s)
-
-
-@njit(cache=True)
-def _lagrange_log(ss, lz, s):
-    """exp of the Lagrange interpolant in s of the (unwrapped) logarithms lz."""
-    m = ss.shape[0]
-    acc = 0j
-    for i in range(m):
-        li = 1.0
-        for j in range(m):
-            if j != i:
-                li *= (s - ss[j]) / (ss[i] - ss[j])
-        acc += li * lz[i]
-    return cmath.exp(acc)
+        z_prev = z_eval
+        d_prev = slope
+    return z, False, maxit, first, math.inf, math.inf, theta, nanz
 
 
 @njit(cache=True)
@@ -456,51 +558,61 @@ def _local_scale(z):
     (PHYSICS.md section 2), so predictor errors are measured against this distance.
     """
     x = abs(z.real)
-    d = abs(z.imag) if x >= 1.0 else math.hypot(1.0 - x, z.imag)
-    return max(min(abs(z), d), 1e-12)
+    d = abs(z.imag) if x >= 1.0 else _cabs(complex(1.0 - x, z.imag))
+    return max(min(_cabs(z), d), 1e-12)
 
 
 @njit(cache=True, inline="always")
-def _predict_log(ss, lz, n, s):
-    """exp of the Lagrange extrapolant in s of ln z through the last min(n, 3) nodes (ring buffer lz)."""
-    k = min(n, 3)
-    acc = 0j
-    for a in range(n - k, n):
-        la = 1.0
-        for b in range(n - k, n):
-            if b != a:
-                la *= (s - ss[b]) / (ss[a] - ss[b])
-        acc += la * lz[a % 3]
-    return cmath.exp(acc)
+def _hermite2(s0, w0, d0, s1, w1, d1, s):
+    """Cubic Hermite interpolant/extrapolant through (s0, w0, w0') and (s1, w1, w1'), evaluated at s."""
+    ih = 1.0 / (s1 - s0)
+    f01 = (w1 - w0) * ih
+    f001 = (f01 - d0) * ih
+    f0011 = ((d1 - f01) * ih - f001) * ih
+    x = s - s0
+    return w0 + x * (d0 + x * (f001 + (s - s1) * f0011))
+
+
+@njit(cache=True, inline="always")
+def _unwrap(w, ref):
+    """ln z with the phase shifted by a multiple of 2 pi to lie within pi of ln z_ref."""
+    k = math.floor((w.imag - ref.imag) / (2.0 * math.pi) + 0.5)
+    return complex(w.real, w.imag - 2.0 * math.pi * k)
 
 
 @njit(cache=True, nogil=True)
-def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, delta, xi, out_s, out_z, out_c, targets):
+def _continue(z0, dz0, e0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, delta, xi, pred_tol,
+              node_tol, out_s, out_z, out_d, out_c, out_e):
     """Adaptive predictor-corrector continuation of one root in s from s0 towards s_stop.
 
-    Nodes are written to out_s/out_z (node 0 = start); continues until `extra` nodes lie beyond
-    s_stop (or, if extra == 0, stops exactly at s_stop). With an empty `targets` the sequence of
-    nodes depends only on the start and the physical parameters, never on s_stop, except for where
-    it is cut off. `targets` (in the direction of travel) are s values the path must land on
-    exactly (steps are shortened to hit them), for grid-following continuation.
+    Nodes are written to out_s/out_z, the branch slopes dz/ds to out_d (node 0 = start, slope dz0);
+    continues until `extra` nodes lie beyond s_stop (or, if extra == 0, stops exactly at s_stop). The
+    sequence of nodes depends only on the start and the physical parameters, never on s_stop, except
+    for where it is cut off. The predictor is the cubic Hermite extrapolant of ln z through the last
+    two nodes (values and slopes); every node is a converged Newton root whose first contraction rate
+    passed the basin certificate (_newton) with a predictor error below PRED_REJECT of _local_scale.
+    The step size aims at a predictor error of pred_tol (relative to _local_scale); steps above
+    PRED_OVERSHOOT pred_tol are retried shorter, which bounds the error of the path interpolant.
+    Nodes are converged to node_tol relative (_newton's tol).
     out_c receives the quadratic-convergence constant C = |step 2|/|step 1|^2 observed at each node
-    (0 where Newton converged at once). Returns (number of nodes, lost flag).
+    (0 where Newton converged at once), out_e the estimated relative error of each node (e0 for the
+    start). Returns (number of nodes, lost flag).
     """
     out_s[0] = s0
     out_z[0] = z0
+    out_d[0] = dz0
     out_c[0] = 0.0
-    lz = np.empty(3, dtype=np.complex128)  # unwrapped ln z of the last three nodes (ring buffer)
-    lz_ok = z0 != 0
-    if lz_ok:
-        lz[0] = cmath.log(z0)
+    out_e[0] = e0
+    use_log = z0 != 0
+    # predictor data of the previous and the current node (ln z and d ln z/ds, or z and dz/ds)
+    wp = 0j
+    dp = 0j
+    wc = cmath.log(z0) if use_log else z0
+    dc = dz0 / z0 if use_log else dz0
     n = 1
-    h = 0.05 if mode == 0 else 0.25 * abs(s_stop - s0)
+    h = H_START if mode == 0 else 0.25 * abs(s_stop - s0)
     h_cap = H_MAX if mode == 0 else abs(s_stop - s0)
     beyond = 0
-    kt = 0
-    nt = targets.shape[0]
-    while kt < nt and direction * (targets[kt] - s0) <= 0.0:
-        kt += 1
     while True:
         s_cur = out_s[n - 1]
         if extra == 0:
@@ -517,37 +629,40 @@ def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, de
         while not accepted:
             if h_try < H_MIN:
                 return n, True
-            landing = kt < nt and h_try >= direction * (targets[kt] - s_cur)
-            if landing:
-                h_try = direction * (targets[kt] - s_cur)
-                s_new = targets[kt]
+            s_new = s_cur + direction * h_try
+            if n == 1:
+                wpred = wc + dc * (s_new - s_cur)
             else:
-                s_new = s_cur + direction * h_try
-            zp = _predict_log(out_s, lz, n, s_new) if lz_ok else _lagrange(out_s[max(0, n - 3) : n],
-                                                                             out_z[max(0, n - 3) : n], s_new)
-            z, ok, its, first, _, _, theta = _newton(zp, s_new, mode, q, gamma, f, beta, eta, delta, xi, 6)
-            err = abs(z - zp) / _local_scale(z)
-            if ok and its <= 5 and err <= PRED_REJECT and theta <= THETA_MAX:
+                wpred = _hermite2(out_s[n - 2], wp, dp, s_cur, wc, dc, s_new)
+            zp = cmath.exp(wpred) if use_log else wpred
+            z, ok, its, first, _, zerr, theta, dz = _newton(zp, s_new, mode, q, gamma, f, beta, eta, delta, xi, 6,
+                                                            node_tol)
+            err = _cabs(z - zp) / _local_scale(z)
+            order = 2.0 if n == 1 else 4.0  # predictor error O(h^2) from one node, O(h^4) from two
+            if (ok and its <= 5 and err <= PRED_REJECT and err <= PRED_OVERSHOOT * pred_tol and theta <= THETA_MAX
+                    and cmath.isfinite(dz)):
                 accepted = True
                 out_s[n] = s_new
                 out_z[n] = z
+                out_d[n] = dz
                 out_c[n] = theta / first if (first > 0.0 and theta > 0.0) else 0.0
-                if z == 0:
-                    lz_ok = False
-                else:
-                    lnew = cmath.log(z)
-                    kk = math.floor((lnew.imag - lz[(n - 1) % 3].imag) / (2.0 * math.pi) + 0.5)
-                    lz[n % 3] = complex(lnew.real, lnew.imag - 2.0 * math.pi * kk)
+                out_e[n] = zerr / max(_cabs(z), 1e-300)
+                wp = wc
+                dp = dc
+                if use_log and z == 0:
+                    return n + 1, True  # cannot happen on a followable branch (z = 0 is no root for kH > 0)
+                wc = _unwrap(cmath.log(z), wc) if use_log else z
+                dc = dz / z if use_log else dz
                 n += 1
-                if landing:
-                    kt += 1
                 if extra > 0 and direction * (s_new - s_stop) > 0.0:
                     beyond += 1
-                # step-size control (third-order predictor error once 3 nodes exist)
-                fac = 2.0 if err == 0.0 else 0.9 * (PRED_TOL / err) ** (1.0 / 3.0)
+                fac = 2.0 if err == 0.0 else 0.9 * (pred_tol / err) ** (1.0 / order)
                 fac = min(2.0, max(0.5, fac))
-                if not (landing and fac >= 1.0):  # a step shortened to land on a target keeps h
-                    h = min(h_cap, h_try * fac)
+                h = min(h_cap, h_try * fac)
+            elif ok and err <= PRED_REJECT and theta <= THETA_MAX and cmath.isfinite(dz):
+                # certified but too far from the prediction for the target: shorten by the error model
+                h_try *= min(0.5, max(0.2, 0.9 * (pred_tol / err) ** (1.0 / order)))
+                h = h_try
             else:
                 h_try *= 0.5
                 h = h_try
@@ -555,113 +670,285 @@ def _continue(z0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, de
 
 @njit(cache=True)
 def rayleigh_start(z_r, gamma, f, beta, eta, delta, xi):
-    """The Rayleigh-branch root at kH = 1e4: homotopy in tau = 1/gamma from tau = 0 (gamma = inf, where
-    the root is the Rayleigh root of the large-kH response, found by Newton from z_R) to 1/gamma."""
+    """The Rayleigh-branch root at kH = 1e4 and its slope dz/d(ln kH): homotopy in tau = 1/gamma from
+    tau = 0 (gamma = inf, where the root is the Rayleigh root of the large-kH response, found by Newton
+    from z_R) to 1/gamma. Returns (z, dz/ds, estimated relative error of z, found)."""
     q = math.exp(S_TOP)
     work_s = np.empty(4096)
     work_z = np.empty(4096, dtype=np.complex128)
+    work_d = np.empty(4096, dtype=np.complex128)
     work_c = np.empty(4096)
-    z, ok, _, _, _, _, _ = _newton(z_r + 0j, 0.0, 1, q, gamma, f, beta, eta, delta, xi, 20)
+    work_e = np.empty(4096)
+    nanz = complex(math.nan, math.nan)
+    z, ok, _, _, _, zerr, _, dz = _newton(z_r + 0j, 0.0, 1, q, gamma, f, beta, eta, delta, xi, 20, FULL_TOL)
     if not ok:
-        return z, False
-    n, lost = _continue(z, 0.0, 1.0 / gamma, 0, 1.0, 1, q, gamma, f, beta, eta, delta, xi, work_s, work_z,
-                        work_c, np.empty(0))
+        return z, nanz, math.nan, False
+    n, lost = _continue(z, dz, zerr / max(abs(z), 1e-300), 0.0, 1.0 / gamma, 0, 1.0, 1, q, gamma, f, beta, eta, delta,
+                        xi, PRED_TOL, FULL_TOL, work_s, work_z, work_d, work_c, work_e)
+    z = work_z[n - 1]
     if lost:
-        return work_z[n - 1], False
-    return work_z[n - 1], True
+        return z, nanz, math.nan, False
+    fv, dfv, _, fs = _eval_mode(z, S_TOP, 0, q, gamma, f, beta, eta, delta, xi)
+    if not (cmath.isfinite(fv) and cmath.isfinite(dfv)) or dfv == 0:
+        return z, nanz, math.nan, False
+    return z, -fs / dfv, work_e[n - 1], True
+
+
+# ----------------------------------------------------------------------------- path interpolation
+NTERM = 8  # Hermite data of up to four nodes (value and slope): degree-7 interpolant per interval
+
+
+@njit(cache=True)
+def _interp_table(ns, nw, nd, nn):
+    """Newton-form coefficients of the Hermite interpolant on each path interval [ns[j], ns[j+1]].
+
+    nw, nd: ln z and d ln z/ds at the nodes (or z and dz/ds). The interpolant of interval j matches
+    values and slopes at nodes j, j+1, j-1, j+2 (those that exist): degree 7 inside the path, 5 at
+    its ends. Returns (nodes x (nn-1, 8), coefficients c (nn-1, 8), number of terms m (nn-1)) with
+    p(s) = c0 + (s - x0)(c1 + (s - x1)(c2 + ...)).
+    """
+    ni = max(nn - 1, 0)
+    cx = np.zeros((ni, NTERM))
+    cf = np.zeros((ni, NTERM), dtype=np.complex128)
+    cm = np.zeros(ni, dtype=np.int64)
+    idx = np.empty(4, dtype=np.int64)
+    for j in range(ni):
+        k = 0
+        for node in (j, j + 1, j - 1, j + 2):
+            if 0 <= node < nn:
+                idx[k] = node
+                k += 1
+        m = 2 * k
+        x = cx[j]
+        c = cf[j]
+        for i in range(k):
+            x[2 * i] = ns[idx[i]]
+            x[2 * i + 1] = ns[idx[i]]
+            c[2 * i] = nw[idx[i]]
+            c[2 * i + 1] = nw[idx[i]]
+        # divided differences in place (column 1: slopes at the doubled nodes)
+        for i in range(m - 1, 0, -1):
+            if i % 2 == 1:
+                c[i] = nd[idx[i // 2]]
+            else:
+                c[i] = (c[i] - c[i - 1]) * (1.0 / (x[i] - x[i - 1]))
+        for order in range(2, m):
+            for i in range(m - 1, order - 1, -1):
+                c[i] = (c[i] - c[i - 1]) * (1.0 / (x[i] - x[i - order]))
+        cm[j] = m
+    return cx, cf, cm
+
+
+@njit(cache=True, inline="always")
+def _interp_value(s, j, cx, cf, cm):
+    """Value of the Hermite interpolant of interval j at s (Horner on the Newton form)."""
+    m = cm[j]
+    p = cf[j, m - 1]
+    for k in range(m - 2, -1, -1):
+        p = p * (s - cx[j, k]) + cf[j, k]
+    return p
+
+
+@njit(cache=True, inline="always")
+def _interp(s, j, cx, cf, cm):
+    """(p, p', p'', truncation estimate) of the Hermite interpolant of interval j at s.
+
+    The estimate is |last term| + |second-to-last term| of the Newton form: the difference between the
+    interpolant and the one with the data of the outermost node removed (an upper estimate of the error).
+    """
+    m = cm[j]
+    p = cf[j, m - 1]
+    dp = 0j
+    d2p = 0j
+    for k in range(m - 2, -1, -1):
+        t = s - cx[j, k]
+        d2p = d2p * t + 2.0 * dp
+        dp = dp * t + p
+        p = p * t + cf[j, k]
+    w = 1.0
+    for k in range(m - 2):
+        w *= abs(s - cx[j, k])
+    est = (abs(cf[j, m - 2]) + abs(cf[j, m - 1] * (s - cx[j, m - 2]))) * w
+    return p, dp, d2p, est
 
 
 @njit(cache=True, nogil=True)
-def build_path(s_lo, s_hi, z_r, gamma, f, beta, eta, delta, xi, grid):
-    """Rayleigh-branch path nodes covering [s_lo, s_hi] (s = ln kH), ascending in s.
+def build_path(s_lo, s_hi, z_r, gamma, f, beta, eta, delta, xi, pred_tol, node_tol):
+    """Rayleigh-branch path covering [s_lo, s_hi] (s = ln kH), ascending in s, with its interpolation table.
 
     Start at ln 1e4 (see rayleigh_start), continue down to two nodes below min(s_lo, ln 1e4) and up to
     two nodes above max(s_hi, ln 1e4). The node sequence depends only on the physical parameters;
-    s_lo/s_hi only decide where it is cut off. Returns (ns, nz, lnz, nc, nn, has_zero, code) with code
-    OK, START (no starting root) or INPUT (NaN parameter); lnz = unwrapped ln z of the nodes.
-    `grid` (ascending, may be empty) are s values the path must land on exactly (see _continue).
+    s_lo/s_hi only decide where it is cut off. pred_tol and node_tol: see _continue. Returns
+    (ns, nz, nc, ne, cx, cf, cm, nn, use_log, code) with code OK, START (no starting root) or INPUT (NaN
+    parameter); nc, ne: quadratic-convergence constants and relative error estimates of the nodes;
+    cx, cf, cm: _interp_table of ln z (use_log) or of z (if a node is exactly 0).
     """
     ns = np.empty(1)
     nz = np.empty(1, dtype=np.complex128)
+    cx = np.zeros((0, NTERM))
+    cf = np.zeros((0, NTERM), dtype=np.complex128)
+    cm = np.zeros(0, dtype=np.int64)
     for v in (gamma, f, beta, eta, delta, xi):
         if math.isnan(v):
-            return ns, nz, nz, ns, 0, False, INPUT
-    z0, ok = rayleigh_start(z_r, gamma, f, beta, eta, delta, xi)
+            return ns, nz, ns, ns, cx, cf, cm, 0, True, INPUT
+    z0, dz0, e0, ok = rayleigh_start(z_r, gamma, f, beta, eta, delta, xi)
     if not ok:
-        return ns, nz, nz, ns, 0, False, START
+        return ns, nz, ns, ns, cx, cf, cm, 0, True, START
     dn_s = np.empty(MAX_NODES)
     dn_z = np.empty(MAX_NODES, dtype=np.complex128)
+    dn_d = np.empty(MAX_NODES, dtype=np.complex128)
+    dn_c = np.empty(MAX_NODES)
+    dn_e = np.empty(MAX_NODES)
     up_s = np.empty(MAX_NODES)
     up_z = np.empty(MAX_NODES, dtype=np.complex128)
-    dn_c = np.empty(MAX_NODES)
+    up_d = np.empty(MAX_NODES, dtype=np.complex128)
     up_c = np.empty(MAX_NODES)
-    down = grid[::-1].copy()
-    nd, _ = _continue(z0, S_TOP, min(s_lo, S_TOP), 2, -1.0, 0, 1.0, gamma, f, beta, eta, delta, xi,
-                      dn_s, dn_z, dn_c, down)
-    nu, _ = _continue(z0, S_TOP, max(s_hi, S_TOP), 2, 1.0, 0, 1.0, gamma, f, beta, eta, delta, xi,
-                      up_s, up_z, up_c, grid)
+    up_e = np.empty(MAX_NODES)
+    nd, _ = _continue(z0, dz0, e0, S_TOP, min(s_lo, S_TOP), 2, -1.0, 0, 1.0, gamma, f, beta, eta, delta, xi,
+                      pred_tol, node_tol, dn_s, dn_z, dn_d, dn_c, dn_e)
+    nu, _ = _continue(z0, dz0, e0, S_TOP, max(s_hi, S_TOP), 2, 1.0, 0, 1.0, gamma, f, beta, eta, delta, xi,
+                      pred_tol, node_tol, up_s, up_z, up_d, up_c, up_e)
     nn = nd + nu - 1
     ns = np.empty(nn)
     nz = np.empty(nn, dtype=np.complex128)
+    ndz = np.empty(nn, dtype=np.complex128)
     nc = np.empty(nn)
+    ne = np.empty(nn)
     for i in range(nd):
-        ns[i] = dn_s[nd - 1 - i]
-        nz[i] = dn_z[nd - 1 - i]
-        nc[i] = dn_c[nd - 1 - i]
+        k = nd - 1 - i
+        ns[i] = dn_s[k]
+        nz[i] = dn_z[k]
+        ndz[i] = dn_d[k]
+        nc[i] = dn_c[k]
+        ne[i] = dn_e[k]
     for i in range(1, nu):
-        ns[nd - 1 + i] = up_s[i]
-        nz[nd - 1 + i] = up_z[i]
-        nc[nd - 1 + i] = up_c[i]
-    has_zero = False
+        k = nd - 1 + i
+        ns[k] = up_s[i]
+        nz[k] = up_z[i]
+        ndz[k] = up_d[i]
+        nc[k] = up_c[i]
+        ne[k] = up_e[i]
+    use_log = True
     for i in range(nn):
-        has_zero = has_zero or nz[i] == 0
-    return ns, nz, _log_nodes(nz), nc, nn, has_zero, OK
+        use_log = use_log and nz[i] != 0
+    if use_log:
+        nw = np.empty(nn, dtype=np.complex128)
+        for i in range(nn):
+            nw[i] = cmath.log(nz[i])
+            if i > 0:
+                nw[i] = _unwrap(nw[i], nw[i - 1])
+            ndz[i] = ndz[i] / nz[i]
+        cx, cf, cm = _interp_table(ns, nw, ndz, nn)
+    else:
+        cx, cf, cm = _interp_table(ns, nz, ndz, nn)
+    return ns, nz, nc, ne, cx, cf, cm, nn, use_log, OK
+
+
+@njit(cache=True, inline="always")
+def _interval(s, ns, nn):
+    """Index j of the path interval [ns[j], ns[j+1]] holding s (-1 outside the path or for < 2 nodes)."""
+    if nn < 2 or not (ns[0] <= s <= ns[nn - 1]):
+        return -1
+    j = np.searchsorted(ns, s, side="right") - 1  # ns[j] <= s
+    return min(j, nn - 2)
 
 
 @njit(cache=True, nogil=True)
-def solve_at(s, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi):
-    """The Rayleigh-branch root at s = ln kH from the path nodes: (z, status, residual, error).
+def path_value(s, ns, nz, cx, cf, cm, nn, use_log):
+    """(z, dz/ds, d2z/ds2, estimated relative error) of the path interpolant at s (NaN outside the path)."""
+    nanz = complex(math.nan, math.nan)
+    j = _interval(s, ns, nn)
+    if j < 0:
+        if nn == 1 and s == ns[0]:
+            return nz[0], nanz, nanz, 0.0
+        return nanz, nanz, nanz, math.nan
+    p, dp, d2p, est = _interp(s, j, cx, cf, cm)
+    if use_log:
+        z = cmath.exp(p)
+        return z, dp * z, (d2p + dp * dp) * z, est
+    return p, dp, d2p, est / max(abs(p), 1e-300)
 
-    Newton from the cubic interpolant (in ln z) of the four surrounding nodes; accepted only with a
-    strong first contraction and a small distance from the prediction (else NOCONV); outside the
-    nodes' range the branch was lost (LOST).
+
+@njit(cache=True, nogil=True, inline="always")
+def _solve_at(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol):
+    """The Rayleigh-branch root at s = ln kH from the path: (z, status, residual, error, dz/ds).
+
+    Start from the Hermite interpolant of the path nodes. With rtol > 0 the interpolant itself is
+    returned where its truncation estimate plus the nodes' error estimates is below RTOL_MARGIN rtol
+    (residual NaN: F not evaluated; dz/ds from the interpolant). Otherwise one Newton step: the
+    quadratic-convergence constant C was measured at the surrounding path nodes (whose steps passed
+    the contraction certificate with larger predictor errors); if 10 C |step|^2 is below the target
+    (_target) the stepped point is accepted without a second evaluation (error estimate noise +
+    10 C |step|^2), else Newton continues and is accepted only with a strong first contraction and a
+    small distance from the prediction (else NOCONV). Outside the nodes' range the branch was lost
+    (LOST).
     """
     nanz = complex(math.nan, math.nan)
-    if nn == 0 or s < ns[0] or s > ns[nn - 1]:
-        return nanz, LOST, math.nan, math.nan
-    j = np.searchsorted(ns, s, side="right") - 1  # ns[j] <= s
-    lo = max(0, j - 1)
-    hi = min(nn, j + 3)
-    zp = _lagrange(ns[lo:hi], nz[lo:hi], s) if has_zero else _lagrange_log(ns[lo:hi], lnz[lo:hi], s)
-    # One Newton step from the interpolant. The quadratic-convergence constant C was measured at the
-    # surrounding path nodes (whose steps passed the contraction certificate with larger predictor
-    # errors); if 10 C |step|^2 is below rounding, the stepped point is accepted without a second
-    # evaluation (error estimate noise + 10 C |step|^2). Otherwise Newton continues as usual.
-    c_loc = 0.0
-    for i in range(lo, hi):
-        c_loc = max(c_loc, nc[i])
-    fv, dfv, sc = dispersion_eval(zp, math.exp(s), gamma, f, beta, eta, delta, xi)
-    if cmath.isfinite(fv) and cmath.isfinite(dfv) and dfv != 0 and c_loc > 0.0:
-        step = fv / dfv
-        a = abs(step)
-        z1 = zp - step
-        az = abs(z1)
-        rest = 10.0 * c_loc * a * a
-        noise = 8.0 * EPS * sc / abs(dfv)
-        if (a <= 1e-14 * az or rest <= 0.25e-16 * az) and a <= 1e-6 * _local_scale(z1):
-            return z1, OK, abs(fv) / sc * (rest + noise) / max(a, 1e-300), noise + rest
-        # continue Newton from the stepped point; the first contraction rate is |step 2| / |step 1|
-        z, ok, _, second, rr, ee, _ = _newton(z1, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 9)
-        theta = second / a if a > 0.0 else 0.0
+    j = _interval(s, ns, nn)
+    if j < 0:
+        if nn == 1 and s == ns[0]:
+            return nz[0], OK, 0.0, 0.0, nanz
+        return nanz, LOST, math.nan, math.nan, nanz
+    if rtol > 0.0:
+        w, dw, _, est = _interp(s, j, cx, cf, cm)
+        if use_log:
+            zp = cmath.exp(w)
+            dzp = dw * zp
+        else:
+            zp = w
+            dzp = dw
+            est /= max(abs(w), 1e-300)
+        # add the nodes' own errors (the truncation estimate is 0 at a node)
+        est += max(max(ne[max(j - 1, 0)], ne[j]), max(ne[j + 1], ne[min(j + 2, nn - 1)]))
+        if est <= RTOL_MARGIN * rtol:
+            return zp, OK, math.nan, est * abs(zp), dzp
     else:
-        z, ok, _, _, rr, ee, theta = _newton(zp, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 10)
-    if ok and abs(z - zp) <= PRED_REJECT * _local_scale(z) and theta <= THETA_MAX:
-        return z, OK, rr, ee
-    return nanz, NOCONV, math.nan, math.nan
+        w = _interp_value(s, j, cx, cf, cm)
+        zp = cmath.exp(w) if use_log else w
+    tol = _target(rtol)
+    c_loc = max(max(nc[max(j - 1, 0)], nc[j]), max(nc[j + 1], nc[min(j + 2, nn - 1)]))
+    fv, dfv, sc, fs = _eval_mode(zp, s, 0, 1.0, gamma, f, beta, eta, delta, xi)
+    if cmath.isfinite(fv) and cmath.isfinite(dfv) and dfv != 0 and c_loc > 0.0:
+        inv = 1.0 / dfv
+        step = fv * inv
+        a2 = step.real * step.real + step.imag * step.imag  # |step|^2
+        z1 = zp - step
+        az = _cabs(z1)
+        rest = 10.0 * c_loc * a2
+        ls = _local_scale(z1)
+        if (a2 <= 1e-28 * az * az or rest <= tol * az) and a2 <= 1e-12 * ls * ls:
+            adf = _cabs(dfv)
+            noise = 8.0 * EPS * sc / adf
+            # residual of z1 from the quadratic model: |F(z1)| ~ |F'| (rest + noise)
+            return z1, OK, (rest + noise) * adf / sc, noise + rest, -fs * inv
+        return _solve_more(zp, z1, math.sqrt(a2), s, gamma, f, beta, eta, delta, xi, tol)
+    return _solve_more(zp, zp, 0.0, s, gamma, f, beta, eta, delta, xi, tol)
 
 
 @njit(cache=True, nogil=True)
-def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, z_out, status, resid, err):
+def solve_at(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol):
+    """_solve_at as a function of its own (_solve_at is inlined into the spectrum's loop only)."""
+    return _solve_at(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol)
+
+
+@njit(cache=True, nogil=True)
+def _solve_more(zp, z1, a, s, gamma, f, beta, eta, delta, xi, tol):
+    """The rest of solve_at where one Newton step (of size a, from zp to z1; a = 0: none) was not enough:
+    Newton continues from z1; accepted only with a strong first contraction |step 2| / |step 1| and a
+    small distance from the prediction zp (else NOCONV)."""
+    if a > 0.0:
+        z, ok, _, second, rr, ee, _, dz = _newton(z1, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 9, tol)
+        theta = second / a
+    else:
+        z, ok, _, _, rr, ee, theta, dz = _newton(zp, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 10, tol)
+    if ok and abs(z - zp) <= PRED_REJECT * _local_scale(z) and theta <= THETA_MAX:
+        return z, OK, rr, ee, dz
+    nanz = complex(math.nan, math.nan)
+    return nanz, NOCONV, math.nan, math.nan, nanz
+
+
+@njit(cache=True, nogil=True)
+def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, rtol, z_out, status, resid, err):
     """Rayleigh-branch roots at the requested s = ln kH values for one parameter set.
 
     Each requested point is reached from the interpolated path nodes by Newton's method
@@ -670,8 +957,8 @@ def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, z_out, status, resi
     m = s_req.shape[0]
     if m == 0:
         return
-    ns, nz, lnz, nc, nn, has_zero, code = build_path(s_req.min(), s_req.max(), z_r, gamma, f, beta, eta, delta, xi,
-                                                 np.empty(0))
+    ns, nz, nc, ne, cx, cf, cm, nn, use_log, code = build_path(s_req.min(), s_req.max(), z_r, gamma, f, beta, eta,
+                                                           delta, xi, _path_tol(rtol), FULL_TOL)
     for i in range(m):
         if code != OK:
             z_out[i] = complex(math.nan, math.nan)
@@ -679,106 +966,148 @@ def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, z_out, status, resi
             resid[i] = math.nan
             err[i] = math.nan
             continue
-        z_out[i], status[i], resid[i], err[i] = solve_at(s_req[i], ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta,
-                                                         delta, xi)
+        z_out[i], status[i], resid[i], err[i], _ = _solve_at(s_req[i], ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma,
+                                                             f, beta, eta, delta, xi, rtol)
 
 
 GOLDEN = 0.3819660112501051
+S_TOL_MAX = 1e-9  # location of the maximum in ln kH
+S_TOL_CROSS = 1e-13  # relative location of a band end in ln kH
 
 
 @njit(cache=True, nogil=True)
-def _im_at(s, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi):
-    z, st, _, _ = solve_at(s, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
-    return z.imag if st == OK else math.nan
+def _path_im(s, ns, nz, cx, cf, cm, nn, use_log):
+    """Im z of the path interpolant at s (NaN outside the path)."""
+    j = _interval(s, ns, nn)
+    if j < 0:
+        return nz[0].imag if (nn == 1 and s == ns[0]) else math.nan
+    w = _interp_value(s, j, cx, cf, cm)
+    return (cmath.exp(w) if use_log else w).imag
 
 
 @njit(cache=True, nogil=True)
-def _crossing(a, fa, b, fb, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi):
-    """s in [a, b] where Im z(s) = 0: Illinois false position to 1e-13 (end values re-evaluated exactly)."""
-    fa = _im_at(a, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
-    fb = _im_at(b, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
+def _refine_max(a, b, s0, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol):
+    """Max of Im z on [a, b] (bracketing the grid maximum s0): (growth, s_at_max).
+
+    Golden-section search on the path interpolant (location to S_TOL_MAX / 10; within S_TOL_MAX of an
+    end of [a, b] it is that end), then the root there (solve_at) and one Newton correction of the
+    location inside [a, b] with its exact slope Im dz/ds and the interpolant's curvature (kept unless its
+    Im z is lower beyond rounding; the value reported is the larger of the two).
+    """
+    s_m = s0
+    lo = a
+    hi = b
+    if b > a:
+        x1 = a + GOLDEN * (b - a)
+        x2 = b - GOLDEN * (b - a)
+        f1 = _path_im(x1, ns, nz, cx, cf, cm, nn, use_log)
+        f2 = _path_im(x2, ns, nz, cx, cf, cm, nn, use_log)
+        for _ in range(80):
+            if b - a <= 0.1 * S_TOL_MAX:
+                break
+            if f1 >= f2:
+                b, x2, f2 = x2, x1, f1
+                x1 = a + GOLDEN * (b - a)
+                f1 = _path_im(x1, ns, nz, cx, cf, cm, nn, use_log)
+            else:
+                a, x1, f1 = x1, x2, f2
+                x2 = b - GOLDEN * (b - a)
+                f2 = _path_im(x2, ns, nz, cx, cf, cm, nn, use_log)
+        s_m = x1 if f1 >= f2 else x2
+        # a maximum at the end of the grid (monotone Im z) is the end point itself
+        s_m = lo if s_m - lo <= S_TOL_MAX else (hi if hi - s_m <= S_TOL_MAX else s_m)
+    z, st, _, _, dz = solve_at(s_m, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol)
+    if st != OK:
+        return math.nan, math.nan
+    d2 = path_value(s_m, ns, nz, cx, cf, cm, nn, use_log)[2].imag
+    if d2 < 0.0 and cmath.isfinite(dz):
+        ds = -dz.imag / d2
+        if S_TOL_MAX < abs(ds) <= 0.1 and lo <= s_m + ds <= hi:
+            z2, st2, _, _, _ = solve_at(s_m + ds, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta,
+                                        delta, xi, rtol)
+            # keep the corrected location unless its value is lower beyond rounding (the maximum is flat)
+            if st2 == OK and z2.imag >= z.imag - 4.0 * EPS * abs(z):
+                return max(z2.imag, z.imag), s_m + ds
+    return z.imag, s_m
+
+
+@njit(cache=True, nogil=True)
+def _crossing(a, b, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol):
+    """s in [a, b] (Im z of the interpolant changes sign) where Im z(s) = 0, or NaN.
+
+    Illinois false position on the interpolant, then Newton in s with the exact roots and slopes
+    (solve_at) until the step is below S_TOL_CROSS (quadratic convergence: the last step's square
+    is negligible). NaN if Newton leaves the bracket widened by its width or does not converge.
+    """
+    fa = _path_im(a, ns, nz, cx, cf, cm, nn, use_log)
+    fb = _path_im(b, ns, nz, cx, cf, cm, nn, use_log)
     if math.isnan(fa) or math.isnan(fb) or (fa > 0.0) == (fb > 0.0):
         return math.nan
-    for _ in range(200):
-        if abs(b - a) <= 1e-13 * max(1.0, abs(a)):
+    lo = min(a, b)
+    hi = max(a, b)
+    width = hi - lo
+    for _ in range(100):
+        if abs(b - a) <= S_TOL_CROSS * max(1.0, abs(a)):
             break
         c = b - fb * (b - a) / (fb - fa)
-        fc = _im_at(c, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
+        fc = _path_im(c, ns, nz, cx, cf, cm, nn, use_log)
         if math.isnan(fc):
             return math.nan
         if fc == 0.0:
-            return c
+            b = c
+            break
         if (fc > 0.0) == (fb > 0.0):
             fa *= 0.5
         else:
             a, fa = b, fb
         b, fb = c, fc
-    return 0.5 * (a + b) if abs(fb) > abs(fa) else b
+    s = b
+    for _ in range(8):
+        z, st, _, err, dz = solve_at(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol)
+        if st != OK or not cmath.isfinite(dz) or dz.imag == 0.0:
+            return math.nan
+        ds = -z.imag / dz.imag
+        s += ds
+        if not (lo - width <= s <= hi + width):
+            return math.nan
+        if abs(ds) <= S_TOL_CROSS * max(1.0, abs(s)) or (rtol > 0.0 and err >= abs(z.imag)):
+            return s
+    return math.nan
 
 
 @njit(cache=True, nogil=True)
-def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi):
+def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi, rtol):
     """Max of Im z over kH on the Rayleigh branch, refined between grid points, and the unstable band.
 
-    Returns (growth, s_at_max, s_band_lo, s_band_hi, n_masked). The maximum over the grid is refined
-    by golden-section search on the two neighbouring grid intervals (location to 1e-9 in ln kH, so the
-    value is exact to rounding); the band is the interval around the maximum where Im z > 0, with both
-    ends refined by false position (NaN where Im z stays positive up to the end of the grid or where
-    the growth is not positive).
+    Returns (growth, s_at_max, s_band_lo, s_band_hi, n_masked). Im z on the grid comes from the path
+    interpolant (no root solves); the maximum is refined on the two grid intervals around the grid
+    maximum (_refine_max: location to 1e-9 in ln kH, so the value is exact to rounding); the band is
+    the interval around the maximum where Im z > 0, with both ends refined by Newton on exact roots
+    (_crossing; NaN where Im z stays positive up to the end of the grid or where the growth is not
+    positive).
     """
     m = s_grid.shape[0]
-    ns, nz, lnz, nc, nn, has_zero, code = build_path(s_grid[0], s_grid[m - 1], z_r, gamma, f, beta, eta, delta, xi,
-                                                 np.empty(0))
+    ns, nz, nc, ne, cx, cf, cm, nn, use_log, code = build_path(s_grid[0], s_grid[m - 1], z_r, gamma, f, beta, eta,
+                                                               delta, xi, PRED_TOL, _map_node_tol(rtol))
     if code != OK:
         return math.nan, math.nan, math.nan, math.nan, m
-    # Im z on the grid from the path interpolant (relative error ~1e-8): it only brackets the maximum
-    # and the band ends, which are then computed from converged roots (solve_at)
     im = np.empty(m)
     n_masked = 0
     best = -1
     for i in range(m):
-        si = s_grid[i]
-        if nn == 0 or si < ns[0] or si > ns[nn - 1]:
-            im[i] = math.nan
-        else:
-            j = np.searchsorted(ns, si, side="right") - 1
-            lo_ = max(0, j - 1)
-            hi_ = min(nn, j + 3)
-            zp = _lagrange(ns[lo_:hi_], nz[lo_:hi_], si) if has_zero else _lagrange_log(ns[lo_:hi_], lnz[lo_:hi_], si)
-            im[i] = zp.imag
+        im[i] = _path_im(s_grid[i], ns, nz, cx, cf, cm, nn, use_log)
         if math.isnan(im[i]):
             n_masked += 1
         elif best < 0 or im[i] > im[best]:
             best = i
     if best < 0:
         return math.nan, math.nan, math.nan, math.nan, n_masked
-    # golden-section refinement on [s_{best-1}, s_{best+1}] (valid neighbours only)
     a = s_grid[best - 1] if best > 0 and not math.isnan(im[best - 1]) else s_grid[best]
     b = s_grid[best + 1] if best < m - 1 and not math.isnan(im[best + 1]) else s_grid[best]
-    s_max = s_grid[best]
-    g_max = _im_at(s_max, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
+    g_max, s_max = _refine_max(a, b, s_grid[best], ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta,
+                               xi, rtol)
     if math.isnan(g_max):
         return math.nan, math.nan, math.nan, math.nan, n_masked
-    if b > a:
-        x1 = a + GOLDEN * (b - a)
-        x2 = b - GOLDEN * (b - a)
-        f1 = _im_at(x1, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
-        f2 = _im_at(x2, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
-        for _ in range(60):
-            if b - a <= 1e-9 or math.isnan(f1) or math.isnan(f2):
-                break
-            if f1 >= f2:
-                b, x2, f2 = x2, x1, f1
-                x1 = a + GOLDEN * (b - a)
-                f1 = _im_at(x1, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
-            else:
-                a, x1, f1 = x1, x2, f2
-                x2 = b - GOLDEN * (b - a)
-                f2 = _im_at(x2, ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
-        for sx, fx in ((x1, f1), (x2, f2)):
-            if not math.isnan(fx) and fx > g_max:
-                g_max = fx
-                s_max = sx
     lo = math.nan
     hi = math.nan
     if g_max > 0.0:
@@ -786,23 +1115,23 @@ def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi):
         while i > 0 and not math.isnan(im[i - 1]) and im[i - 1] > 0.0:
             i -= 1
         if i > 0 and not math.isnan(im[i - 1]):
-            lo = _crossing(s_grid[i - 1], im[i - 1], s_grid[i], im[i],
-                           ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
+            lo = _crossing(s_grid[i - 1], s_grid[i], ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta,
+                           delta, xi, rtol)
         i = best
         while i < m - 1 and not math.isnan(im[i + 1]) and im[i + 1] > 0.0:
             i += 1
         if i < m - 1 and not math.isnan(im[i + 1]):
-            hi = _crossing(s_grid[i + 1], im[i + 1], s_grid[i], im[i],
-                           ns, nz, lnz, nc, nn, has_zero, gamma, f, beta, eta, delta, xi)
+            hi = _crossing(s_grid[i + 1], s_grid[i], ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta,
+                           delta, xi, rtol)
     return g_max, s_max, lo, hi, n_masked
 
 
 @njit(cache=True, nogil=True)
-def growth_many(s_grid, gamma, f, beta, eta, delta, xi, g_out, s_out, lo_out, hi_out, nm_out):
+def growth_many(s_grid, gamma, f, beta, eta, delta, xi, rtol, g_out, s_out, lo_out, hi_out, nm_out):
     """growth_one over flattened parameter sets (one chunk of a stability map)."""
     for p in range(gamma.shape[0]):
         g_out[p], s_out[p], lo_out[p], hi_out[p], nm_out[p] = growth_one(
-            s_grid, rayleigh_z(beta[p]), gamma[p], f[p], beta[p], eta[p], delta[p], xi[p]
+            s_grid, rayleigh_z(beta[p]), gamma[p], f[p], beta[p], eta[p], delta[p], xi[p], rtol
         )
 
 
@@ -822,18 +1151,25 @@ def rayleigh_z(beta):
 
 
 @njit(cache=True, nogil=True)
-def branch_many(s_req, gamma, f, beta, eta, delta, xi, z_out, status, resid, err):
+def branch_many(s_req, gamma, f, beta, eta, delta, xi, rtol, z_out, status, resid, err):
     """branch_solve for many parameter sets (rows of the 2-D outputs)."""
     for p in range(gamma.shape[0]):
         zr = rayleigh_z(beta[p])
-        branch_solve(s_req, zr, gamma[p], f[p], beta[p], eta[p], delta[p], xi[p], z_out[p], status[p], resid[p], err[p])
+        branch_solve(s_req, zr, gamma[p], f[p], beta[p], eta[p], delta[p], xi[p], rtol, z_out[p], status[p], resid[p],
+                     err[p])
+
+
+@njit(cache=True, nogil=True)
+def branch_one(s_req, gamma, f, beta, eta, delta, xi, rtol, z_out, status, resid, err):
+    """branch_solve for one parameter set given as scalars (1-D outputs)."""
+    branch_solve(s_req, rayleigh_z(beta), gamma, f, beta, eta, delta, xi, rtol, z_out, status, resid, err)
 
 
 @njit(cache=True)
 def response_many(z, q, beta, eta, gx, gy, dgx, dgy):
     """Vector loop over flattened broadcast inputs."""
     for i in range(z.shape[0]):
-        gx[i], gy[i], dgx[i], dgy[i], _ = response(z[i], q[i], beta[i], eta[i])
+        gx[i], gy[i], dgx[i], dgy[i], _, _, _ = response(z[i], q[i], beta[i], eta[i])
 
 
 @njit(cache=True)

@@ -41,11 +41,11 @@ def check(name: str, value, *, complex_ok: bool = False, domain: str | None = No
             return np.array(v, dtype=np.complex128 if complex_ok else np.float64)
         if v == math.inf and allow_inf:
             return np.array(v)
-    if isinstance(value, np.ndarray) and value.dtype == np.float64 and not complex_ok:
-        # fast path: one vectorised range test (NaN fails every comparison)
-        above = value >= lo if lo_inc else value > lo
-        below = value <= hi if hi_inc else value < hi
-        if np.all(above & below):
+    if isinstance(value, np.ndarray) and value.dtype == np.float64 and not complex_ok and value.size:
+        # fast path: range test of the extremes (NaN fails every comparison)
+        vmin = value.min()
+        vmax = value.max()
+        if (lo <= vmin if lo_inc else lo < vmin) and (vmax <= hi if hi_inc else vmax < hi):
             return value
     try:
         arr = np.asarray(value)
@@ -72,3 +72,24 @@ def check(name: str, value, *, complex_ok: bool = False, domain: str | None = No
         first = arr[bad].ravel()[0]
         raise ValueError(f"{name} must be in {text}; got {first!r}")
     return arr
+
+
+RTOL_RANGE = (1e-15, 1e-3)
+
+
+def check_rtol(rtol) -> float:
+    """The accuracy setting `rtol` as the kernels' float: None -> 0.0 (full certified accuracy).
+
+    Otherwise a real number in RTOL_RANGE: the requested relative accuracy of the roots. ValueError
+    naming `rtol` and its range for anything else (arrays, NaN, strings, booleans, out of range).
+    """
+    if rtol is None:
+        return 0.0
+    lo, hi = RTOL_RANGE
+    text = f"rtol must be None (full certified accuracy) or a number in [{lo:g}, {hi:g}]"
+    if isinstance(rtol, bool) or not isinstance(rtol, int | float | np.floating | np.integer):
+        raise ValueError(f"{text}; got {rtol!r}")
+    v = float(rtol)
+    if not (lo <= v <= hi):
+        raise ValueError(f"{text}; got {rtol!r}")
+    return v

@@ -70,7 +70,7 @@ def free_port() -> int:
     return _find_free_port()
 
 
-def _wait_until_up(url: str, server_thread, timeout: float = 30.0) -> None:
+def _wait_until_up(url: str, server_thread, timeout: float = 120.0) -> None:
     deadline = time.monotonic() + timeout
     last_error: Exception | None = None
     while time.monotonic() < deadline:

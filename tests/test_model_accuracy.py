@@ -113,6 +113,83 @@ def test_spectrum_vs_oracle(params, qs):
     assert np.all(np.array(errs) * np.abs(res.z) <= 10 * res.error + 1e-15 * np.abs(res.z))
 
 
+RTOL_CASES = [SPECTRUM_CASES[i] for i in (0, 2, 4, 6, 7, 9, 10, 12)]
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-10])
+@pytest.mark.parametrize("params,qs", RTOL_CASES)
+def test_spectrum_rtol_vs_oracle(params, qs, rtol):
+    """Looser accuracy settings: error vs the oracle below rtol, and below the returned error estimate."""
+    qs = np.array(qs)
+    res = model.rayleigh_branch(qs, **params, rtol=rtol)
+    assert not res.mask.any(), res.reasons()
+    ref = oracle.rayleigh_branch(list(qs), params["gamma"], params["f"], params["beta"], params["eta"],
+                                 params.get("Delta", 1.0), params.get("xi", 0.0))
+    errs = np.array([rel(z, r) for z, r in zip(res.z, ref, strict=True)])
+    assert errs.max() <= rtol, list(zip(qs, errs, strict=True))
+    assert np.all(errs * np.abs(res.z) <= res.error + 2e-16 * np.abs(res.z)), list(zip(errs, res.error, strict=True))
+
+
+@pytest.mark.parametrize("params", [dict(PAPER, eta=INF), dict(PAPER, eta=7.0), dict(PAPER, eta=1.5),
+                                    dict(PAPER, eta=INF, Delta=0.5, xi=1.0), dict(gamma=0.5, f=0.9, beta=0.3, eta=30.0),
+                                    dict(gamma=50.0, f=1.5, beta=0.6, eta=INF)])
+def test_spectrum_rtol_dense_grid(params):
+    """512 kH: each setting within rtol of the full-accuracy roots (themselves ~1e-15 from the oracle, see
+    test_spectrum_vs_oracle), the error estimate bounds the difference, and the interpolant is used."""
+    q = np.logspace(-4, 4, 512)
+    full = model.rayleigh_branch(q, **params)
+    assert not full.mask.any()
+    for rtol in (1e-4, 1e-6, 1e-8, 1e-10, 1e-12):
+        res = model.rayleigh_branch(q, **params, rtol=rtol)
+        assert np.array_equal(res.mask, full.mask)
+        d = np.abs(res.z - full.z)
+        assert np.max(d / np.abs(full.z)) <= rtol
+        assert np.all(d <= res.error + full.error + 2e-16 * np.abs(full.z))
+        interpolated = np.isnan(res.residual)
+        assert np.all(res.residual[~interpolated] < max(rtol, 1e-12))
+        if rtol >= 1e-6:
+            assert interpolated.mean() > 0.5  # the cheap path is actually taken
+    # the one-point == dense-grid property holds at each setting
+    for rtol in (1e-6, 1e-10):
+        dense = model.spectrum(q, **params, rtol=rtol)
+        assert model.spectrum(q[100:101], **params, rtol=rtol)[0] == dense[100]
+
+
+@pytest.mark.parametrize("bad", [0.0, -1e-6, 1e-2, math.nan, math.inf, "1e-6", True, np.array([1e-6, 1e-8])])
+def test_rtol_validation(bad):
+    for fun in (model.spectrum, model.rayleigh_branch, model.max_growth):
+        with pytest.raises(ValueError, match=r"rtol must be None \(full certified accuracy\) or a number in"):
+            fun(np.array([0.5, 1.0]), **PAPER, rtol=bad)
+
+
+@pytest.mark.parametrize("z,q,beta,eta", [(0.9 + 0.01j, 30.0, 0.3, 5.0), (0.95 - 0.02j, 20.0, 0.3, 7.0),
+                                          (0.5 + 0.2j, 1e3, 0.5, 1.0 + 1e-9), (2.5 + 0.3j, 80.0, 0.3, 0.5)])
+def test_response_where_the_lower_block_is_a_half_space_to_rounding(z, q, beta, eta):
+    """eta kH Re(alpha) > 22: the kernels use the eta = inf form; still equal to the finite-eta oracle."""
+    gx, gy = model.response_functions(z, q, beta=beta, eta=eta)
+    ox, oy = oracle.response_functions(z, q, beta, eta)
+    assert rel(gx, ox) <= 1e-13
+    assert abs(complex(gy) - complex(oy)) <= 1e-13 * (abs(complex(ox)) + abs(complex(oy)))
+
+
+SLOPE_CASES = [(0.767, dict(PAPER, eta=INF)), (1e-3, dict(PAPER, eta=INF)), (0.37, dict(PAPER, eta=7.0)),
+               (1e-4, dict(PAPER, eta=7.0)), (10.0, dict(PAPER, eta=7.0)), (0.2, dict(PAPER, eta=0.05)),
+               (1.0, dict(PAPER, eta=1.0 + 1e-9)), (0.3, dict(PAPER, eta=INF, Delta=0.5, xi=1.0))]
+
+
+@pytest.mark.parametrize("q,params", SLOPE_CASES)
+def test_branch_slope_vs_oracle(q, params):
+    """dz/dkH = -F_kH/F_z with the analytic F_kH of the kernels (used for the Hermite path interpolant)."""
+    from model import _kernels as K
+
+    p = dict(Delta=1.0, xi=0.0) | params
+    z = complex(model.spectrum(np.array([q]), **p)[0])
+    fq = K.dispersion_dq(z, q, p["gamma"], p["f"], p["beta"], p["eta"], p["Delta"], p["xi"])
+    fz = complex(model.dispersion_derivative(z, q, **p))
+    oz, odz = oracle.branch_tangent(q, p["gamma"], p["f"], p["beta"], p["eta"], p["Delta"], p["xi"])
+    assert rel(-fq / fz, odz) <= 1e-10
+
+
 def test_small_gamma_branch_runs_into_the_cut_and_is_masked():
     """gamma = 0.05, eta = inf: the branch hugs z = 1 and reaches the cut z > 1 between kH = 500 and 300;
     the oracle cannot follow it either. Below, the model returns NaN with a reason, never another root."""

@@ -92,3 +92,37 @@ def test_global_verdict():
     # eta = 3 < eta_c: the Rayleigh branch is stable, but another branch is unstable near kH = 0.45
     v = model.stability_verdict(gamma=3.0, f=0.9, beta=0.3, eta=3.0, kH=np.array([0.3, 0.45, 0.6]))
     assert v.rayleigh_growth < 0 and v.counts[1] >= 1 and not v.stable
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-10])
+def test_max_growth_rtol_against_oracle(rtol):
+    q_star, g_star = oracle.rayleigh_branch_max_growth(0.767, 3, 0.9, 0.3, math.inf)
+    g, k = model.max_growth(Q, gamma=3.0, **PAPER, rtol=rtol)
+    assert abs(float(g) - float(g_star)) <= rtol * abs(model.spectrum(np.array([float(k)]), gamma=3.0, **PAPER)[0])
+    assert abs(math.log(float(k) / float(q_star))) <= 1e-4
+    r = stability.growth_analysis(Q, gamma=3.0, **PAPER, rtol=rtol)
+    z = model.spectrum(np.array([float(r.kH_min), float(r.kH_max)]), gamma=3.0, **PAPER)
+    assert np.all(np.abs(z.imag) < 10 * rtol)
+
+
+def test_growth_map_agrees_with_full_spectrum_and_stays_on_the_grid():
+    """A small eta-gamma map: each growth is the max of the full-accuracy spectrum on a fine grid (to the
+    refinement), the location lies inside the kH grid (monotone cases: at its end), band ends are zeros."""
+    gam = np.array([0.5, 1.5, 3.0, 12.0])
+    eta = np.array([1.0, 3.0, 30.0, 6700.0, math.inf])
+    r = stability.growth_analysis(Q, gamma=gam[:, None], eta=eta[None, :], **PAPER)
+    fine = np.logspace(-3, 3, 6001)
+    for i, g in enumerate(gam):
+        for j, e in enumerate(eta):
+            z = model.spectrum(fine, gamma=g, eta=e, **PAPER)
+            assert Q[0] <= r.kH_at_max[i, j] <= Q[-1]
+            assert np.nanmax(z.imag) <= r.growth[i, j] + 1e-13
+            local = r.kH_at_max[i, j] * np.exp(np.linspace(-1e-3, 1e-3, 201))
+            local = local[(local >= Q[0]) & (local <= Q[-1])]
+            zl = model.spectrum(local, gamma=g, eta=e, **PAPER).imag
+            assert r.growth[i, j] - 1e-12 <= np.nanmax(zl) <= r.growth[i, j] + 1e-13
+            at = model.spectrum(np.array([r.kH_at_max[i, j]]), gamma=g, eta=e, **PAPER)[0]
+            assert at.imag == pytest.approx(r.growth[i, j], abs=1e-15)
+            for band_end in (r.kH_min[i, j], r.kH_max[i, j]):
+                if np.isfinite(band_end):
+                    assert abs(model.spectrum(np.array([band_end]), gamma=g, eta=e, **PAPER)[0].imag) < 1e-13

@@ -1,0 +1,248 @@
+"""The page as a whole: URL query state, bad URL input, presets, CSV export, the G_y criterion plot."""
+
+from __future__ import annotations
+
+import io
+import logging
+import math
+import urllib.parse
+import urllib.request
+
+import holoviews as hv
+import numpy as np
+import pytest
+
+import model
+from app import spectrum as sp
+from app import thin_on_thick as tt
+from app.main import create_app
+from app.presets import load_presets
+from app.urlstate import QUERY, TABS, parse_query, query_string
+from tests.conftest import set_slider
+
+#: the bad queries of issue 5, and what must come out of each (unknown/invalid values keep defaults)
+BAD_QUERIES = {
+    "gamma=nan": {"gamma": 3.0},
+    "eta=-5&beta=junk": {"eta": math.inf, "beta": 0.3},
+    "beta=0.9&kW=1e999": {"beta": 0.7071},
+    "xi=<script>alert(1)</script>": {"xi": 0.0},
+    "gamma=1e308&f=-1": {"gamma": 1e3, "f": 0.0},
+}
+
+
+def _args(query: str) -> dict[str, list[str]]:
+    return urllib.parse.parse_qs(query, keep_blank_values=True)
+
+
+# --------------------------------------------------------------------------------------------
+# URL query
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("query", list(BAD_QUERIES))
+def test_bad_queries_give_messages_and_safe_values(query: str) -> None:
+    app = create_app(_args(query)).app
+    p = app.spectrum_params
+    assert app.messages.visible
+    n_keys = len(_args(query))
+    assert app.messages.object.count("\n- ") == n_keys  # one message per bad value
+    for name, expected in BAD_QUERIES[query].items():
+        assert (p.eta if name == "eta" else getattr(p, name)) == expected
+    assert app.thin_params.kW == pytest.approx(5.0)  # kW=1e999 ignored: the default stays
+    assert "<script>" not in app.messages.object  # quoted back escaped, never as markup
+    # the session keeps working: the spectrum scene computes with the (clamped) values
+    d = app.spectrum.data()
+    assert np.isfinite(d["z"]).any()
+
+
+def test_values_are_parsed_with_float_only() -> None:
+    """Nothing is evaluated: Python/JSON-looking values are rejected like any other non-number."""
+    for raw in ("__import__('os').getcwd()", "[1, 2]", "{'a': 1}", "1+1", "0x10", "1_000"[:0] + "1e3e3"):
+        updates, _, messages = parse_query({"gamma": [raw]})
+        assert updates["spectrum"] == {} and len(messages) == 1 and "not a finite number" in messages[0]
+
+
+def test_good_query_sets_every_parameter_and_tab() -> None:
+    query = "gamma=4.5&f=0.6&beta=0.25&eta=20&Delta=0.5&xi=2&kW=0.7&nu=0.25&c_s=1000&rho=2000&sigma0=3&tab=branches"
+    app = create_app(_args(query)).app
+    p, t = app.spectrum_params, app.thin_params
+    assert not app.messages.visible
+    assert p.model_args() == pytest.approx((4.5, 0.6, 0.25, 20.0, 0.5, 2.0), rel=1e-14)
+    assert (t.kW, t.nu, t.c_s, t.rho, t.sigma0_MPa) == pytest.approx((0.7, 0.25, 1000.0, 2000.0, 3.0), rel=1e-14)
+    assert app.tabs.active == TABS.index("branches")
+
+
+def test_query_string_round_trip() -> None:
+    app = create_app(_args("gamma=2.5&eta=300&Delta=0.4&xi=7&kW=12&tab=map")).app
+    query = query_string(app.spectrum_params, app.thin_params, TABS[app.tabs.active])
+    again = create_app(_args(query[1:])).app
+    assert not again.messages.visible
+    assert again.spectrum_params.model_args() == pytest.approx(app.spectrum_params.model_args(), rel=1e-5)
+    assert again.thin_params.kW == pytest.approx(12.0, rel=1e-5)
+    assert again.tabs.active == TABS.index("map")
+    assert {q.key for q in QUERY} - {"xi"} <= set(_args(query[1:]))  # everything is written
+
+
+def test_eta_infinite_is_written_as_inf_and_xi_omitted_at_delta_one() -> None:
+    app = create_app({}).app
+    q = _args(query_string(app.spectrum_params, app.thin_params, "spectrum")[1:])
+    assert q["eta"] == ["inf"] and "xi" not in q
+
+
+# --------------------------------------------------------------------------------------------
+# presets
+# --------------------------------------------------------------------------------------------
+
+
+def test_every_figure_has_a_preset() -> None:
+    labels = [p.label for p in load_presets()]
+    assert labels == ["Fig. 3", "Fig. 4a-b", "Fig. 4c", "Fig. 5a", "Fig. 5b", "Fig. 5c"]
+
+
+@pytest.mark.parametrize("preset", load_presets(), ids=lambda p: p.id)
+def test_preset_sets_values_family_and_tab(preset) -> None:
+    app = create_app({"gamma": ["7"], "f": ["0.2"]}).app  # non-default start: the preset must reset it
+    app.apply_preset(preset)
+    assert app.tabs.active == TABS.index(preset.tab)
+    for key, raw in preset.values.items():
+        if key == "eta":
+            assert app.spectrum_params.eta == (math.inf if raw == "inf" else pytest.approx(float(raw)))
+        elif key in {"kW", "nu", "c_s", "rho", "sigma0"}:
+            attr = {"sigma0": "sigma0_MPa"}.get(key, key)
+            assert getattr(app.thin_params, attr) == pytest.approx(float(raw), rel=1e-12)
+        else:
+            assert getattr(app.spectrum_params, key) == pytest.approx(float(raw))
+    if "gamma" not in preset.values:
+        assert app.spectrum_params.gamma == 3.0  # reset to the paper's default
+    if preset.compare_key == "kW":
+        assert app.thin.compare_kW == list(preset.compare_values)
+    else:
+        assert app.spectrum.compare_values == list(preset.compare_values)
+    assert preset.label in app.preset_info.object
+
+
+def test_fig5a_family_curves_equal_the_model() -> None:
+    app = create_app({}).app
+    (fig5a,) = [p for p in load_presets() if p.id == "fig5a"]
+    app.apply_preset(fig5a)
+    overlay = app.spectrum.im_dmap[()]
+    for eta in fig5a.compare_values:
+        label = f"η = {'∞' if math.isinf(eta) else f'{eta:g}'}"
+        (curve,) = [e for e in overlay if isinstance(e, hv.Curve) and e.label == label]
+        expected = model.spectrum(sp.KH, gamma=3.0, f=0.9, beta=0.3, eta=eta)
+        np.testing.assert_array_equal(curve.dimension_values(1), expected.imag)
+    eta_one = model.spectrum(sp.KH, gamma=3.0, f=0.9, beta=0.3, eta=1.0)
+    assert np.nanmax(eta_one.imag) < 0  # eta = 1 is the symmetric, stable curve of Fig. 5a
+    app.clear_families()
+    assert [e.label for e in app.spectrum.im_dmap[()] if isinstance(e, hv.Curve)] == ["Rayleigh branch",
+                                                                                        "linear expansion"]
+
+
+# --------------------------------------------------------------------------------------------
+# G_y criterion plot and CSV export
+# --------------------------------------------------------------------------------------------
+
+
+def test_gy_plot_is_gy_at_the_rayleigh_speed_with_the_criterion_line() -> None:
+    scene = sp.SpectrumScene()
+    overlay = scene.gy_dmap[()]
+    (curve,) = [e for e in overlay if isinstance(e, hv.Curve)]
+    z_r = float(model.rayleigh_speed(0.3))
+    expected = model.response_functions(np.full(sp.KH.shape, z_r), sp.KH, beta=0.3)[1].real
+    np.testing.assert_array_equal(curve.dimension_values(1), expected)
+    lines = [e for e in overlay if isinstance(e, hv.HLine)]
+    assert sorted(float(e.data) for e in lines) == pytest.approx(sorted([0.0, -z_r / (3.0 * 0.9)]), rel=1e-15)
+    # the criterion: gamma f min G_y < -z_R  <=>  unstable (paper: gamma = 3 unstable, gamma = 2 stable)
+    assert 3.0 * 0.9 * expected.min() < -z_r < 2.0 * 0.9 * expected.min()
+
+
+def _read_csv(buffer: io.StringIO) -> tuple[list[str], np.ndarray]:
+    lines = buffer.getvalue().splitlines()
+    assert lines[0].startswith("# asymslide")
+    return lines[1].split(","), np.loadtxt(lines[2:], delimiter=",", ndmin=2)
+
+
+def test_spectrum_csv_equals_the_plotted_data() -> None:
+    scene = sp.SpectrumScene()
+    names, data = _read_csv(scene.csv())
+    d = scene.data()
+    assert names[:3] == ["kH", "Re_z", "Im_z"]
+    np.testing.assert_array_equal(data[:, 0], d["kH"])
+    np.testing.assert_array_equal(data[:, 1], d["z"].real)
+    np.testing.assert_array_equal(data[:, 2], d["z"].imag)
+    np.testing.assert_array_equal(data[:, names.index("status")], d["status"])
+
+
+def test_thin_on_thick_csv_equals_the_plotted_data() -> None:
+    scene = tt.ThinOnThickScene()
+    scene.compare_kW = [0.5, 20.0]
+    names, data = _read_csv(scene.csv_gy())
+    assert len(names) == 6
+    for j, kw in enumerate((scene.params.kW, 0.5, 20.0)):
+        d = tt.compute_gy_curve(kw, 0.33)
+        np.testing.assert_array_equal(data[:, 2 * j], d["z"])
+        np.testing.assert_array_equal(data[:, 2 * j + 1], d["gy"])
+    names, data = _read_csv(scene.csv_moduli())
+    np.testing.assert_array_equal(data[:, 1], model.effective_moduli(tt.KW, 0.33)[0])
+    names, data = _read_csv(scene.csv_stress())
+    assert names == ["v_m_per_s", "dsigma_yy_over_sigma0"] and data.shape == (tt.V.size, 2)
+
+
+# --------------------------------------------------------------------------------------------
+# served: bad URLs never produce a server error; in the browser the message shows and the app works
+# --------------------------------------------------------------------------------------------
+
+
+class _Errors(logging.Handler):
+    def __init__(self) -> None:
+        super().__init__(level=logging.ERROR)
+        self.records: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.records.append(self.format(record))
+
+
+def test_bad_urls_leave_no_error_in_the_server_log(served_app: str) -> None:
+    handler = _Errors()
+    logging.getLogger().addHandler(handler)
+    try:
+        for query in BAD_QUERIES:
+            url = served_app + "?" + urllib.parse.quote(query, safe="=&")
+            with urllib.request.urlopen(url, timeout=60) as response:
+                assert response.status == 200
+    finally:
+        logging.getLogger().removeHandler(handler)
+    assert handler.records == []
+
+
+
+
+@pytest.mark.ui
+def test_bad_url_shows_message_and_the_app_keeps_working(served_app: str, browser_page) -> None:
+    page = browser_page
+    page.goto(served_app + "?gamma=nan&xi=%3Cscript%3Ealert(1)%3C/script%3E&f=-1", wait_until="load")
+    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
+    page.get_by_text("not used as given").first.wait_for(state="visible", timeout=30_000)
+    page.get_by_text("is not a finite number").first.wait_for(state="visible", timeout=30_000)
+    page.get_by_text("f = -1 is outside").first.wait_for(state="visible", timeout=30_000)
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    assert set_slider(page, "γ", 4.0)
+    page.wait_for_function("() => window.location.search.includes('gamma=4')", timeout=30_000)
+    query = urllib.parse.parse_qs(page.evaluate("() => window.location.search")[1:])
+    assert query["gamma"] == ["4"] and query["f"] == ["0"] and query["tab"] == ["spectrum"]
+
+
+@pytest.mark.ui
+def test_preset_button_draws_the_family(served_app: str, browser_page) -> None:
+    page = browser_page
+    page.goto(served_app, wait_until="load")
+    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    page.locator("button", has_text="Fig. 5a").first.click(timeout=60_000)
+    page.get_by_text("several η").first.wait_for(state="visible", timeout=30_000)
+    page.wait_for_function("() => window.location.search.includes('eta=inf')", timeout=30_000)
+    # one glyph renderer per family curve, with the legend label of its eta
+    labels = ("() => Array.from(Bokeh.documents[0].all_models)"
+              ".filter(m => m.label && m.label.value).map(m => m.label.value)")
+    page.wait_for_function(f"() => ({labels})().includes('η = 3.3')", timeout=30_000)
+    assert {"η = 1", "η = 10", "η = ∞"} <= set(page.evaluate(labels))

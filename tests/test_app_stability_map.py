@@ -1,0 +1,436 @@
+"""The "Stability map" scene: the map and Fig. 4c equal the model's functions, caching by dependency, the
+background computation (progress, cancellation, errors), clicks on the map, CSV export (headless), and one
+real-browser test that the served map shows the model's values."""
+
+from __future__ import annotations
+
+import csv
+import io
+import threading
+
+import holoviews as hv
+import numpy as np
+import panel as pn
+import pytest
+
+import model
+from app import stability_map as sm
+from app.params import SpectrumParams
+from app.stability_map import CALLS, KH, PLANES, StabilityMapScene
+
+DEFAULT_RESOLUTION = StabilityMapScene.param.resolution.default
+
+
+@pytest.fixture(autouse=True)
+def _fresh_cache():
+    pn.state.clear_caches()
+    CALLS.clear()
+    yield
+    pn.state.clear_caches()
+
+
+@pytest.fixture
+def small(monkeypatch):
+    """8 x 8 maps at the default resolution (4 chunks of 2 rows): the logic tests do not need the real one."""
+    monkeypatch.setitem(sm.RESOLUTIONS, DEFAULT_RESOLUTION, 8)
+
+
+def _computed(scene: StabilityMapScene) -> sm.MapResult:
+    """Render the map (which starts the computation), wait for it, render again; the finished map."""
+    scene.view()[()]
+    scene.wait()
+    scene.view()[()]
+    res = scene.result
+    assert res is not None and res.key == scene.map_key, scene.status
+    return res
+
+
+def _expected(plane: str, n: int, p: SpectrumParams) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """x, y and model.max_growth over the whole plane in one call (independent of the scene's chunking)."""
+    ax, ay = PLANES[plane]
+    x, y = sm.plane_axes(plane, n)
+    args = dict(zip(("gamma", "f", "beta", "eta", "Delta", "xi"), p.model_args(), strict=True))
+    args[ax.name], args[ay.name] = x[None, :], y[:, None]
+    growth, kh = model.max_growth(KH, **args)
+    return x, y, growth, kh
+
+
+def _layer(overlay: hv.Overlay, kind: type) -> hv.Element:
+    (el,) = [el for el in overlay if isinstance(el, kind)]
+    return el
+
+
+# --------------------------------------------------------------------------------------------
+# nothing computes until the map is shown
+# --------------------------------------------------------------------------------------------
+
+
+def test_building_the_page_computes_nothing() -> None:
+    from app.main import create_app
+
+    template = create_app({"tab": ["map"]})
+    scene = template.app.map
+    assert scene.result is None and scene._thread is None
+    assert sum(CALLS.values()) == 0
+    assert "Not computed yet" in scene.readout()
+
+
+# --------------------------------------------------------------------------------------------
+# the map is the model's
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("plane", "p"),
+    [
+        ("η-γ", dict(f=0.8, beta=0.35, Delta=0.6, xi=2.0)),
+        ("Δ-ξ", dict(gamma=4.0, f=0.9, beta=0.3)),
+        ("f-γ", dict(beta=0.25, eta_infinite=False, log10_eta=1.0)),
+        ("β-γ", dict(f=1.2, Delta=0.5, xi=0.3)),
+    ],
+)
+def test_map_equals_model_max_growth(plane: str, p: dict) -> None:
+    params = SpectrumParams(**p)
+    scene = StabilityMapScene(params=params, plane=plane)
+    res = _computed(scene)
+    n = sm.RESOLUTIONS[DEFAULT_RESOLUTION]
+    x, y, growth, kh = _expected(plane, n, params)
+    np.testing.assert_array_equal(res.x, x)
+    np.testing.assert_array_equal(res.y, y)
+    np.testing.assert_array_equal(res.growth, growth)  # NaN where the model gives NaN
+    np.testing.assert_array_equal(res.kH_at_max, kh)
+    assert res.chunks_total == len(sm.chunk_rows(n)) == CALLS["compute_chunk"]
+
+    overlay = scene.view()[()]
+    mesh = _layer(overlay, hv.QuadMesh)
+    np.testing.assert_array_equal(mesh.dimension_values("growth", flat=False), growth)
+    ax, ay = PLANES[plane]
+    assert [d.label for d in mesh.kdims] == [ax.label, ay.label]
+    lo, hi = mesh.opts.get().kwargs["clim"]
+    assert lo == -hi and hi == np.nanmax(np.abs(growth))  # diverging around 0
+
+    finite = np.isfinite(growth)
+    text = scene.readout()
+    frac = np.sum(growth[finite] > sm.MARGINAL) / finite.sum()
+    assert f"**Unstable** {100 * frac:.1f} %" in text
+    n_nan = int((~finite).sum())
+    assert (f"**Masked** {n_nan} point(s)" if n_nan else "**Masked** none") in text
+    assert f"{n} × {n} points" in text and "**Time**" in text
+
+
+def test_neutral_curve_separates_stable_from_unstable() -> None:
+    """f-γ plane at η = ∞, Δ = 1: near f = 0.9 the zero contour lies at the model's critical γ (within a cell)."""
+    scene = StabilityMapScene(plane="f-γ")
+    res = _computed(scene)
+    path = _layer(scene.view()[()], hv.Path)
+    pts = np.concatenate([np.column_stack([s[:, 0], s[:, 1]]) for s in path.split(datatype="array")])
+    gamma_c = model.critical_gamma(f=0.9, beta=0.3)
+    near = pts[np.abs(pts[:, 0] - 0.9) < 0.05]
+    assert near.size
+    cell = np.log10(res.y[1] / res.y[0])
+    assert np.min(np.abs(np.log10(near[:, 1] / gamma_c))) < cell
+
+
+# --------------------------------------------------------------------------------------------
+# caching: what the map depends on
+# --------------------------------------------------------------------------------------------
+
+
+def test_plane_parameters_move_only_the_marker(small) -> None:
+    scene = StabilityMapScene()  # η-γ plane
+    _computed(scene)
+    n_chunks = len(sm.chunk_rows(8))
+    assert CALLS["compute_chunk"] == CALLS["growth_analysis"] == n_chunks
+    fired = []
+    scene.param.watch(fired.append, "map_key")
+    scene.params.param.update(gamma=5.0, eta_infinite=False, log10_eta=3.0)
+    scene.view()[()]
+    scene.wait()
+    assert fired == [] and CALLS["compute_chunk"] == n_chunks and scene._thread.is_alive() is False
+    marker = _layer(scene.view()[()], hv.Points)
+    np.testing.assert_allclose(marker.array()[0], [1e3, 5.0])
+
+
+def test_other_parameters_recompute_exactly_once(small) -> None:
+    scene = StabilityMapScene()
+    _computed(scene)
+    n_chunks = len(sm.chunk_rows(8))
+    scene.params.f = 0.5
+    res = _computed(scene)
+    scene.view()[()]
+    scene.readout()
+    assert CALLS["compute_chunk"] == CALLS["growth_analysis"] == 2 * n_chunks
+    np.testing.assert_array_equal(res.growth, _expected("η-γ", 8, scene.params)[2])
+    scene.params.f = 0.9  # back: every chunk from the cache
+    res = _computed(scene)
+    assert CALLS["compute_chunk"] == 2 * n_chunks
+    assert res.chunks_computed == 0 and "from the cache" in scene.readout()
+
+
+def test_xi_at_delta_one_recomputes_nothing(small) -> None:
+    scene = StabilityMapScene()
+    _computed(scene)
+    key = scene.map_key
+    scene.params.xi = 3.0
+    scene.view()[()]
+    scene.wait()
+    assert scene.map_key == key and CALLS["compute_chunk"] == len(sm.chunk_rows(8))
+    scene.params.Delta = 0.5  # now xi matters
+    _computed(scene)
+    assert CALLS["compute_chunk"] == 2 * len(sm.chunk_rows(8))
+
+
+def test_plane_and_resolution_are_part_of_the_key(small) -> None:
+    scene = StabilityMapScene()
+    _computed(scene)
+    scene.plane = "f-γ"
+    scene.params.f = 1.5  # a parameter of the f-γ plane: nothing new
+    res = _computed(scene)
+    assert res.plane == "f-γ" and CALLS["compute_chunk"] == 2 * len(sm.chunk_rows(8))
+    scene.params.param.update(eta_infinite=False, log10_eta=2.0)  # off the f-γ plane: recomputes
+    _computed(scene)
+    assert CALLS["compute_chunk"] == 3 * len(sm.chunk_rows(8))
+    key = scene.map_key
+    scene.resolution = "coarse"  # another grid: a new key, so the next render computes it
+    assert scene.map_key[1] == sm.RESOLUTIONS["coarse"] != key[1] and scene.map_key[::2] == key[::2]
+    assert scene.map_download.disabled and "Not computed yet" in scene.readout()
+
+
+# --------------------------------------------------------------------------------------------
+# background computation: progress, cancellation, errors
+# --------------------------------------------------------------------------------------------
+
+
+def test_stale_computation_stops_after_its_chunk(small, monkeypatch) -> None:
+    calls: list[tuple] = []
+    first_started, go_on = threading.Event(), threading.Event()
+    real = sm.compute_chunk
+
+    def blocking_chunk(plane, n, start, stop, fixed):
+        calls.append(fixed)
+        if len(calls) == 1:  # hold the first chunk until the inputs have changed
+            first_started.set()
+            assert go_on.wait(30)
+        return real(plane, n, start, stop, fixed)
+
+    monkeypatch.setattr(sm, "compute_chunk", blocking_chunk)
+    scene = StabilityMapScene()
+    scene.view()[()]
+    assert first_started.wait(30)
+    old_fixed = scene.map_key[2]
+    old_thread = scene._thread
+    scene.params.beta = 0.45  # mid-way: the map's inputs change
+    assert scene._thread is not old_thread  # the new computation started at once
+    go_on.set()
+    old_thread.join(30)
+    scene.wait()
+    n_chunks = len(sm.chunk_rows(8))
+    assert sum(f == old_fixed for f in calls) == 1  # the stale one stopped after its current chunk
+    assert CALLS["chunks_cancelled"] == n_chunks - 1
+    assert sum(f == scene.map_key[2] for f in calls) == n_chunks
+    res = scene.result
+    assert res.key == scene.map_key and dict(res.key[2])["beta"] == 0.45
+    np.testing.assert_array_equal(res.growth, _expected("η-γ", 8, scene.params)[2])
+    assert scene.progress.value == scene.progress.max == n_chunks
+
+
+def test_model_error_is_shown_and_the_scene_recovers(small, monkeypatch) -> None:
+    real = sm.compute_chunk
+
+    def failing(*_args):
+        raise ValueError("beta out of range (test)")
+
+    monkeypatch.setattr(sm, "compute_chunk", failing)
+    scene = StabilityMapScene()
+    scene.view()[()]
+    scene.wait()
+    assert scene.status.startswith("error") and "beta out of range (test)" in scene.readout()
+    monkeypatch.setattr(sm, "compute_chunk", real)
+    scene.params.f = 0.7
+    _computed(scene)
+    assert scene.status == "done" and "**Failed**" not in scene.readout()
+
+
+# --------------------------------------------------------------------------------------------
+# clicks on the map
+# --------------------------------------------------------------------------------------------
+
+
+def test_tap_sets_the_shared_parameters(small) -> None:
+    params = SpectrumParams()
+    scene = StabilityMapScene(params=params)
+    key = scene.map_key
+    scene.view()
+    scene.tap_streams["η-γ"].event(x=100.0, y=5.123)
+    assert (params.eta_infinite, params.log10_eta, params.gamma) == (False, 2.0, 5.12)
+    assert scene.map_key == key  # the plane's own parameters: the map stays
+    scene.tap_streams["η-γ"].event(x=1e20, y=1e9)  # clamped to the parameters' bounds
+    assert (params.log10_eta, params.gamma) == (params.param.log10_eta.bounds[1], params.param.gamma.bounds[1])
+    for plane, (x, y), expected in [
+        ("β-γ", (0.9, 0.001), {"beta": 0.7071, "gamma": 0.01}),
+        ("f-γ", (-1.0, 2.0), {"f": 0.0, "gamma": 2.0}),
+        ("Δ-ξ", (0.004, 1e7), {"Delta": 0.01, "xi": 1e4}),
+        ("Δ-ξ", (0.456, 0.0123), {"Delta": 0.46, "xi": 0.0123}),
+    ]:
+        scene.plane = plane
+        scene.view()
+        scene.tap_streams[plane].event(x=x, y=y)
+        assert {k: getattr(params, k) for k in expected} == pytest.approx(expected, rel=1e-12)
+    assert CALLS["compute_chunk"] == 0  # clicking computes nothing by itself
+
+
+def test_marker_is_clipped_to_the_plotted_range() -> None:
+    scene = StabilityMapScene()  # eta = inf
+    x, y, notes = scene.marker_position()
+    assert (x, y) == (PLANES["η-γ"][0].hi, 3.0) and "∞" in notes[0]
+    scene.plane = "Δ-ξ"  # xi = 0 on a log axis
+    x, y, notes = scene.marker_position()
+    assert (x, y) == (1.0, PLANES["Δ-ξ"][1].lo) and notes
+
+
+# --------------------------------------------------------------------------------------------
+# Fig. 4c
+# --------------------------------------------------------------------------------------------
+
+
+def test_fig4c_equals_model_and_is_cached_by_f_only() -> None:
+    scene = StabilityMapScene()
+    overlay = scene.fig4c_dmap[()]
+    scatter, curve = _layer(overlay, hv.Scatter), _layer(overlay, hv.Curve)
+    np.testing.assert_array_equal(scatter.dimension_values(0), sm.BETA_EXACT)
+    np.testing.assert_array_equal(scatter.dimension_values(1), model.critical_chi(sm.BETA_EXACT, f=0.9))
+    np.testing.assert_array_equal(curve.dimension_values(0), sm.BETA_CRITERION)
+    np.testing.assert_array_equal(curve.dimension_values(1), model.criterion_chi(sm.BETA_CRITERION))
+    star = _layer(overlay, hv.Points)
+    np.testing.assert_allclose(star.array()[0], [0.3, 3.0 * 0.9])
+    assert CALLS["compute_fig4c"] == 1
+    scene.params.param.update(gamma=2.0, beta=0.5)
+    overlay = scene.fig4c_dmap[()]
+    np.testing.assert_allclose(_layer(overlay, hv.Points).array()[0], [0.5, 2.0 * 0.9])
+    assert CALLS["compute_fig4c"] == 1 and CALLS["compute_chunk"] == 0
+    scene.params.f = 1.5
+    scene.fig4c_dmap[()]
+    assert CALLS["compute_fig4c"] == 2 and CALLS["compute_criterion"] == 1
+    scene.params.eta_infinite = False  # Fig. 4c is for eta = inf: no star
+    assert len(_layer(scene.fig4c_dmap[()], hv.Points)) == 0
+    assert "not drawn" in scene.fig4c_readout()
+
+
+def test_fig4c_without_threshold_is_masked_with_the_reason() -> None:
+    d = sm.compute_fig4c(0.0)  # f = 0: no coupling, no threshold
+    assert np.all(np.isnan(d["exact"])) and "no stability threshold" in d["reason"]
+    np.testing.assert_array_equal(d["criterion"], model.criterion_chi(sm.BETA_CRITERION))
+
+
+# --------------------------------------------------------------------------------------------
+# CSV export
+# --------------------------------------------------------------------------------------------
+
+
+def _read_csv(buf: io.StringIO) -> tuple[str, list[str], np.ndarray]:
+    lines = buf.getvalue().splitlines()
+    assert lines[0].startswith("# ")
+    header = next(csv.reader([lines[1]]))
+    data = np.array([[float(v) for v in row] for row in csv.reader(lines[2:])]).reshape(-1, len(header))
+    return lines[0], header, data
+
+
+def test_map_csv_is_what_the_map_shows(small) -> None:
+    scene = StabilityMapScene(params=SpectrumParams(f=0.7))
+    assert scene.map_download.disabled
+    comment, header, data = _read_csv(scene.map_csv())
+    assert "not computed yet" in comment and data.size == 0
+    res = _computed(scene)
+    assert not scene.map_download.disabled
+    comment, header, data = _read_csv(scene.map_download.callback())
+    assert header == ["eta", "gamma", "max_growth", "kH_at_max", "n_masked_kH"]
+    assert "f = 0.7" in comment and "plane eta-gamma" in comment
+    x, y, growth, kh = _expected("η-γ", 8, scene.params)
+    for i, j in np.ndindex(growth.shape):  # row-major: y outer, x inner
+        row = data[i * x.size + j]
+        np.testing.assert_array_equal(row[:4], [x[j], y[i], growth[i, j], kh[i, j]])
+    np.testing.assert_array_equal(data[:, 2].reshape(res.growth.shape), res.growth)
+    scene.params.beta = 0.5  # the map is stale now: the button is disabled until it is recomputed
+    assert scene.map_download.disabled
+
+
+def test_fig4c_csv_is_what_fig4c_shows() -> None:
+    scene = StabilityMapScene()
+    comment, header, data = _read_csv(scene.fig4c_download.callback())
+    assert header == ["beta", "chi_c_criterion", "chi_c_exact"] and "f = 0.9" in comment
+    np.testing.assert_array_equal(data[:, 0], sm.BETA_CRITERION)
+    np.testing.assert_array_equal(data[:, 1], model.criterion_chi(sm.BETA_CRITERION))
+    np.testing.assert_array_equal(data[1::2, 2], model.critical_chi(sm.BETA_EXACT, f=0.9))
+    assert np.all(np.isnan(data[0::2, 2]))
+
+
+# --------------------------------------------------------------------------------------------
+# the Bokeh figure
+# --------------------------------------------------------------------------------------------
+
+
+def test_bokeh_map_has_log_axes_symbols_colorbar_and_tap(small) -> None:
+    scene = StabilityMapScene()
+    _computed(scene)
+    plot = hv.renderer("bokeh").get_plot(scene.view())
+    fig = plot.state
+    assert type(fig.x_scale).__name__ == "LogScale" and type(fig.y_scale).__name__ == "LogScale"
+    assert (fig.xaxis[0].axis_label, fig.yaxis[0].axis_label) == ("η", "γ")
+    (bar,) = [r for r in fig.right if type(r).__name__ == "ColorBar"]
+    assert bar.title == "max Im[c/c_s]"
+    assert bar.color_mapper.low == -bar.color_mapper.high
+    taps = [cb for sub in plot.subplots.values() for cb in sub.callbacks if type(cb).__name__ == "TapCallback"]
+    assert len(taps) == 1 and scene.tap_streams["η-γ"] in taps[0].streams  # clicks reach the Tap stream
+    scene.plane = "f-γ"
+    fig = hv.render(scene.view(), backend="bokeh")
+    assert type(fig.x_scale).__name__ == "LinearScale" and fig.xaxis[0].axis_label == "f"
+
+
+# --------------------------------------------------------------------------------------------
+# browser
+# --------------------------------------------------------------------------------------------
+
+_MAP_JS = """() => {
+  for (const m of Bokeh.documents[0].all_models) {
+    const d = m.data;
+    if (d === undefined || d === null || typeof d !== 'object') continue;
+    if (d.growth === undefined || d.left === undefined || d.bottom === undefined) continue;
+    const g = Array.from(d.growth);
+    if (!g.some(v => Number.isFinite(v) && v !== 0)) continue;  // the blank shown while computing is all 0
+    const f = a => Array.from(a);
+    return {left: f(d.left), right: f(d.right), bottom: f(d.bottom), top: f(d.top),
+            growth: g.map(v => Number.isFinite(v) ? v : null)};
+  }
+  return null;
+}"""
+
+
+_PROGRESS_JS = """(n) => {
+  for (const m of Bokeh.documents[0].all_models) {
+    if (m.bar_color !== undefined && m.max !== undefined && m.value !== undefined) return m.max === n && m.value === n;
+  }
+  return false;
+}"""
+
+
+@pytest.mark.ui
+def test_served_map_shows_the_model_values(served_app: str, browser_page) -> None:
+    page = browser_page
+    page.goto(served_app, wait_until="load")
+    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
+    page.locator(".bk-tab", has_text="Stability map").first.click()
+    page.wait_for_function(_MAP_JS, timeout=60_000)
+    d = page.evaluate(_MAP_JS)
+    n = sm.RESOLUTIONS[DEFAULT_RESOLUTION]
+    x, y, growth, _ = _expected("η-γ", n, SpectrumParams())
+    xe, ye = PLANES["η-γ"][0].edges(n), PLANES["η-γ"][1].edges(n)
+    shown = np.full((n, n), np.inf)
+    for left, bottom, g in zip(d["left"], d["bottom"], d["growth"], strict=True):
+        j = int(np.argmin(np.abs(np.log(xe[:-1] / left))))
+        i = int(np.argmin(np.abs(np.log(ye[:-1] / bottom))))
+        shown[i, j] = np.nan if g is None else g
+    assert len(d["growth"]) == n * n
+    np.testing.assert_allclose(shown, growth, rtol=1e-12, atol=0)
+    n_chunks = len(sm.chunk_rows(n))
+    page.wait_for_function(_PROGRESS_JS, arg=n_chunks, timeout=10_000)  # the bar shows the finished chunks
+    assert page.console_errors == []
