@@ -28,7 +28,7 @@ from bokeh.models import CustomJSTickFormatter
 import model
 
 from .params import LABELS as PHYSICAL_LABELS
-from .params import SpectrumParams, bind_two_way
+from .params import SpectrumParams, bind_two_way, csv_download, fmt
 
 hv.extension("bokeh", logo=False)
 
@@ -104,10 +104,6 @@ RAYLEIGH_COLOR = "#b2182b"
 def _kh(log10_kh: float) -> float:
     """kH from its log10, rounded to 12 significant digits (10**log10(0.45) is 0.45, not 0.44999999999999996)."""
     return float(f"{10.0 ** log10_kh:.12g}")
-
-
-def _fmt(x: float, digits: int = 4) -> str:
-    return "—" if not np.isfinite(x) else f"{x:.{digits}g}"
 
 
 def _fmt_z(z: complex, digits: int = 10) -> str:
@@ -270,11 +266,9 @@ class AllBranchesScene(param.Parameterized):
         self.param.watch(self._update_keys, [*LABELS, "active"])
         self.zplane_dmap = hv.DynamicMap(self.zplane_plot)
         self.count_dmap = hv.DynamicMap(self.count_plot)
-        self.roots_download = pn.widgets.FileDownload(
-            callback=self.roots_csv, filename="asymslide_all_branches_roots.csv", label="Download roots (CSV)")
-        self.count_download = pn.widgets.FileDownload(
-            callback=self.count_csv, filename="asymslide_all_branches_count.csv",
-            label="Download count vs kH (CSV)")
+        self.roots_download = csv_download(self.roots_csv, "asymslide_all_branches_roots.csv", "Download roots (CSV)")
+        self.count_download = csv_download(self.count_csv, "asymslide_all_branches_count.csv",
+                                           "Download count vs kH (CSV)")
 
     def _update_keys(self, *_events) -> None:
         """Recompute the normalised keys from the parameters; a view updates only if a key it uses changed."""
@@ -368,7 +362,7 @@ class AllBranchesScene(param.Parameterized):
         pad = 0.1 * (hi - lo) if hi > lo else 0.05
         xs = np.concatenate(([-re_max, re_max], np.real(shown)))
         xpad = 0.04 * float(xs.max() - xs.min())
-        title = f"z-plane at kH = {_fmt(self.kH_key)}: {z.size} unstable root(s) in the window"
+        title = f"z-plane at kH = {fmt(self.kH_key)}: {z.size} unstable root(s) in the window"
         return (window * zero * c_s * c_d * roots * rayleigh).opts(
             hv.opts.Overlay(responsive=True, height=380, title=title, legend_position="right", framewise=True,
                             xlabel=RE_DIM.label, ylabel=IM_DIM.label,
@@ -402,7 +396,7 @@ class AllBranchesScene(param.Parameterized):
         """Markdown: kH and window, certified count, table of roots, where the Rayleigh-branch root is."""
         d, r = self.roots(), self.rayleigh_point()
         z = d["z"]
-        lines = [f"**kH** = {_fmt(self.kH_key, 6)}; window {self._window_text(self.window_key)}"]
+        lines = [f"**kH** = {fmt(self.kH_key, 6)}; window {self._window_text(self.window_key)}"]
         if d["message"]:
             lines.append(f"**Model error** no roots shown: {d['message']}")
         else:

@@ -30,6 +30,11 @@ LABELS = {
 PALETTE = ("#E69F00", "#56B4E9", "#009E73", "#CC79A7", "#D55E00", "#0072B2", "#999999", "#F0E442")
 
 
+def fmt(x: float, digits: int = 4) -> str:
+    """A number for a readout, or an em dash where the model returned NaN/inf."""
+    return "—" if not np.isfinite(x) else f"{x:.{digits}g}"
+
+
 def csv_table(header: str, columns: Mapping[str, np.ndarray]) -> io.StringIO:
     """Columns of equal length as CSV with full float precision; `header` becomes a '#' comment line."""
     out = io.StringIO()

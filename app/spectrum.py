@@ -18,7 +18,7 @@ import param
 
 import model
 
-from .params import PALETTE, SpectrumParams, controls_column, csv_download, csv_table
+from .params import PALETTE, SpectrumParams, controls_column, csv_download, csv_table, fmt
 
 hv.extension("bokeh", logo=False)
 
@@ -80,10 +80,6 @@ def family_args(base: tuple, key: str, value: float) -> tuple:
 
 def family_label(key: str, value: float) -> str:
     return f"{FAMILY[key][1]} = {'∞' if math.isinf(value) else f'{value:g}'}"
-
-
-def _fmt(x: float) -> str:
-    return "—" if not np.isfinite(x) else f"{x:.4g}"
 
 
 class SpectrumScene(param.Parameterized):
@@ -182,9 +178,9 @@ class SpectrumScene(param.Parameterized):
         z, status, error = d["z"], d["status"], d["error"]
         shown = np.isfinite(z)
         rel = float(np.max(error[shown] / np.abs(z[shown]))) if shown.any() else np.nan
-        lines = [f"**Max growth** Im[c/c_s] = {_fmt(d['growth'])} at kH = {_fmt(d['kH_at_max'])}"]
+        lines = [f"**Max growth** Im[c/c_s] = {fmt(d['growth'])} at kH = {fmt(d['kH_at_max'])}"]
         if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]):
-            lines.append(f"**Unstable band** {_fmt(d['kH_min'])} < kH < {_fmt(d['kH_max'])}")
+            lines.append(f"**Unstable band** {fmt(d['kH_min'])} < kH < {fmt(d['kH_max'])}")
         elif np.isfinite(d["growth"]) and d["growth"] > 0:
             lines.append("**Unstable band** extends beyond the plotted kH range")
         else:

@@ -43,7 +43,7 @@ import param
 
 import model
 
-from .params import SpectrumParams, controls_column, csv_download, csv_table
+from .params import SpectrumParams, controls_column, csv_download, csv_table, fmt
 
 hv.extension("bokeh", logo=False)
 
@@ -254,10 +254,6 @@ def neutral_curve(plane: str, x: np.ndarray, y: np.ndarray, growth: np.ndarray) 
         return []
     gen = contourpy.contour_generator(ax.scale(x), ay.scale(y), np.ma.masked_invalid(z), line_type="Separate")
     return [np.column_stack([ax.unscale(s[:, 0]), ay.unscale(s[:, 1])]) for s in gen.lines(0.0) if len(s) > 1]
-
-
-def _fmt(v: float) -> str:
-    return "—" if not np.isfinite(v) else f"{v:.4g}"
 
 
 def _round_sig(v: float, digits: int = 3) -> float:
@@ -497,7 +493,7 @@ class StabilityMapScene(param.Parameterized):
             v = self.params.eta if a.name == "eta" else float(getattr(self.params, a.name))
             shown = min(max(v, a.lo), a.hi)
             if shown != v:
-                notes.append(f"{a.label} = {_fmt(v) if np.isfinite(v) else '∞'} drawn at {_fmt(shown)}")
+                notes.append(f"{a.label} = {fmt(v) if np.isfinite(v) else '∞'} drawn at {fmt(shown)}")
             out.append(shown)
         return out[0], out[1], notes
 
@@ -554,12 +550,12 @@ class StabilityMapScene(param.Parameterized):
     def fig4c_readout(self) -> str:
         p = self.params
         if self.fig4c_applies():
-            text = (f"**Current** χ = γ f = {_fmt(p.gamma * p.f)} at β = {_fmt(p.beta)} (star; dotted line: β). "
+            text = (f"**Current** χ = γ f = {fmt(p.gamma * p.f)} at β = {fmt(p.beta)} (star; dotted line: β). "
                     "Sliding is unstable on the Rayleigh branch above the exact threshold (circles).")
             if not CHI_RANGE[0] <= p.gamma * p.f <= CHI_RANGE[1]:
                 text += f" The star is drawn at the edge of the plotted range {CHI_RANGE}."
             return text
-        return (f"**Current** β = {_fmt(p.beta)} (dotted line). Fig. 4c is for η = ∞ and Δ = 1; at the current "
+        return (f"**Current** β = {fmt(p.beta)} (dotted line). Fig. 4c is for η = ∞ and Δ = 1; at the current "
                 "η and Δ the threshold differs, so χ = γ f is not drawn.")
 
     # ----------------------------------------------------------------------------------------
@@ -571,7 +567,7 @@ class StabilityMapScene(param.Parameterized):
     def readout(self) -> str:
         plane, n, fixed = self.map_key
         ax, ay = PLANES[plane]
-        others = ", ".join(f"{SYMBOLS[k]} = {'∞' if np.isinf(v) else _fmt(v)}" for k, v in fixed)
+        others = ", ".join(f"{SYMBOLS[k]} = {'∞' if np.isinf(v) else fmt(v)}" for k, v in fixed)
         lines = [f"**Plane** {plane}: x = {ax.label}, y = {ay.label}; {others}",
                  f"**Grid** {n} × {n} points, max over {KH.size} kH from {KH[0]:g} to {KH[-1]:g}"]
         res = self.result
@@ -589,7 +585,7 @@ class StabilityMapScene(param.Parameterized):
             frac = unstable / finite.sum() if finite.any() else float("nan")
             largest = float(np.max(g[finite])) if finite.any() else float("nan")
             lines.append(f"**Unstable** {100 * frac:.1f} % of the {int(finite.sum())} computed points "
-                         f"(max Im[c/c_s] > {MARGINAL:g}); largest growth {_fmt(largest)}")
+                         f"(max Im[c/c_s] > {MARGINAL:g}); largest growth {fmt(largest)}")
             if marginal:
                 lines.append(f"**Marginal** {marginal} point(s) with |max Im| ≤ {MARGINAL:g}, drawn neutral")
             lines.append(f"**Masked** {n_nan} point(s) (grey): the Rayleigh branch could not be followed at any kH"

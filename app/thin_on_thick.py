@@ -20,7 +20,7 @@ from bokeh.models import CustomJSTickFormatter
 
 import model
 
-from .params import PALETTE, bind_two_way, controls_column, csv_download, csv_table
+from .params import PALETTE, bind_two_way, controls_column, csv_download, csv_table, fmt
 
 hv.extension("bokeh", logo=False)
 
@@ -162,10 +162,6 @@ class ThinOnThickParams(param.Parameterized):
         return w
 
 
-def _fmt(x: float, digits: int = 6) -> str:
-    return "—" if not np.isfinite(x) else f"{x:.{digits}g}"
-
-
 class ThinOnThickScene(param.Parameterized):
     """Widgets, plots (Fig. 3a-c) and readout for one :class:`ThinOnThickParams`."""
 
@@ -244,7 +240,7 @@ class ThinOnThickScene(param.Parameterized):
         curve = hv.Curve((d["z"], d["gy"]), Z_LABEL, GY_LABEL, label="current kW").opts(
             color="#1f4e79", line_width=2)
         return hv.Overlay([zero, c_r, *fam, curve]).opts(
-            hv.opts.Overlay(responsive=True, height=300, title=f"(b) G_y at kW = {_fmt(pt['kW'], 4)}",
+            hv.opts.Overlay(responsive=True, height=300, title=f"(b) G_y at kW = {fmt(pt['kW'], 4)}",
                             show_legend=bool(fam), legend_position="bottom_left", framewise=True,
                             xlabel=Z_LABEL, ylabel=GY_LABEL))
 
@@ -262,13 +258,13 @@ class ThinOnThickScene(param.Parameterized):
         pt = self.point()
         d = compute_stress_line(*self.stress_key)
         lines = [
-            f"**kW** = {_fmt(pt['kW'], 4)}, **ν** = {_fmt(pt['nu'], 4)}",
-            f"**μ_eff/μ** = {_fmt(pt['mu_ratio'], 10)}",
+            f"**kW** = {fmt(pt['kW'], 4)}, **ν** = {fmt(pt['nu'], 4)}",
+            f"**μ_eff/μ** = {fmt(pt['mu_ratio'], 10)}",
             f"**μ_eff/μ − 1** = {pt['excess']:.6e}" if np.isfinite(pt["excess"]) else "**μ_eff/μ − 1** = —",
-            f"**ν_eff** = {_fmt(pt['nu_eff'], 6)}",
-            f"**c_R/c_s** (thin block, plane stress) = {_fmt(pt['z_R'], 6)}, c_R = {_fmt(d['c'], 5)} m/s",
-            f"**G_y(c_R)** = {_fmt(pt['gy_R'], 6)}",
-            f"**dΔσ_yy/σ₀/dv** = {_fmt(d['slope'], 5)} s/m (μ = ρc_s² = {_fmt(d['mu'] / 1e9, 4)} GPa)",
+            f"**ν_eff** = {fmt(pt['nu_eff'], 6)}",
+            f"**c_R/c_s** (thin block, plane stress) = {fmt(pt['z_R'], 6)}, c_R = {fmt(d['c'], 5)} m/s",
+            f"**G_y(c_R)** = {fmt(pt['gy_R'], 6)}",
+            f"**dΔσ_yy/σ₀/dv** = {fmt(d['slope'], 5)} s/m (μ = ρc_s² = {fmt(d['mu'] / 1e9, 4)} GPa)",
         ]
         if not (np.all(np.isfinite(d["ds"])) and np.isfinite(pt["gy_R"])):
             lines.append("**Warning** the model returned non-finite values at c = c_R")

@@ -150,6 +150,29 @@ def browser_page(_browser):
         pytest.fail("browser console errors:\n" + "\n".join(errors), pytrace=False)
 
 
+def open_app(page, url: str, tab: str | None = None) -> None:
+    """Load the served app in `page`, wait until Bokeh has rendered and is idle, then show `tab`."""
+    page.goto(url, wait_until="load")
+    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    if tab is not None:
+        page.locator(".bk-tab", has_text=tab).first.click()
+
+
+@pytest.fixture
+def fresh_caches() -> Iterator[None]:
+    """Empty the app's pn.cache stores and every scene's model-call counter (``CALLS``) around a test."""
+    import panel as pn
+
+    from app import all_branches, spectrum, stability_map, thin_on_thick
+
+    pn.state.clear_caches()
+    for scene in (all_branches, spectrum, stability_map, thin_on_thick):
+        scene.CALLS.clear()
+    yield
+    pn.state.clear_caches()
+
+
 _SET_SLIDER_JS = """([title, value]) => {
   for (const m of Bokeh.documents[0].all_models) {
     if (m.title === title && m.start !== undefined && m.end !== undefined) {

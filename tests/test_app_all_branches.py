@@ -19,18 +19,13 @@ import model
 from app import all_branches as ab
 from app.all_branches import CALLS, KH_COUNT, KH_FINE, AllBranchesScene
 from app.params import SpectrumParams
-from tests.conftest import set_slider
+from tests.conftest import open_app, set_slider
 
 PAPER = dict(gamma=3.0, f=0.9, beta=0.3)  # the defaults of SpectrumParams (eta = inf, Delta = 1)
 WINDOW = dict(re_max=5.0, im_min=1e-4, im_max=2.0)  # the scene's default window (the model's defaults)
 
 
-@pytest.fixture(autouse=True)
-def _fresh_cache():
-    pn.state.clear_caches()
-    CALLS.clear()
-    yield
-    pn.state.clear_caches()
+pytestmark = pytest.mark.usefixtures("fresh_caches")
 
 
 def _scene(kH: float = 0.45, **p) -> AllBranchesScene:
@@ -439,9 +434,7 @@ _SOURCE_JS = """(key) => {
 @pytest.mark.ui
 def test_all_branches_tab_shows_the_model_roots(served_app: str, browser_page) -> None:
     page = browser_page
-    page.goto(served_app, wait_until="load")
-    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
-    page.locator(".bk-tab", has_text="All branches").first.click()
+    open_app(page, served_app, "All branches")
     page.wait_for_function(f"() => ({_SOURCE_JS})('residual') !== null", timeout=60_000)
     z = model.unstable_modes(0.45, **PAPER)
     got = page.evaluate(_SOURCE_JS, "residual")

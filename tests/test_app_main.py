@@ -18,7 +18,7 @@ from app import thin_on_thick as tt
 from app.main import create_app
 from app.presets import load_presets
 from app.urlstate import QUERY, TABS, parse_query, query_string
-from tests.conftest import set_slider
+from tests.conftest import open_app, set_slider
 
 #: the bad queries of issue 5, and what must come out of each (unknown/invalid values keep defaults)
 BAD_QUERIES = {
@@ -220,12 +220,10 @@ def test_bad_urls_leave_no_error_in_the_server_log(served_app: str) -> None:
 @pytest.mark.ui
 def test_bad_url_shows_message_and_the_app_keeps_working(served_app: str, browser_page) -> None:
     page = browser_page
-    page.goto(served_app + "?gamma=nan&xi=%3Cscript%3Ealert(1)%3C/script%3E&f=-1", wait_until="load")
-    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
+    open_app(page, served_app + "?gamma=nan&xi=%3Cscript%3Ealert(1)%3C/script%3E&f=-1")
     page.get_by_text("not used as given").first.wait_for(state="visible", timeout=30_000)
     page.get_by_text("is not a finite number").first.wait_for(state="visible", timeout=30_000)
     page.get_by_text("f = -1 is outside").first.wait_for(state="visible", timeout=30_000)
-    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
     assert set_slider(page, "γ", 4.0)
     page.wait_for_function("() => window.location.search.includes('gamma=4')", timeout=30_000)
     query = urllib.parse.parse_qs(page.evaluate("() => window.location.search")[1:])
@@ -235,9 +233,7 @@ def test_bad_url_shows_message_and_the_app_keeps_working(served_app: str, browse
 @pytest.mark.ui
 def test_preset_button_draws_the_family(served_app: str, browser_page) -> None:
     page = browser_page
-    page.goto(served_app, wait_until="load")
-    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
-    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    open_app(page, served_app)
     page.locator("button", has_text="Fig. 5a").first.click(timeout=60_000)
     page.get_by_text("several η").first.wait_for(state="visible", timeout=30_000)
     page.wait_for_function("() => window.location.search.includes('eta=inf')", timeout=30_000)

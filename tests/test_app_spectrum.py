@@ -15,15 +15,9 @@ import model
 from app import spectrum as sp
 from app.params import SpectrumParams
 from app.spectrum import CALLS, KH, SpectrumScene
-from tests.conftest import set_slider
+from tests.conftest import open_app, set_slider
 
-
-@pytest.fixture(autouse=True)
-def _fresh_cache():
-    pn.state.clear_caches()
-    CALLS.clear()
-    yield
-    pn.state.clear_caches()
+pytestmark = pytest.mark.usefixtures("fresh_caches")
 
 
 def _render_all(scene: SpectrumScene) -> None:
@@ -208,9 +202,7 @@ _IM_SOURCE_JS = """() => {
 @pytest.mark.ui
 def test_gamma_slider_updates_the_im_curve(served_app: str, browser_page) -> None:
     page = browser_page
-    page.goto(served_app, wait_until="load")
-    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
-    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    open_app(page, served_app)
     page.wait_for_function(_IM_SOURCE_JS, timeout=30_000)
     before = page.evaluate(_IM_SOURCE_JS)
     expected = model.spectrum(KH, gamma=3.0, f=0.9, beta=0.3).imag

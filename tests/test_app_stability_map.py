@@ -10,23 +10,18 @@ import threading
 
 import holoviews as hv
 import numpy as np
-import panel as pn
 import pytest
 
 import model
 from app import stability_map as sm
 from app.params import SpectrumParams
 from app.stability_map import CALLS, KH, PLANES, StabilityMapScene
+from tests.conftest import open_app
 
 DEFAULT_RESOLUTION = StabilityMapScene.param.resolution.default
 
 
-@pytest.fixture(autouse=True)
-def _fresh_cache():
-    pn.state.clear_caches()
-    CALLS.clear()
-    yield
-    pn.state.clear_caches()
+pytestmark = pytest.mark.usefixtures("fresh_caches")
 
 
 @pytest.fixture
@@ -416,9 +411,7 @@ _PROGRESS_JS = """(n) => {
 @pytest.mark.ui
 def test_served_map_shows_the_model_values(served_app: str, browser_page) -> None:
     page = browser_page
-    page.goto(served_app, wait_until="load")
-    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
-    page.locator(".bk-tab", has_text="Stability map").first.click()
+    open_app(page, served_app, "Stability map")
     page.wait_for_function(_MAP_JS, timeout=60_000)
     d = page.evaluate(_MAP_JS)
     n = sm.RESOLUTIONS[DEFAULT_RESOLUTION]

@@ -14,15 +14,9 @@ import pytest
 import model
 from app import thin_on_thick as tt
 from app.thin_on_thick import CALLS, KW, ThinOnThickParams, ThinOnThickScene
-from tests.conftest import set_slider
+from tests.conftest import open_app, set_slider
 
-
-@pytest.fixture(autouse=True)
-def _fresh_cache():
-    pn.state.clear_caches()
-    CALLS.clear()
-    yield
-    pn.state.clear_caches()
+pytestmark = pytest.mark.usefixtures("fresh_caches")
 
 
 def _render_all(scene: ThinOnThickScene) -> None:
@@ -242,10 +236,7 @@ _GY_SOURCE_JS = """() => {
 @pytest.mark.ui
 def test_kW_slider_updates_the_gy_curve(served_app: str, browser_page) -> None:
     page = browser_page
-    page.goto(served_app, wait_until="load")
-    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
-    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
-    page.locator(".bk-tab", has_text="Thin-on-thick").first.click()
+    open_app(page, served_app, "Thin-on-thick")
     page.wait_for_function(_GY_SOURCE_JS, timeout=30_000)
     before = np.array(page.evaluate(_GY_SOURCE_JS), dtype=float)
     z = np.linspace(1e-3, 0.999 * min(1.0, math.sqrt(float(model.effective_moduli(5.0, 0.33)[0]))), tt.N_Z)
