@@ -30,8 +30,6 @@ import model
 from .params import LABELS as PHYSICAL_LABELS
 from .params import SpectrumParams, bind_two_way, csv_download, fmt
 
-hv.extension("bokeh", logo=False)
-
 # --------------------------------------------------------------------------------------------
 # grids, window limits, labels
 # --------------------------------------------------------------------------------------------

@@ -11,7 +11,7 @@ from pathlib import Path
 import panel as pn
 
 from app.all_branches import AllBranchesScene
-from app.params import SpectrumParams
+from app.params import SpectrumParams, frozen_document
 from app.presets import Preset, load_presets, preset_args
 from app.spectrum import SpectrumScene
 from app.stability_map import StabilityMapScene
@@ -102,6 +102,10 @@ class App:
 
     def apply_preset(self, preset: Preset) -> None:
         """Reset to the defaults, set the preset's values and family of curves, and show its tab."""
+        with frozen_document():  # one model-graph recompute for all the plots refreshed
+            self._apply_preset(preset)
+
+    def _apply_preset(self, preset: Preset) -> None:
         updates, _, messages = parse_query(preset_args(preset))
         defaults = {name: p.default for name, p in self.spectrum_params.param.objects().items() if name != "name"}
         self.spectrum_params.param.update(**{**defaults, **updates["spectrum"]})  # one change event
@@ -119,8 +123,9 @@ class App:
         self.write_url()  # also when the preset's values equal the current ones
 
     def clear_families(self, *_events) -> None:
-        self.spectrum.param.update(compare_key="", compare_values=[])
-        self.thin.compare_kW = []
+        with frozen_document():
+            self.spectrum.param.update(compare_key="", compare_values=[])
+            self.thin.compare_kW = []
         self.preset_info.object = ""
 
     def preset_bar(self) -> pn.Row:

@@ -5,14 +5,22 @@ Data flow: widget (throttled) -> :class:`SpectrumParams` parameter -> cached mod
 
 from __future__ import annotations
 
+import contextlib
 import io
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 
+import holoviews as hv
 import numpy as np
 import panel as pn
 import param
 from bokeh.models import CustomJSTickFormatter
+
+hv.extension("bokeh", logo=False)
+# Canvas, not WebGL: the plots hold at most a few thousand points, and copying the WebGL layer onto
+# the canvas (blit_webgl -> drawImage) took ~58 ms of every ~100 ms browser update in Chromium's
+# profile (benchmarks/latency.py; software GL without a GPU). Image-based plots are unaffected.
+hv.renderer("bokeh").webgl = False
 
 #: the widget labels, in display order (the paper's symbols)
 LABELS = {
@@ -51,11 +59,35 @@ def csv_download(callback: Callable[[], io.StringIO], filename: str, label: str)
                                    width=200)
 
 
+@contextlib.contextmanager
+def frozen_document() -> Iterator[None]:
+    """Defer the Bokeh model-graph recompute to the end of a parameter change.
+
+    HoloViews recomputes the set of all models of the document after each plot it refreshes (a walk
+    over the whole page, ~25 ms here); one change refreshes up to four plots. Inside this context
+    there is one recompute in all. Events are still sent as they happen (unlike ``pn.io.hold``), so
+    the first plot is not delayed by the others. Slider-to-painted-plot median 144 -> 110 ms
+    (benchmarks/latency.py). A no-op outside a Bokeh document (tests, scripts).
+    """
+    doc = pn.state.curdoc
+    if doc is None:
+        yield
+        return
+    with doc.models.freeze():
+        yield
+
+
+def set_frozen(obj: param.Parameterized, name: str, value: object) -> None:
+    """``setattr(obj, name, value)`` with the document frozen (:func:`frozen_document`)."""
+    with frozen_document():
+        setattr(obj, name, value)
+
+
 def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]) -> None:
     """Widget -> parameter (sliders on release, `value_throttled`; other widgets on `value`) and back."""
     for name, widget in widgets.items():
         event = "value_throttled" if isinstance(widget, pn.widgets.FloatSlider) else "value"
-        widget.param.watch(lambda e, n=name: setattr(obj, n, e.new), event)
+        widget.param.watch(lambda e, n=name: set_frozen(obj, n, e.new), event)
 
     def to_widget(*events: param.parameterized.Event) -> None:
         for event in events:

@@ -20,8 +20,6 @@ import model
 
 from .params import PALETTE, SpectrumParams, controls_column, csv_download, csv_table, fmt
 
-hv.extension("bokeh", logo=False)
-
 #: kH grid of the plots
 KH = np.logspace(-3, 3, 400)
 

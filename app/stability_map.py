@@ -43,9 +43,7 @@ import param
 
 import model
 
-from .params import SpectrumParams, controls_column, csv_download, csv_table, fmt
-
-hv.extension("bokeh", logo=False)
+from .params import SpectrumParams, controls_column, csv_download, csv_table, fmt, frozen_document
 
 log = logging.getLogger(__name__)
 
@@ -385,7 +383,8 @@ class StabilityMapScene(param.Parameterized):
         if job.error:
             self.status = job.error
         else:
-            self.param.update(result=job.result, status="done")
+            with frozen_document():
+                self.param.update(result=job.result, status="done")
             ax, ay = PLANES[job.key[0]]
             self.map_download.param.update(disabled=not self._current(),
                                            filename=f"stability_map_{ax.name}_{ay.name}.csv")
@@ -518,7 +517,8 @@ class StabilityMapScene(param.Parameterized):
                 lo, hi = self.params.param[a.name].bounds
                 r = _round_sig(v) if a.log else round(round(v / a.step) * a.step, 6)
                 updates[a.name] = float(min(max(r, lo), hi))
-        self.params.param.update(**updates)
+        with frozen_document():
+            self.params.param.update(**updates)
 
     # ----------------------------------------------------------------------------------------
     # Fig. 4c

@@ -22,8 +22,6 @@ import model
 
 from .params import PALETTE, bind_two_way, controls_column, csv_download, csv_table, fmt
 
-hv.extension("bokeh", logo=False)
-
 #: the widget labels, in display order (the paper's symbols)
 LABELS = {
     "log10_kW": "kW",

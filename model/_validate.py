@@ -93,3 +93,30 @@ def check_rtol(rtol) -> float:
     if not (lo <= v <= hi):
         raise ValueError(f"{text}; got {rtol!r}")
     return v
+
+
+def check_range(name: str, value, domain: str) -> tuple[float, float]:
+    """A search interval `(lo, hi)` for the parameter `domain`, e.g. ``gamma_range`` for gamma.
+
+    Must be two finite real numbers with lo < hi, both inside the parameter's domain (thresholds are
+    searched in log space, so both must be positive). ValueError naming `name` otherwise.
+    """
+    text = DOMAINS[domain][5]
+    msg = f"{name} must be a pair (lo, hi) of finite numbers with lo < hi, both in {domain}'s range {text}"
+    if isinstance(value, str | bytes) or not hasattr(value, "__len__"):
+        raise ValueError(f"{msg}; got {value!r}")
+    try:
+        pair = np.asarray(value)
+        ok = pair.shape == (2,) and pair.dtype.kind in "iuf"
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{msg}; got {value!r}")
+    lo, hi = float(pair[0]), float(pair[1])
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        raise ValueError(f"{msg}; got {value!r}")
+    try:
+        check(domain, np.array([lo, hi]))
+    except ValueError:
+        raise ValueError(f"{msg}; got {value!r}") from None
+    return lo, hi

@@ -11,7 +11,7 @@ import numpy as np
 from scipy import optimize
 
 from . import _kernels as K
-from ._validate import check, check_rtol
+from ._validate import check, check_range, check_rtol
 from .elastodynamics import response_functions
 from .rayleigh import rayleigh_speed
 
@@ -108,20 +108,41 @@ def unstable_band(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, rtol: 
     return r.kH_min, r.kH_max
 
 
+class _Undefined(Exception):
+    """Max growth is NaN (Rayleigh branch masked on the whole kH grid) at a trial parameter value."""
+
+    def __init__(self, x: float) -> None:
+        super().__init__(x)
+        self.x = x
+
+
 def _threshold(fun, lo: float, hi: float, name: str, valid: str) -> float:
     """Zero crossing of fun (max growth) on [lo, hi] in log space, to ~1e-12 relative.
 
     A coarse log-spaced scan (17 values) brackets the first crossing from the stable (negative) side
     among finite values (NaN = branch masked on the whole kH grid), then Brent's method refines it.
-    ValueError when no crossing exists in the range.
+    ValueError naming the parameter when no crossing exists in the range, or when the max growth is
+    undefined (NaN) at a value Brent's method tries inside the bracket: no silent jump elsewhere.
     """
     ts = np.linspace(math.log(lo), math.log(hi), 17)
     vals = np.array([fun(math.exp(t)) for t in ts])
+
+    def g(t: float) -> float:
+        v = fun(math.exp(t))
+        if not math.isfinite(v):
+            raise _Undefined(math.exp(t))
+        return v
+
     for i in range(ts.size - 1):
         a, b = vals[i], vals[i + 1]
         if np.isfinite(a) and np.isfinite(b) and (a < 0) != (b < 0):
-            x = optimize.brentq(lambda t: fun(math.exp(t)), ts[i], ts[i + 1], xtol=1e-14,
-                                rtol=4 * np.finfo(float).eps, maxiter=200)
+            try:
+                x = optimize.brentq(g, ts[i], ts[i + 1], xtol=1e-14, rtol=4 * np.finfo(float).eps, maxiter=200)
+            except _Undefined as e:
+                raise ValueError(
+                    f"no stability threshold for {name} located in {valid}: max growth changes sign between "
+                    f"{name} = {math.exp(ts[i]):.6g} and {math.exp(ts[i + 1]):.6g} but is undefined (Rayleigh "
+                    f"branch masked on the whole kH grid) at {name} = {e.x:.6g} in between") from None
             return math.exp(x)
     finite = vals[np.isfinite(vals)]
     span = f"between {finite.min():.3g} and {finite.max():.3g}" if finite.size else "undefined (branch masked)"
@@ -141,6 +162,7 @@ def _param_threshold(kH: np.ndarray, base: dict, name: str, bounds: tuple[float,
 def _thresholds(name: str, bounds: tuple[float, float], kH, fixed: dict):
     """Threshold of `name` for every element of the broadcast fixed parameters (validated by name)."""
     q = DEFAULT_KH if kH is None else kH
+    bounds = check_range(f"{name}_range", bounds, name)
     names = list(fixed)
     arrays = np.broadcast_arrays(*(check(k, v) for k, v in fixed.items()))
     out = np.empty(arrays[0].shape)

@@ -16,7 +16,8 @@ unstable modes), 5 s otherwise. As in pyproject's pytest settings, a RuntimeWarn
   exhaustively, then random bad floats drawn by hypothesis). An empty array of parameters may also
   give an empty result.
 
-Failures found are pinned as strict xfails with the reason (the model is not changed here).
+Failures found are pinned as strict xfails with the reason until the model is fixed (none pinned now:
+the threshold NaN leak and the unvalidated gamma_range/eta_range found here were fixed in model/).
 
 Examples are derandomized so that CI sees the examples seen here; ``ROBUSTNESS_EXAMPLES=500`` runs
 more of them.
@@ -213,8 +214,8 @@ def assert_rejects(out: Outcome, name: str) -> None:
     assert name in out.message, f"{out.call}: the ValueError does not name {name!r}: {out.message}"
 
 
-#: message of scipy's brentq when the max growth is NaN inside its bracket: a known failure of the
-#: thresholds, pinned by test_thresholds_never_leak_scipy_nan_errors (xfail), not reported again elsewhere
+#: message of scipy's brentq when the max growth is NaN inside its bracket (a message that names no
+#: parameter); the thresholds must raise their own 'no stability threshold for <name>' instead
 BRENTQ_NAN = "solver cannot continue"
 
 
@@ -222,8 +223,6 @@ def assert_no_threshold_or_value(out: Outcome, name: str, lo: float, hi: float) 
     """A threshold: a finite value in [lo, hi], or the documented ValueError 'no stability threshold for name'."""
     if out.kind == "raise" and out.exc_type == "ValueError" and f"no stability threshold for {name}" in out.message:
         return
-    if out.kind == "raise" and out.exc_type == "ValueError" and BRENTQ_NAN in out.message:
-        return  # known, see test_thresholds_never_leak_scipy_nan_errors
     assert_finite_or_nan(out)
     v = float(out.value)
     assert math.isfinite(v) and lo * (1 - 1e-9) <= v <= hi * (1 + 1e-9), f"{out.call} returned {v!r}"
@@ -332,18 +331,14 @@ def corner_outcomes(worker: Worker) -> list[Outcome]:
 
 def test_thresholds_at_the_corners(corner_outcomes: list[Outcome]) -> None:
     """No hang and a threshold or the documented 'no stability threshold' ValueError at every corner
-    (except the known brentq failure, pinned below)."""
+    (the 'NaN inside the bracket' case included: it must name the parameter, see below)."""
     for (fn, _), out in zip(_corner_calls(), corner_outcomes, strict=True):
         name = fn.removeprefix("critical_")
         assert_no_threshold_or_value(out, name, *((1e-2, 1e3) if name == "gamma" else (1.0, 1e8)))
 
 
-@pytest.mark.xfail(strict=True, reason="where the max growth is NaN (Rayleigh branch masked on the whole kH grid) "
-                   "inside the bracket found by the coarse scan, scipy's brentq raises 'ValueError: The function value "
-                   "at x=... is NaN; solver cannot continue', a message that names no parameter (model/stability.py, "
-                   "_threshold); e.g. model.critical_gamma(f=2.0, beta=1/sqrt(2), eta=10**0.5) and "
-                   "model.critical_eta(gamma=0.01, f=2.0, beta=0.01)")
 def test_thresholds_never_leak_scipy_nan_errors(corner_outcomes: list[Outcome]) -> None:
+    """Where the max growth is NaN inside the bracket, the thresholds raise their own ValueError."""
     leaked = [out.call for out in corner_outcomes if out.kind == "raise" and BRENTQ_NAN in out.message]
     assert leaked == [], f"{len(leaked)} of {len(corner_outcomes)} corner calls: " + "; ".join(leaked)
 
@@ -441,15 +436,8 @@ def _bad_values(fn: str, name: str) -> list[Any]:
 
 
 #: (function, parameter) -> reason, for bad values the model does not reject with a ValueError naming
-#: the parameter (every value listed for that parameter fails; strict xfail, so a fix shows up as XPASS)
-_RANGE = ("{name} is not validated: (0, 10), (-1, 10) and (-5, -1) raise 'ValueError: math domain error' "
-          "(math.log in _threshold), (nan, 10) and (1, {inf}) raise '{var} must be in ...; got NaN', (1,) raises "
-          "IndexError, a string raises 'ValueError: Unknown format code', None raises TypeError "
-          "(model/stability.py, _thresholds / _threshold)")
-KNOWN: dict[tuple[str, str], str] = {
-    ("critical_gamma", "gamma_range"): _RANGE.format(name="gamma_range", inf="inf", var="gamma"),
-    ("critical_eta", "eta_range"): _RANGE.format(name="eta_range", inf="nan", var="eta"),
-}
+#: the parameter (strict xfail, so a fix shows up as XPASS); empty: every bad value is rejected
+KNOWN: dict[tuple[str, str], str] = {}
 
 
 def _known(fn: str, name: str) -> list[pytest.MarkDecorator]:
