@@ -13,10 +13,17 @@ import panel as pn
 from app.all_branches import AllBranchesScene
 from app.params import SpectrumParams, frozen_document
 from app.presets import Preset, load_presets, preset_args
+from app.server_gc import configure_gc, track_session
 from app.spectrum import SpectrumScene
 from app.stability_map import StabilityMapScene
 from app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
 from app.urlstate import TABS, Updates, parse_query, query_string
+
+#: tabs whose scene is built when first shown (see App.__init__)
+LAZY_TABS = ("thin", "branches")
+
+#: the tab titles, in the order of urlstate.TABS
+TAB_TITLES = ("Spectrum", "Stability map", "Thin-on-thick", "All branches")
 
 TITLE = "asymslide — frictional sliding without reflection symmetry"
 
@@ -67,15 +74,22 @@ class App:
         self.map = StabilityMapScene(params=self.spectrum_params)
         self.thin = ThinOnThickScene(params=self.thin_params)
         self.branches = AllBranchesScene(params=self.spectrum_params)
+        # the Thin-on-thick and All-branches scenes are built when their tab is first shown: a new session
+        # pays only for what it opens on (~35 ms less per session), and parameter changes update only the
+        # widgets that exist. The Stability map is built now: built later, Panel gave some of its
+        # components theme stylesheets with CDN URLs (which fail offline; tests/test_app_stability_map.py)
+        self._scenes = {"spectrum": self.spectrum, "map": self.map, "thin": self.thin, "branches": self.branches}
+        self._tab_content = {key: pn.Column(sizing_mode="stretch_width") for key in TABS}
         self.tabs = pn.Tabs(
-            ("Spectrum", self.spectrum.panel()),
-            ("Stability map", self.map.panel()),
-            ("Thin-on-thick", self.thin.panel()),
-            ("All branches", self.branches.panel()),
+            *((title, self._tab_content[key]) for title, key in zip(TAB_TITLES, TABS, strict=True)),
             active=TABS.index(tab) if tab else 0,
             dynamic=True,  # only the visible scene is rendered (and computes)
             sizing_mode="stretch_width",
         )
+        for index, key in enumerate(TABS):
+            if key not in LAZY_TABS or index == self.tabs.active:
+                self._build_tab(index)
+        self.tabs.param.watch(lambda e: self._build_tab(e.new), "active")
         self.presets = load_presets()
         self.show_messages(messages, "Some values in the URL were not used as given")
         self.spectrum_params.param.watch(self.write_url, list(self.spectrum_params.param))
@@ -85,6 +99,12 @@ class App:
         branches_tab = TABS.index("branches")
         self.branches.active = self.tabs.active == branches_tab
         self.tabs.param.watch(lambda e: setattr(self.branches, "active", e.new == branches_tab), "active")
+
+    def _build_tab(self, index: int) -> None:
+        """Fill the tab `index` with its scene's panel the first time it is shown."""
+        content = self._tab_content[TABS[index]]
+        if not content.objects:
+            content.objects = [self._scenes[TABS[index]].panel()]
 
     def _apply(self, updates: Updates) -> None:
         self.spectrum_params.param.update(**updates["spectrum"])
@@ -161,4 +181,6 @@ def create_app(args: dict[str, list[bytes]] | None = None) -> pn.template.Bootst
 
 
 if __name__.startswith("bokeh"):
+    configure_gc()
+    track_session()
     create_app().servable()

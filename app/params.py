@@ -14,7 +14,7 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 import param
-from bokeh.models import CustomJSTickFormatter
+from bokeh.models import CustomJSTickFormatter, Span
 
 hv.extension("bokeh", logo=False)
 # Canvas, not WebGL: the plots hold at most a few thousand points, and copying the WebGL layer onto
@@ -41,6 +41,21 @@ PALETTE = ("#E69F00", "#56B4E9", "#009E73", "#CC79A7", "#D55E00", "#0072B2", "#9
 def fmt(x: float, digits: int = 4) -> str:
     """A number for a readout, or an em dash where the model returned NaN/inf."""
     return "—" if not np.isfinite(x) else f"{x:.{digits}g}"
+
+
+#: name of the Bokeh Span drawn by :func:`zero_line_hook`
+ZERO_LINE = "zero line"
+
+
+def zero_line_hook(plot, _element) -> None:
+    """HoloViews plot hook: a black horizontal line at y = 0, added once to the Bokeh figure.
+
+    A Bokeh ``Span`` instead of an ``hv.HLine`` element: it takes no part in HoloViews' per-update work
+    (one subplot less to refresh, ~4 ms per plot and update) and never needs re-sending.
+    """
+    fig = plot.state
+    if not any(getattr(r, "name", None) == ZERO_LINE for r in fig.center):
+        fig.add_layout(Span(location=0, dimension="width", line_color="black", line_width=1, name=ZERO_LINE))
 
 
 def csv_table(header: str, columns: Mapping[str, np.ndarray]) -> io.StringIO:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import collections
 import io
 import math
+from functools import partial
 
 import holoviews as hv
 import numpy as np
@@ -18,10 +19,13 @@ import param
 
 import model
 
-from .params import PALETTE, SpectrumParams, controls_column, csv_download, csv_table, fmt
+from .params import PALETTE, SpectrumParams, controls_column, csv_download, csv_table, fmt, zero_line_hook
 
 #: kH grid of the plots
 KH = np.logspace(-3, 3, 400)
+
+#: heights (px) of the growth-rate, phase-velocity and G_y plots
+PLOT_HEIGHTS = (340, 300, 260)
 
 #: number of model calls made (keys: model function names and "compute_spectrum"), for tests
 CALLS: collections.Counter[str] = collections.Counter()
@@ -96,6 +100,7 @@ class SpectrumScene(param.Parameterized):
             kwargs["params"] = SpectrumParams()
         super().__init__(**kwargs)
         self.inputs = self.params.model_args()
+        self._gy_curve: tuple[tuple[float, float], hv.Curve] | None = None
         self.params.param.watch(self._update_inputs, list(self.params.param))
         self.im_dmap = hv.DynamicMap(self.im_plot)
         self.re_dmap = hv.DynamicMap(self.re_plot)
@@ -125,13 +130,13 @@ class SpectrumScene(param.Parameterized):
         kH, z = d["kH"], d["z"]
         band = [(d["kH_min"], d["kH_max"])] if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]) else []
         span = hv.VSpans(band, label="unstable band").opts(color="#f4a582", alpha=0.35)
-        zero = hv.HLine(0.0).opts(color="black", line_width=1)
         curve = hv.Curve((kH, z.imag), "kH", IM_LABEL, label="Rayleigh branch").opts(color="#1f4e79", line_width=2)
         linear = hv.Curve((kH, d["linear"].imag), "kH", IM_LABEL, label="linear expansion").opts(
             color="#b2182b", line_dash="dashed", line_width=1.5)
-        return hv.Overlay([span, zero, *self.family("imag", IM_LABEL), curve, linear]).opts(
-            hv.opts.Overlay(logx=True, responsive=True, height=340, title="Growth rate", legend_position="top_right",
-                            framewise=True, xlabel="kH", ylabel=IM_LABEL))
+        return hv.Overlay([span, *self.family("imag", IM_LABEL), curve, linear]).opts(
+            hv.opts.Overlay(logx=True, responsive=True, height=PLOT_HEIGHTS[0], title="Growth rate",
+                            legend_position="top_right", framewise=True, xlabel="kH", ylabel=IM_LABEL,
+                            hooks=[zero_line_hook]))
 
     @param.depends("inputs", "compare_key", "compare_values")
     def re_plot(self) -> hv.Overlay:
@@ -141,22 +146,32 @@ class SpectrumScene(param.Parameterized):
         linear = hv.Curve((kH, d["linear"].real), "kH", RE_LABEL, label="linear expansion").opts(
             color="#b2182b", line_dash="dashed", line_width=1.5)
         return hv.Overlay([*self.family("real", RE_LABEL), curve, linear]).opts(
-            hv.opts.Overlay(logx=True, responsive=True, height=300, title="Phase velocity", legend_position="top_right",
-                            framewise=True, xlabel="kH", ylabel=RE_LABEL))
+            hv.opts.Overlay(logx=True, responsive=True, height=PLOT_HEIGHTS[1], title="Phase velocity",
+                            legend_position="top_right", framewise=True, xlabel="kH", ylabel=RE_LABEL))
 
     @param.depends("inputs")
     def gy_plot(self) -> hv.Overlay:
         gamma, f, beta, eta = self.inputs[:4]
-        d = compute_gy_rayleigh(beta, eta)
-        curve = hv.Curve((d["kH"], d["gy"]), "kH", GY_LABEL, label="G_y(c_R, kH)").opts(color="#1f4e79", line_width=2)
-        layers = [hv.HLine(0.0).opts(color="black", line_width=1), curve]
+        layers = [self.gy_curve(beta, eta)]
         if gamma * f > 0:
-            layers.append(hv.HLine(-d["z_R"] / (gamma * f), label="criterion −c_R/(c_s γ f)").opts(
+            z_r = compute_gy_rayleigh(beta, eta)["z_R"]
+            layers.append(hv.HLine(-z_r / (gamma * f), label="criterion −c_R/(c_s γ f)").opts(
                 color="#b2182b", line_dash="dashed", line_width=1.5))
         return hv.Overlay(layers).opts(
-            hv.opts.Overlay(logx=True, responsive=True, height=260, framewise=True, legend_position="bottom_right",
+            hv.opts.Overlay(logx=True, responsive=True, height=PLOT_HEIGHTS[2], framewise=True,
+                            legend_position="bottom_right",
                             title="Slip–normal-stress coupling at c = c_R (unstable approx. where G_y is below the "
-                                  "dashed line)", xlabel="kH", ylabel=GY_LABEL))
+                                  "dashed line)", xlabel="kH", ylabel=GY_LABEL, hooks=[zero_line_hook]))
+
+    def gy_curve(self, beta: float, eta: float) -> hv.Curve:
+        """The G_y(c_R, kH) curve, one element per (β, η): when only γ or f change, HoloViews sees the
+        same element and does not re-send its data."""
+        if self._gy_curve is None or self._gy_curve[0] != (beta, eta):
+            d = compute_gy_rayleigh(beta, eta)
+            curve = hv.Curve((d["kH"], d["gy"]), "kH", GY_LABEL, label="G_y(c_R, kH)").opts(
+                color="#1f4e79", line_width=2)
+            self._gy_curve = ((beta, eta), curve)
+        return self._gy_curve[1]
 
     def csv(self) -> io.StringIO:
         """What the plots show, as CSV (kH, z on the Rayleigh branch, its error and status, linear expansion,
@@ -192,13 +207,35 @@ class SpectrumScene(param.Parameterized):
             lines.append("**Masked** none")
         return "\n\n".join(lines)
 
+    def plot_panes(self) -> list[pn.pane.HoloViews]:
+        """The three live plots (growth rate, phase velocity, G_y criterion), top to bottom."""
+        return [pn.pane.HoloViews(dmap, sizing_mode="stretch_width")
+                for dmap in (self.im_dmap, self.re_dmap, self.gy_dmap)]
+
+    def _load_plots(self, slots: list[pn.Column], index: int = 0) -> None:
+        """Render the plot of slot `index`, then schedule the next one on the server's event loop."""
+        slots[index].objects = [self.plot_panes()[index]]
+        if index + 1 < len(slots):
+            pn.state.execute(partial(self._load_plots, slots, index + 1), schedule=True)
+
     def panel(self) -> pn.viewable.Viewable:
+        """The tab: widgets and readout (left); equation, plots and download (right).
+
+        Served, the plots are rendered after the page has loaded, one per event-loop turn (~50 ms each)
+        instead of all three while the session is created (~170 ms of its ~450 ms): other sessions'
+        updates are served in between. Outside a server session they are rendered at once.
+        """
         controls = controls_column(self.params.make_widgets(), self.readout)
+        slots = [pn.Column(sizing_mode="stretch_width", min_height=h) for h in PLOT_HEIGHTS]
+        doc = pn.state.curdoc
+        if doc is not None and doc.session_context is not None:
+            pn.state.onload(partial(self._load_plots, slots))
+        else:
+            for slot, pane in zip(slots, self.plot_panes(), strict=True):
+                slot.objects = [pane]
         plots = pn.Column(
             pn.pane.LaTeX(EQUATION, renderer="katex", styles={"font-size": "1.15em"}),
-            pn.pane.HoloViews(self.im_dmap, sizing_mode="stretch_width"),
-            pn.pane.HoloViews(self.re_dmap, sizing_mode="stretch_width"),
-            pn.pane.HoloViews(self.gy_dmap, sizing_mode="stretch_width"),
+            *slots,
             csv_download(self.csv, "spectrum.csv", "Download CSV"),
             sizing_mode="stretch_width",
         )

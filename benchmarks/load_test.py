@@ -247,6 +247,7 @@ class Update:
     kH: np.ndarray
     im: np.ndarray
     latency: float
+    at: float = math.nan  # when the release was sent, seconds after the start of its round's window
 
 
 class AppSession:
@@ -279,6 +280,24 @@ class AppSession:
         self._parse_document(reply)
         await self._send_events([{"kind": "MessageSent", "msg_type": "bokeh_event",
                                   "msg_data": {"type": "event", "name": "document_ready", "values": {}}}])
+        # the app renders its plots after the page has loaded (document_ready): wait for the Im curve
+        while not self.cds_id:
+            msg = await self._recv(deadline)
+            if msg.msgtype == "PATCH-DOC":
+                self._find_im_curve(_objects(msg.content, {}), msg.buffers)
+
+    def _find_im_curve(self, objs: dict[str, dict], buffers: list) -> None:
+        """The Im column of the "Rayleigh branch" curve among serialized models (sets cds_id, im, kH)."""
+        for o in objs.values():  # document order: the Spectrum tab first
+            attrs = o.get("attributes", {})
+            if o.get("name") == "GlyphRenderer" and attrs.get("name") == "Rayleigh branch":
+                src = objs.get(attrs["data_source"]["id"], {})
+                im = _column(src.get("attributes", {}).get("data"), "Im", buffers)
+                if im is not None:
+                    self.cds_id = src["id"]
+                    self.im = im
+                    self.kH = _column(src["attributes"]["data"], "kH", buffers)
+                    return
 
     def _parse_document(self, reply: Message[Any]) -> None:
         objs = _objects(reply.content["doc"], {})
@@ -289,19 +308,10 @@ class AppSession:
                 self.params.setdefault(attrs["title"], float(attrs["value"]))
             if o["name"].endswith("Checkbox") and attrs.get("label") == ETA_INFINITE_LABEL:
                 self.params.setdefault(ETA_INFINITE_LABEL, float(bool(attrs.get("active"))))
-        for o in objs.values():  # the Im curve of the "Rayleigh branch" (document order: the Spectrum tab first)
-            attrs = o.get("attributes", {})
-            if o["name"] == "GlyphRenderer" and attrs.get("name") == "Rayleigh branch":
-                src = objs.get(attrs["data_source"]["id"], {})
-                im = _column(src.get("attributes", {}).get("data"), "Im", reply.buffers)
-                if im is not None:
-                    self.cds_id = src["id"]
-                    self.im = im
-                    self.kH = _column(src["attributes"]["data"], "kH", reply.buffers)
-                    break
+        self._find_im_curve(objs, reply.buffers)
         missing = [t for t in (*PARAM_TITLES.values(), ETA_INFINITE_LABEL) if t not in self.params]
-        if missing or not self.cds_id:
-            raise SessionError(f"document lacks the Spectrum widgets {missing} or the Im[c/c_s] curve")
+        if missing:
+            raise SessionError(f"document lacks the Spectrum widgets {missing}")
 
     async def _send_events(self, events: list[dict]) -> None:
         await patch_doc(patch_doc.create_header(), {}, {"events": events}).send(self._conn)
@@ -451,7 +461,10 @@ async def _work(who: str, session: AppSession | None, server: ServedApp, stats: 
         if value == session.params[title]:
             continue
         try:
-            stats.updates.append(await session.release(title, value, timeout))
+            sent = time.monotonic() - start
+            update = await session.release(title, value, timeout)
+            update.at = sent
+            stats.updates.append(update)
         except Exception as exc:  # noqa: BLE001 - every failure is counted and reported
             stats.error(f"{who} release {title} = {value}", exc)
             session_end = time.monotonic()  # replace the failed session

@@ -16,6 +16,7 @@ import model
 from app import spectrum as sp
 from app import thin_on_thick as tt
 from app.main import create_app
+from app.params import ZERO_LINE
 from app.presets import load_presets
 from app.urlstate import QUERY, TABS, parse_query, query_string
 from tests.conftest import open_app, set_slider
@@ -150,8 +151,10 @@ def test_gy_plot_is_gy_at_the_rayleigh_speed_with_the_criterion_line() -> None:
     z_r = float(model.rayleigh_speed(0.3))
     expected = model.response_functions(np.full(sp.KH.shape, z_r), sp.KH, beta=0.3)[1].real
     np.testing.assert_array_equal(curve.dimension_values(1), expected)
-    lines = [e for e in overlay if isinstance(e, hv.HLine)]
-    assert sorted(float(e.data) for e in lines) == pytest.approx(sorted([0.0, -z_r / (3.0 * 0.9)]), rel=1e-15)
+    (line,) = [e for e in overlay if isinstance(e, hv.HLine)]
+    assert float(line.data) == pytest.approx(-z_r / (3.0 * 0.9), rel=1e-15)
+    spans = [r for r in hv.render(overlay).center if getattr(r, "name", None) == ZERO_LINE]
+    assert len(spans) == 1 and spans[0].location == 0 and spans[0].dimension == "width"  # the zero line
     # the criterion: gamma f min G_y < -z_R  <=>  unstable (paper: gamma = 3 unstable, gamma = 2 stable)
     assert 3.0 * 0.9 * expected.min() < -z_r < 2.0 * 0.9 * expected.min()
 

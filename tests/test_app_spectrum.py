@@ -213,3 +213,42 @@ def test_gamma_slider_updates_the_im_curve(served_app: str, browser_page) -> Non
     after = np.array(page.evaluate(_IM_SOURCE_JS), dtype=float)
     np.testing.assert_allclose(after, model.spectrum(KH, gamma=6.0, f=0.9, beta=0.3).imag, rtol=1e-12, atol=0)
     assert page.console_errors == []
+
+
+def test_zero_line_is_drawn_once_and_survives_updates() -> None:
+    """The y = 0 line of the growth-rate plot is a Bokeh Span added by a hook, once, also after updates."""
+    from bokeh.document import Document
+
+    from app.params import ZERO_LINE
+
+    scene = SpectrumScene()
+    plot = hv.renderer("bokeh").get_plot(scene.im_dmap, doc=Document())
+    for gamma in (2.0, 5.0):
+        scene.params.gamma = gamma
+    spans = [r for r in plot.state.center if getattr(r, "name", None) == ZERO_LINE]
+    assert len(spans) == 1 and spans[0].location == 0
+
+
+def test_gy_curve_element_is_reused_while_beta_and_eta_are_unchanged() -> None:
+    """γ and f move only the criterion line: the G_y curve element is the same object (HoloViews then does
+    not re-send its data); a change of β gives a new curve."""
+    scene = SpectrumScene()
+
+    def curve():
+        (c,) = [e for e in scene.gy_dmap[()] if isinstance(e, hv.Curve)]
+        return c
+
+    first = curve()
+    scene.params.gamma = 5.0
+    scene.params.f = 0.5
+    assert curve() is first
+    scene.params.beta = 0.5
+    assert curve() is not first
+
+
+def test_plots_are_rendered_at_once_outside_a_server_session() -> None:
+    """Outside a served session (scripts, notebooks, these tests) the three plots are in the panel at once;
+    served, they are rendered after the page has loaded (the load test and the browser tests see them)."""
+    scene = SpectrumScene()
+    panes = [p for p in scene.panel().select(pn.pane.HoloViews)]
+    assert [p.object for p in panes] == [scene.im_dmap, scene.re_dmap, scene.gy_dmap]
