@@ -8,6 +8,7 @@ methods, so they update in place.
 from __future__ import annotations
 
 import collections
+import functools
 import io
 import math
 from functools import partial
@@ -37,6 +38,38 @@ EQUATION = (r"$F(z;\,kH) = \gamma\,\big(G_x + i f\,G_y\big) + i z\left[1 + \frac
 IM_LABEL = "Im[c/c_s]"
 RE_LABEL = "Re[c/c_s]"
 GY_LABEL = "G_y(c_R, kH)"
+
+#: options shared by the three plots (besides title, height, legend position and y label)
+OVERLAY = dict(logx=True, responsive=True, framewise=True, xlabel="kH")
+
+
+@functools.cache
+def styled(kind: type[hv.Element], vdim: str, label: str = "", **style: object) -> hv.Element:
+    """An empty `kind` element (Curve, VSpans or HLine; `vdim` names a curve's y) with its style applied once.
+
+    The plot callbacks ``clone`` it with data; a clone keeps the style (HoloViews looks options up by
+    the element's id). Setting the same options on a new curve in every update cost ~3.5 ms per
+    curve, the clone ~0.7 ms (five to seven curves per slider release).
+    """
+    if kind is hv.HLine:
+        return hv.HLine(0.0, label=label).opts(**style)
+    if kind is hv.VSpans:
+        return hv.VSpans([], label=label, datatype=["dictionary"]).opts(**style)
+    return kind(([], []), "kH", vdim, label=label, datatype=["dictionary"]).opts(**style)
+
+
+#: the styled templates of the plotted elements
+STYLE = {
+    "band": styled(hv.VSpans, IM_LABEL, "unstable band", color="#f4a582", alpha=0.35),
+    "im branch": styled(hv.Curve, IM_LABEL, "Rayleigh branch", color="#1f4e79", line_width=2),
+    "im linear": styled(hv.Curve, IM_LABEL, "linear expansion", color="#b2182b", line_dash="dashed", line_width=1.5),
+    "re branch": styled(hv.Curve, RE_LABEL, "Rayleigh branch", color="#1f4e79", line_width=2),
+    "re linear": styled(hv.Curve, RE_LABEL, "linear expansion", color="#b2182b", line_dash="dashed", line_width=1.5),
+    "gy": styled(hv.Curve, GY_LABEL, "G_y(c_R, kH)", color="#1f4e79", line_width=2),
+    "criterion": styled(hv.HLine, GY_LABEL, "criterion −c_R/(c_s γ f)", color="#b2182b", line_dash="dashed",
+                        line_width=1.5),
+}
+
 
 #: model-argument index and symbol of each parameter a family of curves can vary (preset 'compare')
 FAMILY = {"gamma": (0, "γ"), "f": (1, "f"), "beta": (2, "β"), "eta": (3, "η"), "Delta": (4, "Δ"), "xi": (5, "ξ")}
@@ -119,9 +152,9 @@ class SpectrumScene(param.Parameterized):
         curves = []
         for i, value in enumerate(self.compare_values):
             d = compute_spectrum(*family_args(self.inputs, self.compare_key, value))
-            curves.append(hv.Curve((d["kH"], getattr(d["z"], part)), "kH", ylabel,
-                                   label=family_label(self.compare_key, value)).opts(
-                color=PALETTE[i % len(PALETTE)], line_width=1.2, alpha=0.9))
+            template = styled(hv.Curve, ylabel, color=PALETTE[i % len(PALETTE)], line_width=1.2, alpha=0.9)
+            curves.append(template.clone((d["kH"], getattr(d["z"], part)),
+                                         label=family_label(self.compare_key, value)))
         return curves
 
     @param.depends("inputs", "compare_key", "compare_values")
@@ -129,25 +162,20 @@ class SpectrumScene(param.Parameterized):
         d = self.data()
         kH, z = d["kH"], d["z"]
         band = [(d["kH_min"], d["kH_max"])] if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]) else []
-        span = hv.VSpans(band, label="unstable band").opts(color="#f4a582", alpha=0.35)
-        curve = hv.Curve((kH, z.imag), "kH", IM_LABEL, label="Rayleigh branch").opts(color="#1f4e79", line_width=2)
-        linear = hv.Curve((kH, d["linear"].imag), "kH", IM_LABEL, label="linear expansion").opts(
-            color="#b2182b", line_dash="dashed", line_width=1.5)
-        return hv.Overlay([span, *self.family("imag", IM_LABEL), curve, linear]).opts(
-            hv.opts.Overlay(logx=True, responsive=True, height=PLOT_HEIGHTS[0], title="Growth rate",
-                            legend_position="top_right", framewise=True, xlabel="kH", ylabel=IM_LABEL,
-                            hooks=[zero_line_hook]))
+        layers = [STYLE["band"].clone(band), *self.family("imag", IM_LABEL), STYLE["im branch"].clone((kH, z.imag)),
+                  STYLE["im linear"].clone((kH, d["linear"].imag))]
+        return hv.Overlay(layers).opts(hv.opts.Overlay(
+            title="Growth rate", height=PLOT_HEIGHTS[0], legend_position="top_right", ylabel=IM_LABEL,
+            hooks=[zero_line_hook], **OVERLAY))
 
     @param.depends("inputs", "compare_key", "compare_values")
     def re_plot(self) -> hv.Overlay:
         d = self.data()
         kH = d["kH"]
-        curve = hv.Curve((kH, d["z"].real), "kH", RE_LABEL, label="Rayleigh branch").opts(color="#1f4e79", line_width=2)
-        linear = hv.Curve((kH, d["linear"].real), "kH", RE_LABEL, label="linear expansion").opts(
-            color="#b2182b", line_dash="dashed", line_width=1.5)
-        return hv.Overlay([*self.family("real", RE_LABEL), curve, linear]).opts(
-            hv.opts.Overlay(logx=True, responsive=True, height=PLOT_HEIGHTS[1], title="Phase velocity",
-                            legend_position="top_right", framewise=True, xlabel="kH", ylabel=RE_LABEL))
+        return hv.Overlay([*self.family("real", RE_LABEL), STYLE["re branch"].clone((kH, d["z"].real)),
+                           STYLE["re linear"].clone((kH, d["linear"].real))]).opts(
+            hv.opts.Overlay(title="Phase velocity", height=PLOT_HEIGHTS[1], legend_position="top_right",
+                            ylabel=RE_LABEL, **OVERLAY))
 
     @param.depends("inputs")
     def gy_plot(self) -> hv.Overlay:
@@ -155,22 +183,18 @@ class SpectrumScene(param.Parameterized):
         layers = [self.gy_curve(beta, eta)]
         if gamma * f > 0:
             z_r = compute_gy_rayleigh(beta, eta)["z_R"]
-            layers.append(hv.HLine(-z_r / (gamma * f), label="criterion −c_R/(c_s γ f)").opts(
-                color="#b2182b", line_dash="dashed", line_width=1.5))
+            layers.append(STYLE["criterion"].clone(-z_r / (gamma * f)))
         return hv.Overlay(layers).opts(
-            hv.opts.Overlay(logx=True, responsive=True, height=PLOT_HEIGHTS[2], framewise=True,
-                            legend_position="bottom_right",
+            hv.opts.Overlay(height=PLOT_HEIGHTS[2], legend_position="bottom_right",
                             title="Slip–normal-stress coupling at c = c_R (unstable approx. where G_y is below the "
-                                  "dashed line)", xlabel="kH", ylabel=GY_LABEL, hooks=[zero_line_hook]))
+                                  "dashed line)", ylabel=GY_LABEL, hooks=[zero_line_hook], **OVERLAY))
 
     def gy_curve(self, beta: float, eta: float) -> hv.Curve:
         """The G_y(c_R, kH) curve, one element per (β, η): when only γ or f change, HoloViews sees the
         same element and does not re-send its data."""
         if self._gy_curve is None or self._gy_curve[0] != (beta, eta):
             d = compute_gy_rayleigh(beta, eta)
-            curve = hv.Curve((d["kH"], d["gy"]), "kH", GY_LABEL, label="G_y(c_R, kH)").opts(
-                color="#1f4e79", line_width=2)
-            self._gy_curve = ((beta, eta), curve)
+            self._gy_curve = ((beta, eta), STYLE["gy"].clone((d["kH"], d["gy"])))
         return self._gy_curve[1]
 
     def csv(self) -> io.StringIO:
