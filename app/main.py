@@ -20,7 +20,7 @@ from app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
 from app.urlstate import TABS, Updates, parse_query, query_string
 
 #: tabs whose scene is built when first shown (see App.__init__)
-LAZY_TABS = ("thin", "branches")
+LAZY_TABS = ("map", "thin", "branches")
 
 #: the tab titles, in the order of urlstate.TABS
 TAB_TITLES = ("Spectrum", "Stability map", "Thin-on-thick", "All branches")
@@ -74,10 +74,9 @@ class App:
         self.map = StabilityMapScene(params=self.spectrum_params)
         self.thin = ThinOnThickScene(params=self.thin_params)
         self.branches = AllBranchesScene(params=self.spectrum_params)
-        # the Thin-on-thick and All-branches scenes are built when their tab is first shown: a new session
-        # pays only for what it opens on (~35 ms less per session), and parameter changes update only the
-        # widgets that exist. The Stability map is built now: built later, Panel gave some of its
-        # components theme stylesheets with CDN URLs (which fail offline; tests/test_app_stability_map.py)
+        # the Stability-map, Thin-on-thick and All-branches scenes are built when their tab is first shown: a new
+        # session pays only for what it opens on (create_app ~70 ms instead of ~150 ms), and parameter changes
+        # update only the widgets that exist (StabilityMapScene.ensure_map defers its pane updates for this)
         self._scenes = {"spectrum": self.spectrum, "map": self.map, "thin": self.thin, "branches": self.branches}
         self._tab_content = {key: pn.Column(sizing_mode="stretch_width") for key in TABS}
         self.tabs = pn.Tabs(

@@ -341,11 +341,24 @@ class StabilityMapScene(param.Parameterized):
                 doc.on_session_destroyed(lambda _ctx: self.cancel())
             if self._poller is None or not self._poller.running:
                 self._poller = pn.state.add_periodic_callback(self._apply, period=POLL_MS)
-        self._show_progress(job)
-        self.status = "computing"
+        if served:
+            # on the session's next turn: a map started while its tab is being built (the tab is built when first
+            # shown) must not update panes whose models are not in the document yet -- Panel would then re-point
+            # the session's shared stylesheets at its CDN (which fails offline)
+            doc.add_next_tick_callback(partial(self._show_started, job))
+        else:
+            self._show_started(job)
         self._thread = threading.Thread(target=self._run, args=(job, served), daemon=True,
                                         name="asymslide-stability-map")
         self._thread.start()
+
+    def _show_started(self, job: _Job) -> None:
+        """Show `job` as being computed, unless it is stale or already shown as finished."""
+        with self._lock:
+            stale = job.gen != self._generation
+        if not stale and not job.applied:
+            self._show_progress(job)
+            self.status = "computing"
 
     def cancel(self) -> None:
         """Stop any running computation after its current chunk."""
