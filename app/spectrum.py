@@ -231,14 +231,13 @@ class SpectrumScene(param.Parameterized):
             lines.append("**Masked** none")
         return "\n\n".join(lines)
 
-    def plot_panes(self) -> list[pn.pane.HoloViews]:
-        """The three live plots (growth rate, phase velocity, G_y criterion), top to bottom."""
-        return [pn.pane.HoloViews(dmap, sizing_mode="stretch_width")
-                for dmap in (self.im_dmap, self.re_dmap, self.gy_dmap)]
+    def plot_pane(self, index: int) -> pn.pane.HoloViews:
+        """Live plot `index`: 0 growth rate, 1 phase velocity, 2 G_y criterion (top to bottom)."""
+        return pn.pane.HoloViews((self.im_dmap, self.re_dmap, self.gy_dmap)[index], sizing_mode="stretch_width")
 
     def _load_plots(self, slots: list[pn.Column], index: int = 0) -> None:
         """Render the plot of slot `index`, then schedule the next one on the server's event loop."""
-        slots[index].objects = [self.plot_panes()[index]]
+        slots[index].objects = [self.plot_pane(index)]
         if index + 1 < len(slots):
             pn.state.execute(partial(self._load_plots, slots, index + 1), schedule=True)
 
@@ -255,8 +254,8 @@ class SpectrumScene(param.Parameterized):
         if doc is not None and doc.session_context is not None:
             pn.state.onload(partial(self._load_plots, slots))
         else:
-            for slot, pane in zip(slots, self.plot_panes(), strict=True):
-                slot.objects = [pane]
+            for index, slot in enumerate(slots):
+                slot.objects = [self.plot_pane(index)]
         plots = pn.Column(
             pn.pane.LaTeX(EQUATION, renderer="katex", styles={"font-size": "1.15em"}),
             *slots,

@@ -560,6 +560,9 @@ class LoadResult:
     load_before: tuple[float, float, float]
     load_after: tuple[float, float, float]
     verified: int
+    host_loop_seconds: float = math.nan
+    cpu_per_open: float = math.nan
+    cpu_per_update: float = math.nan
 
     @property
     def n_errors(self) -> int:
@@ -623,6 +626,41 @@ def _cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
+def host_loop_seconds(n: int = 10_000_000) -> float:
+    """Best of three runs of a pure-Python ``n``-step loop: how fast this (shared) host runs Python code now,
+    so that runs from different days can be compared."""
+    best = math.inf
+    for _ in range(3):
+        t0, acc = time.perf_counter(), 0
+        for i in range(n):
+            acc += i
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+async def _calibrate(server: ServedApp, n_open: int = 3, n_release: int = 6,
+                     timeout: float = 60.0) -> tuple[float, float]:
+    """Server CPU seconds per session open and per slider release, measured one at a time (no queueing)."""
+    sessions = []
+    try:
+        cpu0 = _cpu_seconds(server.pid)
+        for _ in range(n_open):
+            session = AppSession(server.ws_url)
+            sessions.append(session)
+            await session.open(timeout)
+        cpu1 = _cpu_seconds(server.pid)
+        titles = list(MOVES)
+        for i in range(n_release):
+            lo, hi = MOVES[titles[i % len(titles)]]
+            await sessions[0].release(titles[i % len(titles)], round(lo + (hi - lo) * (i + 1) / (n_release + 1), 4),
+                                      timeout)
+        cpu2 = _cpu_seconds(server.pid)
+    finally:
+        for session in sessions:
+            await session.close()
+    return (cpu1 - cpu0) / n_open, (cpu2 - cpu1) / n_release
+
+
 def cleanup_flags(check_ms: int, lifetime_ms: int) -> list[str]:
     """The Bokeh server flags that discard closed sessions (Bokeh's defaults: 17000 ms and 15000 ms)."""
     return [f"--check-unused-sessions={check_ms}", f"--unused-session-lifetime={lifetime_ms}"]
@@ -638,10 +676,12 @@ def run_load(sessions: int = 20, duration: float = 60.0, rounds: int = 3, think:
     flags = [*cleanup_flags(check_ms, lifetime_ms), "--rest-session-info", "--session-history=100000"]
     cleanup_limit = 2 * (check_ms + lifetime_ms) / 1000 + 10
     load_before = os.getloadavg()
+    host_loop = host_loop_seconds()
     with ServedApp(flags) as server:
         log(f"server pid {server.pid} on port {server.port}: {' '.join(flags)}")
         log("warm-up session (first page, numba kernels) ...")
         asyncio.run(_warm_up(server))
+        cpu_per_open, cpu_per_update = asyncio.run(_calibrate(server))
         _wait_for_cleanup(server, cleanup_limit)
         rss_start = server.rss_mb()
         stats = Stats()
@@ -672,6 +712,7 @@ def run_load(sessions: int = 20, duration: float = 60.0, rounds: int = 3, think:
         open_phase=stats.open_phase, server_cpu=server_cpu, client_cpu=client_cpu, rss_start=rss_start,
         rss_peak=max([rss_start, *sampler.samples]), rss_after_round=rss_after, live_after_round=live_after,
         cleanup_seconds=waited, load_before=load_before, load_after=os.getloadavg(), verified=verified,
+        host_loop_seconds=host_loop, cpu_per_open=cpu_per_open, cpu_per_update=cpu_per_update,
     )
 
 
@@ -702,6 +743,9 @@ def report(r: LoadResult) -> str:
          f"all {c['sessions']} open after {' / '.join(f'{x:.0f}' for x in r.open_phase)} s"),
         ("CPU used: server / load client", f"{r.server_cpu:.0f} s / {r.client_cpu:.0f} s",
          f"server busy {100 * r.server_cpu / r.window_seconds:.0f} % of the wall time"),
+        ("server CPU per session open / per update, one at a time",
+         f"{_ms(r.cpu_per_open)} / {_ms(r.cpu_per_update)}",
+         f"host speed: a 10^7-step Python loop took {r.host_loop_seconds:.2f} s"),
         ("server RSS start / peak", f"{r.rss_start:.0f} / {r.rss_peak:.0f} MB", ""),
         ("server RSS after each round's clean-up", " / ".join(f"{x:.0f}" for x in r.rss_after_round) + " MB",
          f"last round {r.rss_growth:+.0f} MB (limit {c['mem_tolerance']:.0f})"),
@@ -727,6 +771,10 @@ def report(r: LoadResult) -> str:
         "| figure | value | check |",
         "|---|---|---|",
         *(f"| {a} | {b} | {v} |" for a, b, v in rows),
+        "",
+        f"One round's {c['sessions']} arrivals need about {c['sessions'] * r.cpu_per_open:.1f} s of server CPU "
+        f"(per-open cost above) and arrive within {c['sessions'] * c['arrival_gap']:.1f} s; the server runs on one "
+        "event loop, so slider releases sent meanwhile wait behind the page builds.",
         "",
         f"**Verdict: {_verdict(r.ok)}**",
     ]
