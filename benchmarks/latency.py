@@ -33,6 +33,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 from benchmarks.load_test import ServedApp  # noqa: E402
 from tests.conftest import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
@@ -125,7 +126,7 @@ def measure(n: int = 30, cached: int = 15, timeout_ms: float = 30_000, log=print
 
     if not CHROMIUM.exists():
         raise SystemExit(f"{CHROMIUM} not found (apt-get install -y chromium)")
-    load_before = os.getloadavg()
+    load_before, host_before = os.getloadavg(), host_loop_seconds()
     fresh = gamma_values(n)
     revisit = fresh[-2::-1][:cached]  # computed earlier in this run, most recent first; never the current value
     results: dict[str, list[dict]] = {"uncached": [], "cached": []}
@@ -159,6 +160,7 @@ def measure(n: int = 30, cached: int = 15, timeout_ms: float = 30_000, log=print
         "cached": {k: _stats([r[k] for r in results["cached"]]) for k in ("data", "paint")},
         "errors": errors,
         "load": (load_before, os.getloadavg()),
+        "host": (host_before, host_loop_seconds()),
     }
 
 
@@ -188,7 +190,7 @@ def report(res: dict) -> str:
         f"({median:.0f} ms).",
         "",
         f"Machine: {os.cpu_count()} CPU(s), load average {l0:.2f} before and {l1:.2f} after; the server, Chromium "
-        "and any other jobs share these CPUs, so the figures are indicative.",
+        "and any other jobs share these CPUs, so the figures are indicative. " + host_line(*res["host"]),
     ]
     if res["errors"]:
         lines += ["", f"Errors ({len(res['errors'])}, first 10):", "", "```", *res["errors"][:10], "```"]

@@ -70,6 +70,8 @@ from tornado.websocket import websocket_connect
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))  # `model` for the verification, also when run as a script
+from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
+
 APP = ROOT / "app" / "main.py"
 OUT = Path(__file__).resolve().parent / "load_results.md"
 
@@ -560,7 +562,7 @@ class LoadResult:
     load_before: tuple[float, float, float]
     load_after: tuple[float, float, float]
     verified: int
-    host_loop_seconds: float = math.nan
+    host_loop_seconds: tuple[float, float] = (math.nan, math.nan)
     cpu_per_open: float = math.nan
     cpu_per_update: float = math.nan
 
@@ -624,18 +626,6 @@ def _cpu_seconds(pid: int) -> float:
     with open(f"/proc/{pid}/stat", encoding="ascii") as fh:
         fields = fh.read().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-
-
-def host_loop_seconds(n: int = 10_000_000) -> float:
-    """Best of three runs of a pure-Python ``n``-step loop: how fast this (shared) host runs Python code now,
-    so that runs from different days can be compared."""
-    best = math.inf
-    for _ in range(3):
-        t0, acc = time.perf_counter(), 0
-        for i in range(n):
-            acc += i
-        best = min(best, time.perf_counter() - t0)
-    return best
 
 
 async def _calibrate(server: ServedApp, n_open: int = 3, n_release: int = 6,
@@ -712,7 +702,7 @@ def run_load(sessions: int = 20, duration: float = 60.0, rounds: int = 3, think:
         open_phase=stats.open_phase, server_cpu=server_cpu, client_cpu=client_cpu, rss_start=rss_start,
         rss_peak=max([rss_start, *sampler.samples]), rss_after_round=rss_after, live_after_round=live_after,
         cleanup_seconds=waited, load_before=load_before, load_after=os.getloadavg(), verified=verified,
-        host_loop_seconds=host_loop, cpu_per_open=cpu_per_open, cpu_per_update=cpu_per_update,
+        host_loop_seconds=(host_loop, host_loop_seconds()), cpu_per_open=cpu_per_open, cpu_per_update=cpu_per_update,
     )
 
 
@@ -744,8 +734,7 @@ def report(r: LoadResult) -> str:
         ("CPU used: server / load client", f"{r.server_cpu:.0f} s / {r.client_cpu:.0f} s",
          f"server busy {100 * r.server_cpu / r.window_seconds:.0f} % of the wall time"),
         ("server CPU per session open / per update, one at a time",
-         f"{_ms(r.cpu_per_open)} / {_ms(r.cpu_per_update)}",
-         f"host speed: a 10^7-step Python loop took {r.host_loop_seconds:.2f} s"),
+         f"{_ms(r.cpu_per_open)} / {_ms(r.cpu_per_update)}", ""),
         ("server RSS start / peak", f"{r.rss_start:.0f} / {r.rss_peak:.0f} MB", ""),
         ("server RSS after each round's clean-up", " / ".join(f"{x:.0f}" for x in r.rss_after_round) + " MB",
          f"last round {r.rss_growth:+.0f} MB (limit {c['mem_tolerance']:.0f})"),
@@ -766,7 +755,7 @@ def report(r: LoadResult) -> str:
         "",
         f"Server: `panel serve app/main.py` with `make serve`'s flags and `{' '.join(r.server_flags)}`. "
         f"Machine: {os.cpu_count()} CPU(s), load average {r.load_before[0]:.2f} before and {r.load_after[0]:.2f} "
-        "after (other jobs share the CPUs, so timings are indicative).",
+        "after (other jobs share the CPUs, so timings are indicative). " + host_line(*r.host_loop_seconds),
         "",
         "| figure | value | check |",
         "|---|---|---|",

@@ -21,6 +21,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import model  # noqa: E402
+from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 from tests import oracle  # noqa: E402
 
 OUT = Path(__file__).resolve().parent
@@ -109,6 +110,7 @@ def max_rel_error(z: np.ndarray, q: np.ndarray, ref: dict[float, complex]) -> fl
 
 
 def main() -> None:
+    host_before = host_loop_seconds()
     q = np.logspace(-4, 4, 512)
     rows = []
     for eta in (math.inf, 7.0):
@@ -168,6 +170,7 @@ def main() -> None:
 
     text += ("\n## All unstable roots in |Re z| <= 5, im_min <= Im z <= 2 (model.unstable_modes vs cxroots)\n\n"
              + bench_modes.markdown(bench_modes.run()))
+    text += "\n" + host_line(host_before, host_loop_seconds()) + "\n"
     print(text)
     (OUT / "results.md").write_text(text)
     try:
