@@ -1,5 +1,6 @@
 """How fast the (shared, noisy) host runs Python right now, printed with every benchmark table so that
-runs from different days can be compared: a 2x slower loop means roughly 2x longer timings everywhere."""
+runs from different hours can be put side by side (a rough gauge: page building and the numba kernels
+do not slow down in proportion to this loop)."""
 
 from __future__ import annotations
 
@@ -21,4 +22,5 @@ def host_loop_seconds(n: int = 10_000_000) -> float:
 def host_line(before: float, after: float) -> str:
     """One Markdown sentence with the loop time measured before and after a benchmark."""
     return (f"Host speed: a 10^7-step Python loop took {before:.2f} s before and {after:.2f} s after "
-            "(0.5-1.3 s seen on the development machine on one day; timings tend to scale with it).")
+            "(a rough gauge of contention: it varied between 0.46 and 1.25 s within one hour on the development "
+            "machine).")
