@@ -638,12 +638,14 @@ async def _calibrate(server: ServedApp, n_open: int = 3, n_release: int = 6,
             session = AppSession(server.ws_url)
             sessions.append(session)
             await session.open(timeout)
+        await asyncio.sleep(1.0)  # the pages' deferred plots are still being rendered: count them with the opens
         cpu1 = _cpu_seconds(server.pid)
         titles = list(MOVES)
         for i in range(n_release):
             lo, hi = MOVES[titles[i % len(titles)]]
             await sessions[0].release(titles[i % len(titles)], round(lo + (hi - lo) * (i + 1) / (n_release + 1), 4),
                                       timeout)
+        await asyncio.sleep(0.5)  # the last update's remaining work (other plots, readout) after the Im data
         cpu2 = _cpu_seconds(server.pid)
     finally:
         for session in sessions:
