@@ -323,7 +323,7 @@ class _Line:
     nodes (added by :meth:`_Problem.corner`).
     """
 
-    __slots__ = ("c", "horizontal", "t", "F", "L", "C", "M", "extra")
+    __slots__ = ("c", "horizontal", "t", "F", "L", "C", "M", "node", "extra")
 
     def __init__(self, c: float, horizontal: bool, t: np.ndarray, F: np.ndarray, L: np.ndarray):
         self.c = c
@@ -332,16 +332,19 @@ class _Line:
         self.F = F
         self.L = L
         z = t + 1j * c if horizontal else c + 1j * t
-        self.C = np.concatenate(([0j], np.cumsum(L)))
-        self.M = np.concatenate(([0j], np.cumsum(0.5 * (z[1:] + z[:-1]) * L)))
+        # Python lists and a node -> index dict: the cell bookkeeping reads single values (~200 per call of
+        # unstable_modes), for which NumPy scalar indexing and searchsorted cost ~10x more
+        self.C: list[complex] = np.concatenate(([0j], np.cumsum(L))).tolist()
+        self.M: list[complex] = np.concatenate(([0j], np.cumsum(0.5 * (z[1:] + z[:-1]) * L))).tolist()
+        self.node = {tv: i for i, tv in enumerate(t.tolist())}
         self.extra: dict[float, tuple[complex, complex]] = {}
 
     def value(self, t: float) -> tuple[complex, complex]:
         hit = self.extra.get(t)
         if hit is not None:
             return hit
-        i = int(np.searchsorted(self.t, t))
-        if i >= self.t.size or self.t[i] != t:
+        i = self.node.get(t)
+        if i is None:
             raise AssertionError("internal error: cell corner is not a node of its edge")
         return self.C[i], self.M[i]
 
@@ -423,9 +426,9 @@ class _Problem:
 
         The segment holding t was accepted, so its two parts have principal log-increments summing to it.
         """
-        i = int(np.searchsorted(line.t, t))
-        if i < line.t.size and line.t[i] == t:
+        if t in line.node:
             return
+        i = int(np.searchsorted(line.t, t))
         if i == 0 or i == line.t.size:
             raise AssertionError("internal error: corner outside its line")
         l1 = cmath.log(fv / line.F[i - 1])
