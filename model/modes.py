@@ -336,7 +336,7 @@ class _Line:
         # unstable_modes), for which NumPy scalar indexing and searchsorted cost ~10x more
         self.C: list[complex] = np.concatenate(([0j], np.cumsum(L))).tolist()
         self.M: list[complex] = np.concatenate(([0j], np.cumsum(0.5 * (z[1:] + z[:-1]) * L))).tolist()
-        self.node = {tv: i for i, tv in enumerate(t.tolist())}
+        self.node = dict(zip(t.tolist(), range(t.size), strict=True))
         self.extra: dict[float, tuple[complex, complex]] = {}
 
     def value(self, t: float) -> tuple[complex, complex]:
