@@ -562,7 +562,7 @@ class LoadResult:
     load_before: tuple[float, float, float]
     load_after: tuple[float, float, float]
     verified: int
-    host_loop_seconds: tuple[float, float] = (math.nan, math.nan)
+    host_loop: tuple[float, float] = (math.nan, math.nan)  # hostspeed loop seconds, before and after
     cpu_per_open: float = math.nan
     cpu_per_update: float = math.nan
 
@@ -704,7 +704,7 @@ def run_load(sessions: int = 20, duration: float = 60.0, rounds: int = 3, think:
         open_phase=stats.open_phase, server_cpu=server_cpu, client_cpu=client_cpu, rss_start=rss_start,
         rss_peak=max([rss_start, *sampler.samples]), rss_after_round=rss_after, live_after_round=live_after,
         cleanup_seconds=waited, load_before=load_before, load_after=os.getloadavg(), verified=verified,
-        host_loop_seconds=(host_loop, host_loop_seconds()), cpu_per_open=cpu_per_open, cpu_per_update=cpu_per_update,
+        host_loop=(host_loop, host_loop_seconds()), cpu_per_open=cpu_per_open, cpu_per_update=cpu_per_update,
     )
 
 
@@ -757,7 +757,7 @@ def report(r: LoadResult) -> str:
         "",
         f"Server: `panel serve app/main.py` with `make serve`'s flags and `{' '.join(r.server_flags)}`. "
         f"Machine: {os.cpu_count()} CPU(s), load average {r.load_before[0]:.2f} before and {r.load_after[0]:.2f} "
-        "after (other jobs share the CPUs, so timings are indicative). " + host_line(*r.host_loop_seconds),
+        "after (other jobs share the CPUs, so timings are indicative). " + host_line(*r.host_loop),
         "",
         "| figure | value | check |",
         "|---|---|---|",
