@@ -21,6 +21,11 @@ hv.extension("bokeh", logo=False)
 # the canvas (blit_webgl -> drawImage) took ~58 ms of every ~100 ms browser update in Chromium's
 # profile (benchmarks/latency.py; software GL without a GPU). Image-based plots are unaffected.
 hv.renderer("bokeh").webgl = False
+# Axes follow the data when the parameters change. HoloViews takes `framewise` from each element's
+# options: set on the Overlays only (as before), every plot kept the ranges of its first frame and a
+# curve that grew beyond them was cut off (tests/test_app_ranges.py).
+hv.opts.defaults(*(getattr(hv.opts, kind)(framewise=True) for kind in (
+    "Curve", "Scatter", "Points", "Path", "QuadMesh", "HLine", "VLine", "VLines", "VSpans", "Bounds")))
 
 #: the widget labels, in display order (the paper's symbols)
 LABELS = {
