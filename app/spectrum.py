@@ -71,6 +71,26 @@ STYLE = {
 }
 
 
+def styled_overlay(**options: object) -> hv.Overlay:
+    """An empty Overlay with the plot `options` applied once; the plot callbacks ``clone`` it with their
+    layers, which keeps the options (looked up by the overlay's id) without applying them, and
+    registering a new option tree, on every update. A γ release re-renders the three plots in 56-60
+    instead of 67-77 ms (in-process, min of 60 releases, three interleaved A/B runs)."""
+    return hv.Overlay([]).opts(hv.opts.Overlay(**options))
+
+
+#: the styled overlays of the three plots (growth rate, phase velocity, G_y criterion)
+OVERLAYS = {
+    "im": styled_overlay(title="Growth rate", height=PLOT_HEIGHTS[0], legend_position="top_right",
+                         ylabel=IM_LABEL, hooks=[zero_line_hook], **OVERLAY),
+    "re": styled_overlay(title="Phase velocity", height=PLOT_HEIGHTS[1], legend_position="top_right",
+                         ylabel=RE_LABEL, **OVERLAY),
+    "gy": styled_overlay(height=PLOT_HEIGHTS[2], legend_position="bottom_right",
+                         title="Slip–normal-stress coupling at c = c_R (unstable approx. where G_y is below the "
+                               "dashed line)", ylabel=GY_LABEL, hooks=[zero_line_hook], **OVERLAY),
+}
+
+
 #: model-argument index and symbol of each parameter a family of curves can vary (preset 'compare')
 FAMILY = {"gamma": (0, "γ"), "f": (1, "f"), "beta": (2, "β"), "eta": (3, "η"), "Delta": (4, "Δ"), "xi": (5, "ξ")}
 
@@ -164,18 +184,14 @@ class SpectrumScene(param.Parameterized):
         band = [(d["kH_min"], d["kH_max"])] if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]) else []
         layers = [STYLE["band"].clone(band), *self.family("imag", IM_LABEL), STYLE["im branch"].clone((kH, z.imag)),
                   STYLE["im linear"].clone((kH, d["linear"].imag))]
-        return hv.Overlay(layers).opts(hv.opts.Overlay(
-            title="Growth rate", height=PLOT_HEIGHTS[0], legend_position="top_right", ylabel=IM_LABEL,
-            hooks=[zero_line_hook], **OVERLAY))
+        return OVERLAYS["im"].clone(layers)
 
     @param.depends("inputs", "compare_key", "compare_values")
     def re_plot(self) -> hv.Overlay:
         d = self.data()
         kH = d["kH"]
-        return hv.Overlay([*self.family("real", RE_LABEL), STYLE["re branch"].clone((kH, d["z"].real)),
-                           STYLE["re linear"].clone((kH, d["linear"].real))]).opts(
-            hv.opts.Overlay(title="Phase velocity", height=PLOT_HEIGHTS[1], legend_position="top_right",
-                            ylabel=RE_LABEL, **OVERLAY))
+        return OVERLAYS["re"].clone([*self.family("real", RE_LABEL), STYLE["re branch"].clone((kH, d["z"].real)),
+                                     STYLE["re linear"].clone((kH, d["linear"].real))])
 
     @param.depends("inputs")
     def gy_plot(self) -> hv.Overlay:
@@ -184,10 +200,7 @@ class SpectrumScene(param.Parameterized):
         if gamma * f > 0:
             z_r = compute_gy_rayleigh(beta, eta)["z_R"]
             layers.append(STYLE["criterion"].clone(-z_r / (gamma * f)))
-        return hv.Overlay(layers).opts(
-            hv.opts.Overlay(height=PLOT_HEIGHTS[2], legend_position="bottom_right",
-                            title="Slip–normal-stress coupling at c = c_R (unstable approx. where G_y is below the "
-                                  "dashed line)", ylabel=GY_LABEL, hooks=[zero_line_hook], **OVERLAY))
+        return OVERLAYS["gy"].clone(layers)
 
     def gy_curve(self, beta: float, eta: float) -> hv.Curve:
         """The G_y(c_R, kH) curve, one element per (β, η): when only γ or f change, HoloViews sees the
