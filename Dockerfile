@@ -7,7 +7,8 @@ ENV PYTHONDONTWRITEBYTECODE=1 \
     PYTHONUNBUFFERED=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1 \
     NUMBA_CACHE_DIR=/tmp/numba_cache \
-    ALLOWED_ORIGIN=localhost:5006
+    ALLOWED_ORIGIN=localhost:5006 \
+    NUM_PROCS=2
 
 WORKDIR /srv/asymslide
 
@@ -30,5 +31,6 @@ EXPOSE 5006
 HEALTHCHECK --interval=30s --timeout=5s --start-period=30s --retries=3 \
     CMD ["python", "-c", "import urllib.request; urllib.request.urlopen('http://127.0.0.1:5006/liveness', timeout=4)"]
 
-# sh -c only to expand ALLOWED_ORIGIN; exec hands PID 1 to panel so it gets the stop signal
-CMD ["sh", "-c", "exec panel serve app/main.py --port 5006 --address 0.0.0.0 --liveness --static-dirs assets=static --allow-websocket-origin=\"$ALLOWED_ORIGIN\""]
+# sh -c only to expand ALLOWED_ORIGIN and NUM_PROCS (server processes: at most the container's cores);
+# exec hands PID 1 to panel so it gets the stop signal
+CMD ["sh", "-c", "exec panel serve app/main.py --port 5006 --address 0.0.0.0 --liveness --static-dirs assets=static --num-procs \"$NUM_PROCS\" --reuse-sessions --allow-websocket-origin=\"$ALLOWED_ORIGIN\""]

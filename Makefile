@@ -12,6 +12,8 @@ PORT     ?= 5006
 ADDRESS  ?= 0.0.0.0
 # hosts whose pages may open the app's websocket (never '*')
 ALLOWED_ORIGIN ?= localhost:$(PORT)
+# server processes (one per core for many users; see README "Docker and deployment")
+NUM_PROCS ?= 1
 LINT_DIRS ?= $(wildcard model app tests benchmarks)
 PYTEST_ARGS ?=
 
@@ -35,7 +37,7 @@ $(STAMP): pyproject.toml
 serve: venv  ## serve the app on http://localhost:5006
 	$(VENV)/bin/panel serve app/main.py --port $(PORT) --address $(ADDRESS) \
 	  --allow-websocket-origin=$(ALLOWED_ORIGIN) --allow-websocket-origin=127.0.0.1:$(PORT) \
-	  --static-dirs assets=static
+	  --static-dirs assets=static --num-procs $(NUM_PROCS) --reuse-sessions
 
 test: venv  ## ruff, then every test (browser tests need /usr/bin/chromium)
 	$(VENV)/bin/ruff check $(LINT_DIRS)

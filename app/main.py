@@ -14,6 +14,7 @@ from app.all_branches import AllBranchesScene
 from app.params import SpectrumParams, frozen_document
 from app.presets import Preset, load_presets, preset_args
 from app.server_gc import configure_gc, track_session
+from app.session_resources import use_server_stylesheets
 from app.spectrum import SpectrumScene
 from app.stability_map import StabilityMapScene
 from app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
@@ -183,3 +184,4 @@ if __name__.startswith("bokeh"):
     configure_gc()
     track_session()
     create_app().servable()
+    use_server_stylesheets()  # sessions created by their websocket (--num-procs, --reuse-sessions)

@@ -43,8 +43,20 @@ def track_session() -> None:
     global _live_sessions
     if pn.state.curdoc is None or pn.state.curdoc.session_context is None:
         return
+    if never_destroyed(pn.state.curdoc.session_context.request.path, bool(pn.config.reuse_sessions)):
+        return
     _live_sessions += 1
     pn.state.on_session_destroyed(_session_destroyed)
+
+
+def never_destroyed(request_path: str, reuse_sessions: bool) -> bool:
+    """Whether a session is one ``panel serve --reuse-sessions`` keeps for rendering pages.
+
+    With that flag a session created by a page request (not by a websocket, whose path ends in
+    ``/ws``) is cached and blocked from expiring, so counting it would keep :func:`track_session`'s
+    count above zero for ever and the idle-server collection would never run.
+    """
+    return reuse_sessions and not request_path.rstrip("/").endswith("/ws")
 
 
 def _session_destroyed(_session_context) -> None:

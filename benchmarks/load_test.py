@@ -1,26 +1,30 @@
 """Load test of the served app (issue 5): concurrent sessions moving the Spectrum sliders.
 
-    python benchmarks/load_test.py --sessions 20 --duration 60
+    python benchmarks/load_test.py --sessions 20 --duration 60 [--num-procs 2]
 
-1. Starts ``panel serve app/main.py`` as a subprocess on a free port (the flags of ``make serve``,
-   the session clean-up flags of :func:`cleanup_flags` and a session-info REST endpoint).
-2. Opens one warm-up session (imports, numba kernels, first page), closes it, waits for the server
-   to discard it and records the server's RSS: the *start* figure.
+1. Starts ``panel serve app/main.py`` as a subprocess on a free port, as ``make serve`` and the Docker
+   image run it (:func:`serve_flags`: ``--num-procs`` server processes, default 2 as in the image,
+   and ``--reuse-sessions``), with the session clean-up flags of :func:`cleanup_flags` and a
+   session-info REST endpoint.
+2. Opens warm-up sessions until every server process has served one (imports, numba kernels, first
+   page), measures the server CPU of a session open and of a slider release one at a time, waits
+   for the server to discard those sessions and records the server's memory: the *start* figure.
 3. Runs ``--rounds`` rounds (default 3). In each, ``--sessions`` users arrive ``--arrival-gap`` s
    apart and open a session; then, for ``duration / rounds`` seconds, each releases a random γ, f
    or β slider value every ``--think`` (1-3) s; a session lives 0.5-1.5 times the window and is then
    closed and replaced by a new one (while a quarter of the window remains). At the end of the
-   round every session is closed; the script waits until the server reports no live session and
-   records the RSS.
+   round every session is closed; the script waits until the server reports the sessions destroyed
+   and records the memory (RSS of the one process; with several, the Pss summed over them).
 4. Verifies every plotted curve received against :func:`model.spectrum` at that session's
    parameters (catches cross-talk between sessions as well as wrong data).
 5. Prints a table, writes ``benchmarks/load_results.md`` and exits non-zero when the verdict fails.
 
 Client. Sessions are driven by a small Bokeh-protocol websocket client written here (all sessions
 on one asyncio loop, ~1 s of client CPU per minute), not by browsers: 20 Chromium pages on a
-2-core machine would measure Chromium, not the server. The client speaks the messages BokehJS
-sends (ACK, PULL-DOC-REQ, ``document_ready``, PATCH-DOC with the slider's ``value`` and
-``value_throttled``, exactly what a handle release sends) and times each release until the
+2-core machine would measure Chromium, not the server. The client does what BokehJS does: it
+requests the page for its session token, then sends over the websocket ACK, PULL-DOC-REQ,
+``document_ready`` and PATCH-DOC with the slider's ``value`` and ``value_throttled`` (exactly what
+a handle release sends), and times each release until the
 server's PATCH-DOC carrying new data for the Im[c/c_s] ``ColumnDataSource`` of the "Rayleigh
 branch" curve arrives. ``bokeh.client.pull_session`` was not used: it runs one blocking IOLoop per
 connection whose waits have no timeout, and rebuilds the whole document as Python models.
@@ -31,10 +35,11 @@ Verdict (exit status 1 when any fails):
   ``--timeout`` s, curve not equal to the model's, or an ERROR / Traceback line on the server's
   stderr;
 - p95 of the update latency <= ``--p95-limit`` (1 s);
-- memory bounded: the server reports 0 live sessions after every round's clean-up (closed
-  sessions are destroyed), and the RSS grows by at most ``--mem-tolerance`` MB (20) over the last
-  round, between clean-ups. The first round is excluded (caches and allocator pools fill once);
-  a leak of the sessions' documents would add about 6 MB per session opened, every round.
+- memory bounded: after every round's clean-up the server holds no live session besides the page
+  cache of ``--reuse-sessions`` (one per process; closed sessions are destroyed), and its memory
+  grows by at most ``--mem-tolerance`` MB (20) over the last round, between clean-ups. The first
+  round is excluded (caches and allocator pools fill once); a leak of the sessions' documents would
+  add about 6 MB per session opened, every round.
 """
 
 from __future__ import annotations
@@ -64,7 +69,7 @@ from bokeh.protocol import Protocol
 from bokeh.protocol.message import Message
 from bokeh.protocol.messages.patch_doc import patch_doc
 from bokeh.protocol.receiver import Receiver
-from bokeh.util.token import generate_jwt_token, generate_session_id
+from bokeh.util.token import get_session_id
 from tornado.httpclient import HTTPRequest
 from tornado.websocket import websocket_connect
 
@@ -88,6 +93,20 @@ ETA_INFINITE_LABEL = "η = ∞"
 #: a closed session is replaced only if at least this fraction of the window remains
 MIN_SESSION = 0.25
 
+#: server CPU seconds that show a process served a warm-up session (one costs 0.4-1.5 s, idle ~0)
+WARM_CPU = 0.2
+
+#: the session token in a served page (what BokehJS opens its websocket with)
+TOKEN = re.compile(r'"token":\s*"([^"]+)"')
+
+
+def serve_flags(num_procs: int) -> list[str]:
+    """How ``make serve`` and the Docker image run the app, besides port, address, origins and static
+    files: `num_procs` server processes, and pages rendered from a cached session (``--reuse-sessions``:
+    a page request then costs ~20 ms, and each user's document is built once, when its websocket
+    connects, in whichever process accepts it)."""
+    return ["--num-procs", str(num_procs), "--reuse-sessions"]
+
 _PROTOCOL = Protocol()
 
 
@@ -104,16 +123,17 @@ def free_port() -> int:
 
 
 class ServedApp:
-    """``panel serve app/main.py`` in a subprocess: its URL, RSS and the error lines of its log."""
+    """``panel serve app/main.py`` in a subprocess: its URL, processes, memory, CPU and log errors."""
 
-    def __init__(self, extra_args: Sequence[str] = (), port: int | None = None) -> None:
+    def __init__(self, extra_args: Sequence[str] = (), port: int | None = None, num_procs: int = 1) -> None:
         self.port = port or free_port()
+        self.num_procs = num_procs
         self.url = f"http://127.0.0.1:{self.port}/main"
         self.ws_url = f"ws://127.0.0.1:{self.port}/main/ws"
         self.args = [
             sys.executable, "-m", "panel", "serve", str(APP), "--port", str(self.port), "--address", "127.0.0.1",
             f"--allow-websocket-origin=127.0.0.1:{self.port}", f"--allow-websocket-origin=localhost:{self.port}",
-            "--static-dirs", f"assets={ROOT / 'static'}", *extra_args,
+            "--static-dirs", f"assets={ROOT / 'static'}", *serve_flags(num_procs), *extra_args,
         ]
         self.log: list[str] = []
         self.error_lines: list[str] = []
@@ -173,23 +193,48 @@ class ServedApp:
         assert self.proc is not None
         return self.proc.pid
 
-    def rss_mb(self) -> float:
-        """Resident set size of the server process (VmRSS of /proc/<pid>/status), in MB."""
-        with open(f"/proc/{self.pid}/status", encoding="ascii") as fh:
-            for line in fh:
-                if line.startswith("VmRSS:"):
-                    return int(line.split()[1]) / 1024.0
-        raise RuntimeError("VmRSS not found")
-
-    def live_sessions(self) -> int | None:
-        """Sessions the server has not destroyed yet (needs --rest-session-info and --session-history)."""
+    def pids(self) -> list[int]:
+        """The process started and, with ``--num-procs`` > 1, the workers it forked (which serve)."""
         try:
-            with urllib.request.urlopen(f"http://127.0.0.1:{self.port}/rest/session_info", timeout=5) as response:
-                info = json.loads(response.read())
-        except (OSError, ValueError):
-            return None
-        sessions = info.get("session_info", info).get("sessions", {})
-        return sum(1 for s in sessions.values() if s.get("ended") is None)
+            with open(f"/proc/{self.pid}/task/{self.pid}/children", encoding="ascii") as fh:
+                return [self.pid, *(int(p) for p in fh.read().split())]
+        except OSError:
+            return [self.pid]
+
+    def workers(self) -> list[int]:
+        """The processes that serve sessions: the forked workers, or the one process."""
+        if self.num_procs == 1:
+            return [self.pid]
+        return self.pids()[1:] or [self.pid]
+
+    def memory_mb(self) -> float:
+        """Memory of the server's processes in MB: the sum of their proportional set sizes (Pss of
+        /proc/<pid>/smaps_rollup; pages the forked workers share are counted once). One process: its RSS."""
+        if self.num_procs == 1:
+            return _proc_kb(self.pid, "status", "VmRSS:") / 1024.0
+        return sum(_proc_kb(pid, "smaps_rollup", "Pss:") for pid in self.pids()) / 1024.0
+
+    def cpu_seconds(self) -> float:
+        """user + system CPU time of the server's processes, in seconds."""
+        return sum(_cpu_seconds(pid) for pid in self.pids())
+
+    def session_states(self, polls: int = 1) -> dict[str, bool] | None:
+        """Session id -> live (not destroyed yet), from the REST endpoint (needs --rest-session-info and
+        --session-history). Each request is answered by one process, so `polls` answers are merged; a
+        session is live if any answer says so. None if the endpoint did not answer."""
+        states: dict[str, bool] = {}
+        answered = False
+        for _ in range(polls):
+            try:
+                with urllib.request.urlopen(f"http://127.0.0.1:{self.port}/rest/session_info",
+                                            timeout=5) as response:
+                    info = json.loads(response.read())
+            except (OSError, ValueError):
+                continue
+            answered = True
+            for sid, s in info.get("session_info", info).get("sessions", {}).items():
+                states[sid] = states.get(sid, False) or s.get("ended") is None
+        return states if answered else None
 
     def stop(self) -> None:
         if self.proc is None or self.proc.poll() is not None:
@@ -207,6 +252,15 @@ class ServedApp:
 # --------------------------------------------------------------------------------------------
 # the client
 # --------------------------------------------------------------------------------------------
+
+
+def _proc_kb(pid: int, name: str, key: str) -> int:
+    """The ``key`` line (kB) of /proc/<pid>/<name>."""
+    with open(f"/proc/{pid}/{name}", encoding="ascii") as fh:
+        for line in fh:
+            if line.startswith(key):
+                return int(line.split()[1])
+    raise RuntimeError(f"{key} not in /proc/{pid}/{name}")
 
 
 class SessionError(RuntimeError):
@@ -252,11 +306,21 @@ class Update:
     at: float = math.nan  # when the release was sent, seconds after the start of its round's window
 
 
+def _page_token(url: str, timeout: float) -> str:
+    """The session token of the page at `url`."""
+    with urllib.request.urlopen(url, timeout=timeout) as response:
+        found = TOKEN.search(response.read().decode("utf-8", "replace"))
+    if found is None:
+        raise SessionError(f"no session token in the page {url}")
+    return found.group(1)
+
+
 class AppSession:
     """One server session seen through the Bokeh websocket protocol (what one browser tab does)."""
 
-    def __init__(self, ws_url: str) -> None:
-        self.ws_url = ws_url
+    def __init__(self, url: str, ws_url: str) -> None:
+        self.url, self.ws_url = url, ws_url
+        self.session_id = ""
         self.ws = None
         self.sliders: dict[str, str] = {}  # title -> model id
         self.params: dict[str, float] = {}
@@ -265,8 +329,10 @@ class AppSession:
         self.im = np.empty(0)
 
     async def open(self, timeout: float) -> None:
-        """Connect, pull the document, find the sliders and the plotted source, announce document_ready."""
-        token = generate_jwt_token(generate_session_id())
+        """Request the page, connect with its session token, pull the document, find the sliders and the
+        plotted source, announce document_ready (what BokehJS does, without rendering)."""
+        token = await asyncio.wait_for(asyncio.to_thread(_page_token, self.url, timeout), timeout)
+        self.session_id = get_session_id(token)
         request = HTTPRequest(self.ws_url, connect_timeout=timeout, request_timeout=timeout)
         self.ws = await asyncio.wait_for(websocket_connect(request, subprotocols=["bokeh", token]), timeout)
         self._conn = WebSocketClientConnectionWrapper(self.ws)
@@ -406,6 +472,7 @@ class Stats:
     updates: list[Update] = field(default_factory=list)
     errors: list[str] = field(default_factory=list)
     open_phase: list[float] = field(default_factory=list)
+    session_ids: list[str] = field(default_factory=list)
 
     def error(self, where: str, exc: BaseException) -> None:
         self.errors.append(f"{where}: {type(exc).__name__}: {exc}")
@@ -413,7 +480,7 @@ class Stats:
 
 async def _open(server: ServedApp, stats: Stats, timeout: float, who: str) -> AppSession | None:
     """A new session (its opening time recorded), or None after recording the error."""
-    session = AppSession(server.ws_url)
+    session = AppSession(server.url, server.ws_url)
     t0 = time.perf_counter()
     try:
         await session.open(timeout)
@@ -423,6 +490,7 @@ async def _open(server: ServedApp, stats: Stats, timeout: float, who: str) -> Ap
         return None
     stats.open_times.append(time.perf_counter() - t0)
     stats.opened += 1
+    stats.session_ids.append(session.session_id)
     return session
 
 
@@ -491,21 +559,30 @@ async def _round(server: ServedApp, stats: Stats, n: int, seconds: float, seed: 
 
 
 async def _warm_up(server: ServedApp, timeout: float = 600.0) -> None:
-    """One session that loads the page and releases each moved slider once (the first session pays
-    for imports and, on a clean checkout, numba's compilation)."""
-    session = AppSession(server.ws_url)
-    try:
-        await session.open(timeout)
-        for title, (lo, hi) in MOVES.items():
-            await session.release(title, round(0.5 * (lo + hi), 4), timeout)
-    finally:
-        await session.close()
+    """Sessions that load the page and release each moved slider once, until every server process has
+    served one: a process's first session pays for the imports and, on a clean checkout, numba's
+    compilation. The kernel picks the process that accepts a connection; a process counts as warm once
+    its CPU time has grown by a session's worth (:data:`WARM_CPU`)."""
+    cold = set(server.workers())
+    for _ in range(10 * len(cold)):
+        before = {pid: _cpu_seconds(pid) for pid in cold}
+        session = AppSession(server.url, server.ws_url)
+        try:
+            await session.open(timeout)
+            for title, (lo, hi) in MOVES.items():
+                await session.release(title, round(0.5 * (lo + hi), 4), timeout)
+        finally:
+            await session.close()
+        cold -= {pid for pid in before if _cpu_seconds(pid) - before[pid] >= WARM_CPU}
+        if not cold:
+            return
+    raise RuntimeError(f"server processes {sorted(cold)} served none of the warm-up sessions")
 
 
 class RssSampler(threading.Thread):
-    """Samples the server's RSS every `period` seconds while running."""
+    """Samples the server's memory every `period` seconds while running."""
 
-    def __init__(self, server: ServedApp, period: float = 0.25) -> None:
+    def __init__(self, server: ServedApp, period: float = 0.5) -> None:
         super().__init__(daemon=True)
         self.server, self.period = server, period
         self.samples: list[float] = []
@@ -514,7 +591,7 @@ class RssSampler(threading.Thread):
     def run(self) -> None:
         while not self._stop_event.is_set():
             try:
-                self.samples.append(self.server.rss_mb())
+                self.samples.append(self.server.memory_mb())
             except (OSError, RuntimeError):
                 return
             self._stop_event.wait(self.period)
@@ -524,13 +601,24 @@ class RssSampler(threading.Thread):
         self.join(timeout=5)
 
 
-def _wait_for_cleanup(server: ServedApp, limit: float) -> tuple[int | None, float]:
-    """Wait until the server reports no live session (at most `limit` s); (live count, seconds waited)."""
+def _wait_for_cleanup(server: ServedApp, limit: float, opened: Sequence[str]) -> tuple[int | None, float]:
+    """Wait (at most `limit` s) until the server has destroyed the sessions; (live sessions, seconds waited).
+
+    Each REST request is answered by one process, so the answers are merged until they cover every
+    session id in `opened` (every process hosting one of them has answered). ``--reuse-sessions`` keeps
+    the session of each process's first page request for rendering pages, never destroyed: up to
+    ``num_procs`` live sessions are that cache (:attr:`LoadResult.sessions_cleaned`)."""
     t0 = time.monotonic()
-    live = server.live_sessions()
-    while live and time.monotonic() - t0 < limit:
+    polls = 1 if server.num_procs == 1 else 6 * server.num_procs
+    wanted = set(opened)
+    while True:
+        states = server.session_states(polls)
+        live = None if states is None else sum(states.values())
+        if live is not None and live <= server.num_procs and wanted <= states.keys():
+            break
+        if time.monotonic() - t0 >= limit:
+            break
         time.sleep(0.25)
-        live = server.live_sessions()
     if live is None:  # no REST endpoint: wait out the whole clean-up interval
         time.sleep(max(0.0, limit - (time.monotonic() - t0)))
     time.sleep(1.0)  # let the interpreter finish releasing the discarded documents
@@ -572,8 +660,9 @@ class LoadResult:
 
     @property
     def sessions_cleaned(self) -> bool:
-        """The server reported no live session after every round's clean-up."""
-        return all(live == 0 for live in self.live_after_round)
+        """After every round's clean-up the server held no session but ``--reuse-sessions``' page cache
+        (at most one per process)."""
+        return all(live is not None and live <= self.config["num_procs"] for live in self.live_after_round)
 
     @property
     def rss_growth(self) -> float:
@@ -633,20 +722,20 @@ async def _calibrate(server: ServedApp, n_open: int = 3, n_release: int = 6,
     """Server CPU seconds per session open and per slider release, measured one at a time (no queueing)."""
     sessions = []
     try:
-        cpu0 = _cpu_seconds(server.pid)
+        cpu0 = server.cpu_seconds()
         for _ in range(n_open):
-            session = AppSession(server.ws_url)
+            session = AppSession(server.url, server.ws_url)
             sessions.append(session)
             await session.open(timeout)
         await asyncio.sleep(1.0)  # the pages' deferred plots are still being rendered: count them with the opens
-        cpu1 = _cpu_seconds(server.pid)
+        cpu1 = server.cpu_seconds()
         titles = list(MOVES)
         for i in range(n_release):
             lo, hi = MOVES[titles[i % len(titles)]]
             await sessions[0].release(titles[i % len(titles)], round(lo + (hi - lo) * (i + 1) / (n_release + 1), 4),
                                       timeout)
         await asyncio.sleep(0.5)  # the last update's remaining work (other plots, readout) after the Im data
-        cpu2 = _cpu_seconds(server.pid)
+        cpu2 = server.cpu_seconds()
     finally:
         for session in sessions:
             await session.close()
@@ -661,21 +750,22 @@ def cleanup_flags(check_ms: int, lifetime_ms: int) -> list[str]:
 def run_load(sessions: int = 20, duration: float = 60.0, rounds: int = 3, think: tuple[float, float] = (1.0, 3.0),
              life: tuple[float, float] = (0.5, 1.5), arrival_gap: float = 0.25, timeout: float = 30.0,
              check_ms: int = 1000, lifetime_ms: int = 1000, mem_tolerance: float = 20.0, p95_limit: float = 1.0,
-             seed: int = 1, verify_limit: int = 5000, log=print) -> LoadResult:
-    """Serve the app, run the load, return the figures (see the module docstring)."""
+             seed: int = 1, verify_limit: int = 5000, num_procs: int = 2, log=print) -> LoadResult:
+    """Serve the app with `num_procs` processes, run the load, return the figures (module docstring)."""
     config = dict(sessions=sessions, duration=duration, rounds=rounds, think=think, life=life,
-                  arrival_gap=arrival_gap, timeout=timeout, mem_tolerance=mem_tolerance, p95_limit=p95_limit)
+                  arrival_gap=arrival_gap, timeout=timeout, mem_tolerance=mem_tolerance, p95_limit=p95_limit,
+                  num_procs=num_procs)
     flags = [*cleanup_flags(check_ms, lifetime_ms), "--rest-session-info", "--session-history=100000"]
     cleanup_limit = 2 * (check_ms + lifetime_ms) / 1000 + 10
     load_before = os.getloadavg()
     host_loop = host_loop_seconds()
-    with ServedApp(flags) as server:
-        log(f"server pid {server.pid} on port {server.port}: {' '.join(flags)}")
-        log("warm-up session (first page, numba kernels) ...")
+    with ServedApp(flags, num_procs=num_procs) as server:
+        log(f"server pid {server.pid} on port {server.port}: {' '.join(server.args[3:])}")
+        log(f"warm-up sessions until each of the {num_procs} server process(es) has served one ...")
         asyncio.run(_warm_up(server))
         cpu_per_open, cpu_per_update = asyncio.run(_calibrate(server))
-        _wait_for_cleanup(server, cleanup_limit)
-        rss_start = server.rss_mb()
+        _wait_for_cleanup(server, cleanup_limit, [])
+        rss_start = server.memory_mb()
         stats = Stats()
         sampler = RssSampler(server)
         sampler.start()
@@ -683,17 +773,17 @@ def run_load(sessions: int = 20, duration: float = 60.0, rounds: int = 3, think:
         server_cpu = client_cpu = 0.0
         for r in range(rounds):
             log(f"round {r + 1}/{rounds}: {sessions} sessions, then {duration / rounds:.0f} s of slider releases ...")
-            cpu0, own0 = _cpu_seconds(server.pid), time.process_time()
+            cpu0, own0, first = server.cpu_seconds(), time.process_time(), len(stats.session_ids)
             asyncio.run(_round(server, stats, sessions, duration / rounds, seed + r, think, life, timeout,
                                arrival_gap))
-            server_cpu += _cpu_seconds(server.pid) - cpu0
+            server_cpu += server.cpu_seconds() - cpu0
             client_cpu += time.process_time() - own0
-            live, secs = _wait_for_cleanup(server, cleanup_limit)
-            rss_after.append(server.rss_mb())
+            live, secs = _wait_for_cleanup(server, cleanup_limit, stats.session_ids[first:])
+            rss_after.append(server.memory_mb())
             live_after.append(live)
             waited.append(secs)
             log(f"  {len(stats.updates)} updates so far, {len(stats.errors)} errors; after clean-up: "
-                f"live sessions {live}, RSS {rss_after[-1]:.0f} MB")
+                f"live sessions {live}, memory {rss_after[-1]:.0f} MB")
         sampler.stop()
         server_errors = list(server.error_lines)
     verified = _verify(stats.updates, verify_limit, stats.errors)
@@ -724,6 +814,8 @@ def _verdict(ok: bool) -> str:
 def report(r: LoadResult) -> str:
     """The results as Markdown (also printed)."""
     c, lat, op = r.config, r.latency, r.session_open
+    n = c["num_procs"]
+    mem = "RSS" if n == 1 else f"memory (Pss of its {n + 1} processes)"
     rows = [
         ("sessions opened / closed", f"{r.opened} / {r.closed}", ""),
         ("slider releases answered (updates)", f"{r.updates} ({r.updates / r.window_seconds:.1f}/s)",
@@ -734,14 +826,15 @@ def report(r: LoadResult) -> str:
         ("session open median / p95 / max", f"{_ms(op['median'])} / {_ms(op['p95'])} / {_ms(op['max'])}",
          f"all {c['sessions']} open after {' / '.join(f'{x:.0f}' for x in r.open_phase)} s"),
         ("CPU used: server / load client", f"{r.server_cpu:.0f} s / {r.client_cpu:.0f} s",
-         f"server busy {100 * r.server_cpu / r.window_seconds:.0f} % of the wall time"),
+         f"server busy {100 * r.server_cpu / (r.window_seconds * n):.0f} % of {n} core(s) over the wall time"),
         ("server CPU per session open / per update, one at a time",
          f"{_ms(r.cpu_per_open)} / {_ms(r.cpu_per_update)}", ""),
-        ("server RSS start / peak", f"{r.rss_start:.0f} / {r.rss_peak:.0f} MB", ""),
-        ("server RSS after each round's clean-up", " / ".join(f"{x:.0f}" for x in r.rss_after_round) + " MB",
+        (f"server {mem} start / peak", f"{r.rss_start:.0f} / {r.rss_peak:.0f} MB", ""),
+        (f"server {mem} after each round's clean-up", " / ".join(f"{x:.0f}" for x in r.rss_after_round) + " MB",
          f"last round {r.rss_growth:+.0f} MB (limit {c['mem_tolerance']:.0f})"),
         ("live sessions after each clean-up", " / ".join(str(x) for x in r.live_after_round),
-         f"clean-up took {' / '.join(f'{s:.0f}' for s in r.cleanup_seconds)} s"),
+         f"<= {n} (the page cache of --reuse-sessions, one per process); clean-up took "
+         f"{' / '.join(f'{s:.0f}' for s in r.cleanup_seconds)} s"),
         ("memory bounded", "", _verdict(r.memory_bounded)),
     ]
     per_round = c["duration"] / c["rounds"]
@@ -755,7 +848,8 @@ def report(r: LoadResult) -> str:
         "Latency = release sent until the server's new Im[c/c_s] data for the plot is received (Bokeh-protocol "
         "client, no browser rendering).",
         "",
-        f"Server: `panel serve app/main.py` with `make serve`'s flags and `{' '.join(r.server_flags)}`. "
+        f"Server: `panel serve app/main.py` as `make serve` and the Docker image run it, with "
+        f"`{' '.join(serve_flags(n))}` and `{' '.join(r.server_flags)}`. "
         f"Machine: {os.cpu_count()} CPU(s), load average {r.load_before[0]:.2f} before and {r.load_after[0]:.2f} "
         "after (other jobs share the CPUs, so timings are indicative). " + host_line(*r.host_loop),
         "",
@@ -764,8 +858,8 @@ def report(r: LoadResult) -> str:
         *(f"| {a} | {b} | {v} |" for a, b, v in rows),
         "",
         f"One round's {c['sessions']} arrivals need about {c['sessions'] * r.cpu_per_open:.1f} s of server CPU "
-        f"(per-open cost above) and arrive within {c['sessions'] * c['arrival_gap']:.1f} s; the server runs on one "
-        "event loop, so slider releases sent meanwhile wait behind the page builds.",
+        f"(per-open cost above) and arrive within {c['sessions'] * c['arrival_gap']:.1f} s; each of the {n} server "
+        "process(es) runs one event loop, so slider releases sent meanwhile wait behind the page builds.",
         "",
         f"**Verdict: {_verdict(r.ok)}**",
     ]
@@ -788,11 +882,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--mem-tolerance", type=float, default=20.0,
                     help="MB of RSS growth allowed over the last round, between clean-ups (default 20)")
     ap.add_argument("--p95-limit", type=float, default=1.0, help="seconds (default 1)")
+    ap.add_argument("--num-procs", type=int, default=2,
+                    help="server processes (default 2, the Docker image's NUM_PROCS; make serve uses 1)")
     ap.add_argument("--out", type=Path, default=OUT, help="Markdown report (default benchmarks/load_results.md)")
     args = ap.parse_args(argv)
     result = run_load(args.sessions, args.duration, args.rounds, tuple(args.think), arrival_gap=args.arrival_gap,
                       timeout=args.timeout, check_ms=args.check_unused_ms, lifetime_ms=args.unused_lifetime_ms,
-                      mem_tolerance=args.mem_tolerance, p95_limit=args.p95_limit)
+                      mem_tolerance=args.mem_tolerance, p95_limit=args.p95_limit, num_procs=args.num_procs)
     text = report(result)
     print(text)
     args.out.write_text(text, encoding="utf-8")

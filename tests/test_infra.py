@@ -74,3 +74,17 @@ def test_makefile_targets_parse() -> None:
     assert result.returncode == 0, result.stderr
     for needle in ("pip install", "panel serve app/main.py", "pytest", "hadolint", "check_contract.py"):
         assert needle in result.stdout, needle
+
+
+@pytest.mark.skipif(shutil.which("make") is None, reason="GNU make not installed")
+def test_make_serve_the_image_and_the_load_test_serve_alike() -> None:
+    from benchmarks.load_test import serve_flags
+
+    make = subprocess.run(["make", "--dry-run", "--always-make", "serve", "NUM_PROCS=3"], cwd=ROOT,
+                          capture_output=True, text=True, timeout=60)
+    assert make.returncode == 0, make.stderr
+    assert " ".join(serve_flags(3)) in make.stdout
+    docker = (ROOT / "Dockerfile").read_text()
+    cmd = [line for line in docker.splitlines() if line.startswith("CMD ")][-1]
+    assert " ".join(serve_flags(1)).replace("1", '\\"$NUM_PROCS\\"') in cmd
+    assert "NUM_PROCS=2" in docker  # the load test's default (benchmarks/load_test.py --num-procs)
