@@ -12,6 +12,10 @@ from app.main import TITLE
 
 SCREENSHOT = Path(__file__).resolve().parent.parent / "docs" / "screenshot.png"
 
+#: titles of the page's Bokeh figures (JS function)
+FIGURE_TITLES = ("() => Array.from(Bokeh.documents[0].all_models)"
+                 ".filter(m => m.title && m.title.text && m.x_range).map(m => m.title.text)")
+
 
 def test_server_answers_with_the_page(served_app: str) -> None:
     with urllib.request.urlopen(served_app, timeout=30) as response:
@@ -37,7 +41,13 @@ def test_page_renders_in_chromium(served_app: str, browser_page) -> None:
     page.get_by_text("lets you explore").first.wait_for(state="visible", timeout=30_000)
     assert page.title() == TITLE
     page.wait_for_load_state("networkidle")
+    # the README's screenshot: tall enough for the three Spectrum plots, taken once they are drawn
+    # (they are rendered after the page has loaded, one per server event-loop turn)
+    page.set_viewport_size({"width": 1280, "height": 1560})
+    page.wait_for_function(f"() => ({FIGURE_TITLES})().length >= 3", timeout=60_000)
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    page.wait_for_timeout(500)  # the last plot's paint
     SCREENSHOT.parent.mkdir(parents=True, exist_ok=True)
-    page.screenshot(path=str(SCREENSHOT), full_page=True)
+    page.screenshot(path=str(SCREENSHOT))
     assert SCREENSHOT.stat().st_size > 0
     assert page.console_errors == []
