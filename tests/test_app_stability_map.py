@@ -425,5 +425,10 @@ def test_served_map_shows_the_model_values(served_app: str, browser_page) -> Non
     assert len(d["growth"]) == n * n
     np.testing.assert_allclose(shown, growth, rtol=1e-12, atol=0)
     n_chunks = len(sm.chunk_rows(n))
-    page.wait_for_function(_PROGRESS_JS, arg=n_chunks, timeout=10_000)  # the bar shows the finished chunks
+    try:
+        page.wait_for_function(_PROGRESS_JS, arg=n_chunks, timeout=10_000)  # the bar shows the finished chunks
+    except Exception:
+        state = page.evaluate("() => Array.from(Bokeh.documents[0].all_models).filter(m => m.bar_color !== undefined"
+                              " && m.max !== undefined).map(m => [m.max, m.value, m.type])")
+        raise AssertionError(f"progress bar {state}, expected max = value = {n_chunks}") from None
     assert page.console_errors == []
