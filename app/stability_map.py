@@ -389,8 +389,11 @@ class StabilityMapScene(param.Parameterized):
             if self._poller is not None:
                 self._poller.stop()
             return
+        # `finished` before `done`: the worker sets done, then finished, so a job seen finished shows its last
+        # chunk. Read the other way round, a worker finishing in between left the bar one chunk short for good.
+        finished = job.finished
         self._show_progress(job)
-        if not job.finished:
+        if not finished:
             return
         job.applied = True
         if job.error:

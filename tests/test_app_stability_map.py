@@ -432,3 +432,23 @@ def test_served_map_shows_the_model_values(served_app: str, browser_page) -> Non
                               " && m.max !== undefined).map(m => [m.max, m.value, m.type])")
         raise AssertionError(f"progress bar {state}, expected max = value = {n_chunks}") from None
     assert page.console_errors == []
+
+
+def test_progress_shows_the_last_chunk_when_the_worker_finishes_during_an_update() -> None:
+    """The race seen in a loaded run (bar at 3 of 4 with the map complete): the worker thread finishes
+    while :meth:`_apply` shows the progress; the bar must still end at the last chunk."""
+    scene = StabilityMapScene()
+    job = sm._Job(gen=scene._generation, key=scene.map_key, total=4, done=3)
+    scene._job = job
+    show = scene._show_progress
+
+    def show_then_finish(j) -> None:
+        show(j)
+        if not j.finished:  # the worker's last chunk and its end, between the two reads of _apply
+            j.done, j.error, j.finished = 4, "error: stopped here (test)", True
+
+    scene._show_progress = show_then_finish
+    scene._apply()
+    scene._apply()
+    assert job.applied and scene.status == job.error
+    assert (scene.progress.value, scene.progress.max) == (4, 4)
