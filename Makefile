@@ -12,7 +12,7 @@ PORT     ?= 5006
 ADDRESS  ?= 0.0.0.0
 # hosts whose pages may open the app's websocket (never '*')
 ALLOWED_ORIGIN ?= localhost:$(PORT)
-# server processes (one per core for many users; see README "Docker and deployment")
+# server processes (at most one per core; see README "Docker")
 NUM_PROCS ?= 1
 LINT_DIRS ?= $(wildcard model app tests benchmarks)
 PYTEST_ARGS ?=
