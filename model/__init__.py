@@ -11,6 +11,7 @@ Public API (NumPy in, NumPy out; physical parameters keyword-only and broadcasti
   :func:`thin_on_thick_response`, :func:`normal_stress_change` (Sect. III, Eqs. effective_constants, dsigma)
 """
 
+from .elastic import poisson_ratio, shear_modulus, wave_speed_ratio
 from .elastodynamics import (
     dispersion,
     dispersion_derivative,
@@ -23,6 +24,7 @@ from .rayleigh import rayleigh_speed
 from .spectrum import STATUS, SpectrumResult, linear_expansion, rayleigh_branch, spectrum
 from .stability import (
     GrowthResult,
+    StabilityVerdict,
     criterion_chi,
     critical_chi,
     critical_eta,
@@ -75,4 +77,7 @@ __all__ = [
     "response_derivatives",
     "response_functions",
     "spectrum",
+    "poisson_ratio",
+    "shear_modulus",
+    "wave_speed_ratio",
 ]

@@ -12,6 +12,9 @@ BETA_MAX = 1.0 / math.sqrt(2.0)
 DOMAINS: dict[str, tuple[float, float, bool, bool, bool, str]] = {
     "beta": (0.0, BETA_MAX + 2e-16, False, True, False, "(0, 1/sqrt(2)]"),
     "nu": (0.0, 0.5, True, False, False, "[0, 0.5)"),
+    "nu_any": (-1.0, 0.5, False, False, False, "(-1, 0.5)"),
+    "beta_any": (0.0, 1.0, False, False, False, "(0, 1)"),
+    "rho": (0.0, math.inf, False, False, False, "(0, inf)"),
     "kH": (0.0, math.inf, False, False, False, "(0, inf)"),
     "kW": (0.0, math.inf, False, False, False, "(0, inf)"),
     "eta": (0.0, math.inf, False, True, True, "(0, inf] (math.inf = half-space)"),
@@ -69,7 +72,7 @@ def check(name: str, value, *, complex_ok: bool = False, domain: str | None = No
     if allow_inf:
         bad &= ~(np.isposinf(arr) & (hi == math.inf))
     if np.any(bad):
-        first = arr[bad].ravel()[0]
+        first = float(arr[bad].ravel()[0])
         raise ValueError(f"{name} must be in {text}; got {first!r}")
     return arr
 
