@@ -15,6 +15,7 @@ WORKDIR /srv/asymslide
 COPY pyproject.toml README.md ./
 COPY model/ model/
 COPY app/ app/
+COPY asymslide/ asymslide/
 COPY static/ static/
 
 # the same install as the README's, then an unprivileged user to run the server
@@ -32,5 +33,5 @@ HEALTHCHECK --interval=30s --timeout=5s --start-period=30s --retries=3 \
     CMD ["python", "-c", "import urllib.request; urllib.request.urlopen('http://127.0.0.1:5006/liveness', timeout=4)"]
 
 # sh -c only to expand ALLOWED_ORIGIN and NUM_PROCS (server processes: at most the container's cores);
-# exec hands PID 1 to panel so it gets the stop signal
-CMD ["sh", "-c", "exec panel serve app/main.py --port 5006 --address 0.0.0.0 --liveness --static-dirs assets=static --num-procs \"$NUM_PROCS\" --reuse-sessions --allow-websocket-origin=\"$ALLOWED_ORIGIN\""]
+# exec makes the launcher PID 1: on docker stop (SIGTERM) it stops every panel process, workers included
+CMD ["sh", "-c", "exec asymslide serve --port 5006 --address 0.0.0.0 --liveness --num-procs \"$NUM_PROCS\" --allow-websocket-origin \"$ALLOWED_ORIGIN\""]

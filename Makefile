@@ -34,10 +34,10 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install --quiet -e '.[test,bench]'
 	touch $@
 
-serve: venv  ## serve the app on http://localhost:5006
-	$(VENV)/bin/panel serve app/main.py --port $(PORT) --address $(ADDRESS) \
-	  --allow-websocket-origin=$(ALLOWED_ORIGIN) --allow-websocket-origin=127.0.0.1:$(PORT) \
-	  --static-dirs assets=static --num-procs $(NUM_PROCS) --reuse-sessions
+serve: venv  ## serve the app on http://localhost:5006 (Ctrl-C stops it, workers included)
+	$(VENV)/bin/asymslide serve --port $(PORT) --address $(ADDRESS) \
+	  --allow-websocket-origin $(ALLOWED_ORIGIN) --allow-websocket-origin 127.0.0.1:$(PORT) \
+	  --num-procs $(NUM_PROCS)
 
 test: venv  ## ruff, then every test (browser tests need /usr/bin/chromium)
 	$(VENV)/bin/ruff check $(LINT_DIRS)
@@ -45,12 +45,15 @@ test: venv  ## ruff, then every test (browser tests need /usr/bin/chromium)
 	  echo "SKIPPING browser tests: $(CHROMIUM) not found (apt-get install -y chromium)"; fi
 	$(PY) -m pytest $(PYTEST_ARGS)
 
+# every process a benchmark starts carries this id in its environment; the last step fails if one is left
+bench: export ASYMSLIDE_RUN_ID := bench-$(shell date +%s%N)
 bench: venv  ## run the benchmarks (timings live here, not in tests)
 	@if [ -f benchmarks/run.py ]; then $(PY) benchmarks/run.py; \
 	elif [ -f benchmarks/__main__.py ]; then $(PY) -m benchmarks; \
 	else echo "no benchmarks yet: add benchmarks/run.py or benchmarks/__main__.py"; fi
 	$(PY) benchmarks/latency.py  # browser slider-to-plot latency (needs $(CHROMIUM)); prints PASS/MISS, exits 0
 	$(PY) benchmarks/load_test.py  # 20 sessions for 60 s; exits 1 on errors, p95 > 1 s or unbounded memory
+	$(PY) -m asymslide.processes $$ASYMSLIDE_RUN_ID  # exits 1 if a benchmark left a process running
 
 lint: venv  ## ruff on the Python code, hadolint on the Dockerfile
 	$(VENV)/bin/ruff check $(LINT_DIRS)

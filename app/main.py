@@ -6,12 +6,11 @@ Tests build the same page through :func:`create_app`.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import panel as pn
 
 from app.all_branches import AllBranchesScene
 from app.params import SpectrumParams, frozen_document
+from app.paths import CSS, FAVICON, LOGO
 from app.presets import Preset, load_presets, preset_args
 from app.server_gc import configure_gc, track_session
 from app.session_resources import use_server_stylesheets
@@ -28,10 +27,6 @@ TAB_TITLES = ("Spectrum", "Stability map", "Thin-on-thick", "All branches")
 
 TITLE = "asymslide — frictional sliding without reflection symmetry"
 
-STATIC_DIR = Path(__file__).resolve().parent.parent / "static"
-LOGO = STATIC_DIR / "logo.svg"
-FAVICON = STATIC_DIR / "favicon.svg"
-CSS = STATIC_DIR / "asymslide.css"
 
 INTRO = """
 ## Frictional sliding without reflection symmetry

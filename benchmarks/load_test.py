@@ -2,10 +2,10 @@
 
     python benchmarks/load_test.py --sessions 20 --duration 60 [--num-procs 2]
 
-1. Starts ``panel serve app/main.py`` as a subprocess on a free port, as ``make serve`` and the Docker
-   image run it (:func:`serve_flags`: ``--num-procs`` server processes, default 2 as in the image,
-   and ``--reuse-sessions``), with the session clean-up flags of :func:`cleanup_flags` and a
-   session-info REST endpoint.
+1. Starts the app with ``asymslide serve`` as a subprocess on a free port, as ``make serve`` and the Docker
+   image run it (:func:`serve_args`: ``--num-procs`` server processes, default 2 as in the image; the
+   launcher adds ``--reuse-sessions``), with the session clean-up flags of :func:`cleanup_flags` and a
+   session-info REST endpoint passed through to ``panel serve``.
 2. Opens warm-up sessions until every server process has served one (imports, numba kernels, first
    page), measures the server CPU of a session open and of a slider release one at a time, waits
    for the server to discard those sessions and records the server's memory: the *start* figure.
@@ -46,11 +46,13 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import contextlib
 import json
 import math
 import os
 import random
 import re
+import signal
 import socket
 import subprocess
 import sys
@@ -75,9 +77,9 @@ from tornado.websocket import websocket_connect
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))  # `model` for the verification, also when run as a script
+from asymslide.processes import children, descendants  # noqa: E402
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 
-APP = ROOT / "app" / "main.py"
 OUT = Path(__file__).resolve().parent / "load_results.md"
 
 #: server lines that count as errors
@@ -100,12 +102,12 @@ WARM_CPU = 0.2
 TOKEN = re.compile(r'"token":\s*"([^"]+)"')
 
 
-def serve_flags(num_procs: int) -> list[str]:
-    """How ``make serve`` and the Docker image run the app, besides port, address, origins and static
-    files: `num_procs` server processes, and pages rendered from a cached session (``--reuse-sessions``:
-    a page request then costs ~20 ms, and each user's document is built once, when its websocket
-    connects, in whichever process accepts it)."""
-    return ["--num-procs", str(num_procs), "--reuse-sessions"]
+def serve_args(port: int, num_procs: int) -> list[str]:
+    """``asymslide serve`` as ``make serve`` and the Docker image run it (the launcher adds the static files and
+    ``--reuse-sessions``: a page request then costs ~20 ms, and each user's document is built once, when its
+    websocket connects, in whichever process accepts it), on 127.0.0.1:`port` with `num_procs` processes."""
+    return ["serve", "--port", str(port), "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
+            "--allow-websocket-origin", f"localhost:{port}", "--num-procs", str(num_procs)]
 
 _PROTOCOL = Protocol()
 
@@ -130,11 +132,7 @@ class ServedApp:
         self.num_procs = num_procs
         self.url = f"http://127.0.0.1:{self.port}/main"
         self.ws_url = f"ws://127.0.0.1:{self.port}/main/ws"
-        self.args = [
-            sys.executable, "-m", "panel", "serve", str(APP), "--port", str(self.port), "--address", "127.0.0.1",
-            f"--allow-websocket-origin=127.0.0.1:{self.port}", f"--allow-websocket-origin=localhost:{self.port}",
-            "--static-dirs", f"assets={ROOT / 'static'}", *serve_flags(num_procs), *extra_args,
-        ]
+        self.args = [sys.executable, "-m", "asymslide", *serve_args(self.port, num_procs), "--", *extra_args]
         self.log: list[str] = []
         self.error_lines: list[str] = []
         self.proc: subprocess.Popen[str] | None = None
@@ -190,16 +188,19 @@ class ServedApp:
 
     @property
     def pid(self) -> int:
+        """The first Panel process (the launcher's child): the server, or with ``--num-procs`` > 1 the parent
+        that forked the workers."""
         assert self.proc is not None
-        return self.proc.pid
+        deadline = time.monotonic() + 10.0
+        while not (kids := children(self.proc.pid)):
+            if time.monotonic() > deadline:
+                raise RuntimeError("asymslide serve started no panel process")
+            time.sleep(0.05)
+        return kids[0]
 
     def pids(self) -> list[int]:
-        """The process started and, with ``--num-procs`` > 1, the workers it forked (which serve)."""
-        try:
-            with open(f"/proc/{self.pid}/task/{self.pid}/children", encoding="ascii") as fh:
-                return [self.pid, *(int(p) for p in fh.read().split())]
-        except OSError:
-            return [self.pid]
+        """The Panel processes: the first one and, with ``--num-procs`` > 1, the workers it forked (which serve)."""
+        return [self.pid, *children(self.pid)]
 
     def workers(self) -> list[int]:
         """The processes that serve sessions: the forked workers, or the one process."""
@@ -237,13 +238,16 @@ class ServedApp:
         return states if answered else None
 
     def stop(self) -> None:
+        """SIGTERM to the launcher, which stops every Panel process (asymslide/serve.py) before it exits."""
         if self.proc is None or self.proc.poll() is not None:
             return
         self.proc.terminate()
         try:
             self.proc.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
+        except subprocess.TimeoutExpired:  # the launcher itself hung: kill it and its process tree
+            for pid in [*reversed(descendants(self.proc.pid)), self.proc.pid]:
+                with contextlib.suppress(ProcessLookupError):
+                    os.kill(pid, signal.SIGKILL)
             self.proc.wait(timeout=15)
         for t in self._readers:
             t.join(timeout=5)
@@ -760,7 +764,7 @@ def run_load(sessions: int = 20, duration: float = 60.0, rounds: int = 3, think:
     load_before = os.getloadavg()
     host_loop = host_loop_seconds()
     with ServedApp(flags, num_procs=num_procs) as server:
-        log(f"server pid {server.pid} on port {server.port}: {' '.join(server.args[3:])}")
+        log(f"server pid {server.pid} on port {server.port}: {' '.join(server.args[2:])}")
         log(f"warm-up sessions until each of the {num_procs} server process(es) has served one ...")
         asyncio.run(_warm_up(server))
         cpu_per_open, cpu_per_update = asyncio.run(_calibrate(server))
@@ -848,8 +852,8 @@ def report(r: LoadResult) -> str:
         "Latency = release sent until the server's new Im[c/c_s] data for the plot is received (Bokeh-protocol "
         "client, no browser rendering).",
         "",
-        f"Server: `panel serve app/main.py` as `make serve` and the Docker image run it, with "
-        f"`{' '.join(serve_flags(n))}` and `{' '.join(r.server_flags)}`. "
+        f"Server: `asymslide serve --num-procs {n}` as `make serve` and the Docker image run it (`panel serve "
+        f"app/main.py --reuse-sessions`), with `{' '.join(r.server_flags)}` passed to panel serve. "
         f"Machine: {os.cpu_count()} CPU(s), load average {r.load_before[0]:.2f} before and {r.load_after[0]:.2f} "
         "after (other jobs share the CPUs, so timings are indicative). " + host_line(*r.host_loop),
         "",

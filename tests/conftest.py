@@ -11,10 +11,13 @@ import os
 import socket
 import time
 import urllib.request
+import uuid
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+
+from asymslide.processes import MARKER, stop_marked
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = [
@@ -32,6 +35,13 @@ MISSING_BROWSER = f"{CHROMIUM} not found (apt-get install -y chromium)"
 
 _ui_skipped: list[str] = []
 
+#: every process this test session starts inherits MARKER=RUN_ID in its environment: pytest_sessionfinish
+#: finds the ones still running at the end (servers, workers, browsers) and fails the session
+RUN_ID = f"pytest-{os.getpid()}-{uuid.uuid4().hex[:8]}"
+os.environ[MARKER] = RUN_ID
+#: how long processes may take to exit after the last test before they count as left behind
+LEFTOVER_GRACE = float(os.environ.get("ASYMSLIDE_LEFTOVER_GRACE", "20"))
+
 
 def in_ci() -> bool:
     return os.environ.get("CI", "").strip().lower() in {"true", "1", "yes"}
@@ -44,6 +54,20 @@ def pytest_runtest_setup(item: pytest.Item) -> None:
         pytest.fail(f"browser test cannot run in CI: {MISSING_BROWSER}", pytrace=False)
     _ui_skipped.append(item.nodeid)
     pytest.skip(f"browser test skipped: {MISSING_BROWSER}")
+
+
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    """Fail the session if any process it started outlives it (they are killed, so none keeps running)."""
+    lines = stop_marked(RUN_ID, LEFTOVER_GRACE, exclude=(os.getpid(),))
+    if not lines:
+        return
+    reporter = session.config.pluginmanager.get_plugin("terminalreporter")
+    if reporter is not None:
+        reporter.write_sep("!", f"{len(lines)} process(es) started by the tests were still running (killed now)",
+                           red=True, bold=True)
+        for line in lines:
+            reporter.write_line(line)
+    session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 
 def pytest_terminal_summary(terminalreporter) -> None:

@@ -38,7 +38,7 @@ def test_dockerfile_serves_the_app_safely() -> None:
     text = (ROOT / "Dockerfile").read_text()
     assert "EXPOSE 5006" in text
     assert "ALLOWED_ORIGIN=localhost:5006" in text
-    assert "--allow-websocket-origin=\\\"$ALLOWED_ORIGIN\\\"" in text
+    assert "--allow-websocket-origin \\\"$ALLOWED_ORIGIN\\\"" in text
     assert "ALLOWED_ORIGIN=*" not in text and "origin=*" not in text
     assert "--liveness" in text
     assert 'HEALTHCHECK' in text and 'CMD ["python"' in text
@@ -72,19 +72,23 @@ def test_makefile_targets_parse() -> None:
         timeout=60,
     )
     assert result.returncode == 0, result.stderr
-    for needle in ("pip install", "panel serve app/main.py", "pytest", "hadolint", "check_contract.py"):
+    for needle in ("pip install", "asymslide serve", "pytest", "hadolint", "check_contract.py"):
         assert needle in result.stdout, needle
 
 
 @pytest.mark.skipif(shutil.which("make") is None, reason="GNU make not installed")
 def test_make_serve_the_image_and_the_load_test_serve_alike() -> None:
-    from benchmarks.load_test import serve_flags
+    """All three run the launcher (asymslide/serve.py: panel serve's flags and the clean stop live there)."""
+    from benchmarks.load_test import ServedApp
 
     make = subprocess.run(["make", "--dry-run", "--always-make", "serve", "NUM_PROCS=3"], cwd=ROOT,
                           capture_output=True, text=True, timeout=60)
     assert make.returncode == 0, make.stderr
-    assert " ".join(serve_flags(3)) in make.stdout
+    assert "bin/asymslide serve " in make.stdout and "--num-procs 3" in make.stdout
+    assert "panel serve" not in make.stdout
     docker = (ROOT / "Dockerfile").read_text()
     cmd = [line for line in docker.splitlines() if line.startswith("CMD ")][-1]
-    assert " ".join(serve_flags(1)).replace("1", '\\"$NUM_PROCS\\"') in cmd
+    assert "exec asymslide serve " in cmd and '--num-procs \\"$NUM_PROCS\\"' in cmd
     assert "NUM_PROCS=2" in docker  # the load test's default (benchmarks/load_test.py --num-procs)
+    args = ServedApp(num_procs=3).args
+    assert args[1:4] == ["-m", "asymslide", "serve"] and args[args.index("--num-procs") + 1] == "3"

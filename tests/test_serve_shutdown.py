@@ -1,0 +1,104 @@
+"""The server stops completely, workers included, on the signals that stop it in practice (issue 15, point 1).
+
+``asymslide serve --num-procs 2`` is how ``make serve`` and the Docker image run the app (tests/test_infra.py
+checks that they do). ``docker stop`` and systemd send SIGTERM to that process; Ctrl-C in a terminal sends
+SIGINT to the foreground process group (make and everything it started). Each must leave no process behind
+within 10 s (docker stop's default grace period).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+from asymslide.processes import alive, children, descendants
+from tests.conftest import _find_free_port
+
+pytestmark = pytest.mark.slow
+
+ROOT = Path(__file__).resolve().parent.parent
+#: docker stop's default grace period
+STOP_WITHIN = 10.0
+
+
+def _wait_until_serving(proc: subprocess.Popen, port: int, workers: int, timeout: float = 120.0) -> list[int]:
+    """Wait for the page and for `workers` forked Panel workers; return every process under `proc`."""
+    deadline = time.monotonic() + timeout
+    url = f"http://127.0.0.1:{port}/static/js/bokeh.min.js"
+    while time.monotonic() < deadline:
+        assert proc.poll() is None, "the server exited while starting"
+        tree = descendants(proc.pid)
+        panel = [p for p in tree if "panel" in _cmdline(p) and "serve" in _cmdline(p)]
+        try:
+            with urllib.request.urlopen(url, timeout=5) as response:
+                if response.status == 200 and len(panel) >= 1 + workers:
+                    return tree
+        except OSError:
+            pass
+        time.sleep(0.2)
+    raise RuntimeError(f"server on port {port} did not come up with {workers} workers")
+
+
+def _cmdline(pid: int) -> str:
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode()
+    except OSError:
+        return ""
+
+
+def _assert_all_gone(proc: subprocess.Popen, tree: list[int]) -> None:
+    """`proc` exits within STOP_WITHIN s of the signal, and every process it had started is gone by then."""
+    try:
+        proc.wait(timeout=STOP_WITHIN)
+    except subprocess.TimeoutExpired:
+        left = [p for p in [proc.pid, *tree] if alive(p)]
+        for p in left:
+            os.kill(p, signal.SIGKILL)
+        proc.wait(timeout=10)
+        pytest.fail(f"still running {STOP_WITHIN:g} s after the signal: {[_cmdline(p) for p in left]}")
+    left = [p for p in tree if alive(p)]
+    for p in left:
+        os.kill(p, signal.SIGKILL)
+    assert not left, f"left behind: {[_cmdline(p) for p in left]}"
+
+
+def test_sigterm_to_the_launcher_stops_every_worker() -> None:
+    """What docker stop and systemd do: SIGTERM to the process the image's CMD execs."""
+    port = _find_free_port()
+    proc = subprocess.Popen([sys.executable, "-m", "asymslide", "serve", "--port", str(port), "--address",
+                             "127.0.0.1", "--num-procs", "2"], cwd=ROOT, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    try:
+        tree = _wait_until_serving(proc, port, workers=2)
+        assert len(children(children(proc.pid)[0])) == 2  # launcher -> panel -> two workers
+        proc.send_signal(signal.SIGTERM)
+        _assert_all_gone(proc, tree)
+        assert proc.returncode == 128 + signal.SIGTERM
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+
+
+@pytest.mark.skipif(not (ROOT / ".venv" / "bin" / "asymslide").exists(), reason="make serve needs the .venv")
+def test_ctrl_c_on_make_serve_stops_every_worker() -> None:
+    """What a terminal does on Ctrl-C: SIGINT to the whole foreground process group of `make serve`."""
+    port = _find_free_port()
+    proc = subprocess.Popen(["make", "--no-print-directory", "serve", f"PORT={port}", "ADDRESS=127.0.0.1",
+                             "NUM_PROCS=2"], cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            start_new_session=True)  # its own group, as a terminal's foreground job
+    try:
+        tree = _wait_until_serving(proc, port, workers=2)
+        os.killpg(proc.pid, signal.SIGINT)
+        _assert_all_gone(proc, tree)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
