@@ -1,14 +1,34 @@
 """Physics of frictional sliding without geometrical reflection symmetry (Aldam et al., PRX 6, 041023, 2016).
 
-Public API (NumPy in, NumPy out; physical parameters keyword-only and broadcasting):
+Public API (NumPy in, NumPy out; physical parameters keyword-only and broadcasting; bad input raises
+ValueError naming the parameter and its range). The equations and numerics are in docs/physics.md.
 
-- :func:`rayleigh_speed` (PHYSICS section 5)
-- :func:`response_functions`, :func:`response_derivatives` (Eq. Gs_general)
-- :func:`dispersion`, :func:`dispersion_derivative` (Eq. implicit_spectrum + Eq. delta f RSF)
-- :func:`spectrum`, :func:`rayleigh_branch` (Rayleigh branch, PHYSICS section 3)
-- :func:`linear_expansion` (Eq. S-dz)
-- :func:`bessel_integral_B`, :func:`bessel_term_C`, :func:`effective_moduli`,
-  :func:`thin_on_thick_response`, :func:`normal_stress_change` (Sect. III, Eqs. effective_constants, dsigma)
+Elastodynamics of two blocks (docs/physics.md §2-§3, §5)
+    :func:`rayleigh_speed` (Rayleigh cubic), :func:`response_functions`, :func:`response_derivatives`
+    (Eq. Gs_general), :func:`dispersion`, :func:`dispersion_derivative`, :func:`dispersion_scale`
+    (Eq. implicit_spectrum with Eq. delta f RSF).
+
+Rayleigh branch of the spectrum (§3, §4, §8)
+    :func:`spectrum`, :func:`rayleigh_branch` returning :class:`SpectrumResult` (masked points and their
+    reasons: :data:`STATUS`), :func:`linear_expansion` (Eq. S-dz).
+
+Stability (§4, §9)
+    :func:`growth_analysis` returning :class:`GrowthResult`, :func:`growth_chunk` (one chunk of a stability
+    map, for distributed sweeps), :func:`max_growth`, :func:`unstable_band`, :func:`critical_gamma`,
+    :func:`critical_eta`, :func:`min_gy_at_rayleigh_speed`, :func:`criterion_chi` (Eq. criterion),
+    :func:`critical_chi` (Fig. 4c), :func:`stability_verdict` returning :class:`StabilityVerdict`,
+    :func:`stable`.
+
+All branches (§10)
+    :func:`unstable_modes`, :func:`unstable_count` (argument principle in a stated window).
+
+Thin-on-thick (§6)
+    :func:`bessel_integral_B`, :func:`one_minus_bessel_integral_B`, :func:`bessel_term_C` (Eq. B(q)C(q)),
+    :func:`effective_moduli`, :func:`effective_modulus_excess` (Eq. effective_constants),
+    :func:`thin_on_thick_response` (Eq. S-m2s), :func:`normal_stress_change` (Eq. dsigma).
+
+Elastic constants (§1, §6)
+    :func:`wave_speed_ratio`, :func:`poisson_ratio` (plane strain and plane stress), :func:`shear_modulus`.
 """
 
 from .elastic import poisson_ratio, shear_modulus, wave_speed_ratio
@@ -30,7 +50,9 @@ from .stability import (
     critical_eta,
     critical_gamma,
     growth_analysis,
+    growth_chunk,
     max_growth,
+    min_gy_at_rayleigh_speed,
     stability_verdict,
     stable,
     unstable_band,
@@ -56,6 +78,8 @@ __all__ = [
     "critical_gamma",
     "criterion_chi",
     "growth_analysis",
+    "growth_chunk",
+    "min_gy_at_rayleigh_speed",
     "max_growth",
     "unstable_band",
     "bessel_integral_B",
