@@ -28,7 +28,21 @@ Thin-on-thick (§6)
     :func:`thin_on_thick_response` (Eq. S-m2s), :func:`normal_stress_change` (Eq. dsigma).
 
 Elastic constants (§1, §6)
-    :func:`wave_speed_ratio`, :func:`poisson_ratio` (plane strain and plane stress), :func:`shear_modulus`.
+    :func:`wave_speed_ratio`, :func:`poisson_ratio` (plane strain and plane stress), :func:`shear_modulus`,
+    :func:`shear_wave_speed`, :func:`dilatational_wave_speed`, :func:`poisson_ratio_from_speeds`,
+    :func:`wave_speed_ratio_from_speeds`.
+
+Lab units (§12): the dimensionless groups from lab quantities and back
+    :func:`gamma_from_lab`, :func:`direct_effect_from_gamma`, :func:`eta_from_heights`,
+    :func:`lower_height_from_eta`, :func:`Delta_from_lab`, :func:`steady_state_effect_from_Delta`,
+    :func:`xi_from_lab`, :func:`memory_length_from_xi`; rate-and-state friction (a, b, D_c, v; an assumption
+    stated in §12): :func:`direct_effect_from_rate_state`, :func:`steady_state_effect_from_rate_state`,
+    :func:`Delta_from_rate_state`, :func:`b_from_Delta`, :func:`xi_from_rate_state`; a whole setting:
+    :func:`dimensionless_parameters`, :func:`rate_state_parameters`; results in lab units:
+    :func:`wavelength`, :func:`kH_from_wavelength`, :func:`growth_rate`, :func:`im_z_from_growth_rate`,
+    :func:`e_folding_time`, :func:`im_z_from_e_folding_time`, :func:`phase_speed`, :func:`re_z_from_phase_speed`,
+    :func:`spectrum_in_lab_units`; material presets: :func:`material_names`, :func:`material` returning
+    :class:`Material`.
 """
 
 from .elastic import poisson_ratio, shear_modulus, wave_speed_ratio
@@ -38,6 +52,39 @@ from .elastodynamics import (
     dispersion_scale,
     response_derivatives,
     response_functions,
+)
+from .lab_units import (
+    Delta_from_lab,
+    Delta_from_rate_state,
+    Material,
+    b_from_Delta,
+    dilatational_wave_speed,
+    dimensionless_parameters,
+    direct_effect_from_gamma,
+    direct_effect_from_rate_state,
+    e_folding_time,
+    eta_from_heights,
+    gamma_from_lab,
+    growth_rate,
+    im_z_from_e_folding_time,
+    im_z_from_growth_rate,
+    kH_from_wavelength,
+    lower_height_from_eta,
+    material,
+    material_names,
+    memory_length_from_xi,
+    phase_speed,
+    poisson_ratio_from_speeds,
+    rate_state_parameters,
+    re_z_from_phase_speed,
+    shear_wave_speed,
+    spectrum_in_lab_units,
+    steady_state_effect_from_Delta,
+    steady_state_effect_from_rate_state,
+    wave_speed_ratio_from_speeds,
+    wavelength,
+    xi_from_lab,
+    xi_from_rate_state,
 )
 from .modes import unstable_count, unstable_modes
 from .rayleigh import rayleigh_speed
@@ -104,4 +151,35 @@ __all__ = [
     "poisson_ratio",
     "shear_modulus",
     "wave_speed_ratio",
+    "Delta_from_lab",
+    "Delta_from_rate_state",
+    "Material",
+    "b_from_Delta",
+    "dilatational_wave_speed",
+    "dimensionless_parameters",
+    "direct_effect_from_gamma",
+    "direct_effect_from_rate_state",
+    "e_folding_time",
+    "eta_from_heights",
+    "gamma_from_lab",
+    "growth_rate",
+    "im_z_from_e_folding_time",
+    "im_z_from_growth_rate",
+    "kH_from_wavelength",
+    "lower_height_from_eta",
+    "material",
+    "material_names",
+    "memory_length_from_xi",
+    "phase_speed",
+    "poisson_ratio_from_speeds",
+    "rate_state_parameters",
+    "re_z_from_phase_speed",
+    "shear_wave_speed",
+    "spectrum_in_lab_units",
+    "steady_state_effect_from_Delta",
+    "steady_state_effect_from_rate_state",
+    "wave_speed_ratio_from_speeds",
+    "wavelength",
+    "xi_from_lab",
+    "xi_from_rate_state",
 ]

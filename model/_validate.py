@@ -27,6 +27,22 @@ DOMAINS: dict[str, tuple[float, float, bool, bool, bool, str]] = {
     "mu": (0.0, math.inf, False, False, False, "(0, inf)"),
     "c": (0.0, math.inf, False, False, False, "(0, inf)"),
     "c_s": (0.0, math.inf, False, False, False, "(0, inf)"),
+    # lab quantities (model/lab_units.py, docs/physics.md §12), SI units
+    "c_d": (0.0, math.inf, False, False, False, "(0, inf) m/s"),
+    "H1": (0.0, math.inf, False, False, False, "(0, inf) m"),
+    "H2": (0.0, math.inf, False, True, True, "(0, inf] m (math.inf = half-space)"),
+    "sigma0": (0.0, math.inf, False, False, False, "(0, inf) Pa"),
+    "v_slip": (0.0, math.inf, False, False, False, "(0, inf) m/s"),
+    "direct_effect": (0.0, math.inf, False, False, False, "(0, inf) s/m"),
+    "steady_state_effect": (0.0, math.inf, False, False, False, "(0, inf) s/m"),
+    "D": (0.0, math.inf, True, False, False, "[0, inf) m"),
+    "abs_g_prime": (0.0, math.inf, False, False, False, "(0, inf)"),
+    "rsf_a": (0.0, math.inf, False, False, False, "(0, inf)"),
+    "rsf_b": (0.0, math.inf, True, False, False, "[0, inf)"),
+    "wavelength": (0.0, math.inf, False, False, False, "(0, inf) m"),
+    "growth_rate": (-math.inf, math.inf, False, False, False, "finite real, 1/s"),
+    "e_folding_time": (0.0, math.inf, False, True, True, "(0, inf] s (inf = not growing)"),
+    "phase_speed": (-math.inf, math.inf, False, False, False, "finite real, m/s"),
 }
 
 
