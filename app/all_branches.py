@@ -23,12 +23,10 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 import param
-from bokeh.models import CustomJSTickFormatter
 
 import model
 
-from .params import LABELS as PHYSICAL_LABELS
-from .params import SpectrumParams, bind_two_way, csv_download, fmt
+from .params import Physical, SpectrumParams, csv_download, fmt, from_log10, make_widgets, physical_parameters
 
 # --------------------------------------------------------------------------------------------
 # grids, window limits, labels
@@ -57,13 +55,6 @@ TABLE_ROWS = 12
 #: number of calls (keys: the cached ``compute_*`` functions and the model functions), for tests
 CALLS: collections.Counter[str] = collections.Counter()
 
-#: the widget labels of the scene's own parameters
-LABELS = {
-    "log10_kH": "kH",
-    "re_max": "window: max |Re z|",
-    "im_min": "window: min Im z",
-    "im_max": "window: max Im z",
-}
 
 EQUATION = (r"$F(z;\,kH) = \gamma\,\big(G_x + i f\,G_y\big) + i z\left[1 + \frac{\Delta - 1}{1 - i\,\xi\,z\,kH}\right]"
             r" = 0, \qquad z = c/c_s$")
@@ -97,11 +88,6 @@ KH_DIM = hv.Dimension("kH")
 
 ROOT_COLOR = "#1f4e79"
 RAYLEIGH_COLOR = "#b2182b"
-
-
-def _kh(log10_kh: float) -> float:
-    """kH from its log10, rounded to 12 significant digits (10**log10(0.45) is 0.45, not 0.44999999999999996)."""
-    return float(f"{10.0 ** log10_kh:.12g}")
 
 
 def _fmt_z(z: complex, digits: int = 10) -> str:
@@ -156,11 +142,8 @@ def _runs(kh: np.ndarray, mask: np.ndarray) -> list[tuple[float, float]]:
 @pn.cache(max_items=256)
 def compute_roots(kH: float, gamma: float, f: float, beta: float, eta: float, Delta: float, xi: float,
                   re_max: float, im_min: float, im_max: float) -> dict:
-    """Every unstable root at kH in the window, with its residual |F|/scale and an error estimate.
-
-    The error estimate is the first-order distance to the exact root, (|F(z)| + eps * scale) / |F'(z)|: the
-    Newton correction plus the shift caused by rounding errors of F (eps * sum of magnitudes of its terms).
-    A model failure (RuntimeError, ValueError) gives no roots and its message.
+    """Every unstable root at kH in the window, with its residual |F|/scale and error estimate
+    (:func:`model.root_error_estimate`). A model failure (RuntimeError, ValueError) gives no roots and its message.
     """
     CALLS["compute_roots"] += 1
     p = dict(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
@@ -170,12 +153,8 @@ def compute_roots(kH: float, gamma: float, f: float, beta: float, eta: float, De
         z = np.asarray(model.unstable_modes(kH, **p, re_max=re_max, im_min=im_min, im_max=im_max), np.complex128)
     except (RuntimeError, ValueError) as exc:
         z, message = np.empty(0, np.complex128), str(exc)
-    with np.errstate(all="ignore"):
-        F = np.abs(model.dispersion(z, kH, **p))
-        dF = np.abs(model.dispersion_derivative(z, kH, **p))
-        scale = model.dispersion_scale(z, kH, **p)
-    return {"kH": kH, "z": z, "residual": F / scale, "error": (F + np.finfo(float).eps * scale) / dF,
-            "message": message}
+    residual, error = model.root_error_estimate(z, kH, **p)
+    return {"kH": kH, "z": z, "residual": residual, "error": error, "message": message}
 
 
 @pn.cache(max_items=256)
@@ -228,20 +207,20 @@ def compute_count_curve(gamma: float, f: float, beta: float, eta: float, Delta: 
 # --------------------------------------------------------------------------------------------
 
 
-class AllBranchesScene(param.Parameterized):
+class AllBranchesScene(pn.viewable.Viewer):
     """Widgets, the z-plane plot, the count-vs-kH plot, the readout and the CSV downloads."""
 
     params = param.ClassSelector(class_=SpectrumParams)
 
     # user-facing parameters of this scene (the physical ones are shared, in `params`)
-    log10_kH = param.Number(math.log10(KH_DEFAULT), bounds=(-2, 2), label=LABELS["log10_kH"],
-                            doc="log10 of kH (wavenumber k times the block height H)")
-    re_max = param.Number(WINDOW_DEFAULT[0], allow_None=True, label=LABELS["re_max"],
-                          doc="half-width of the window in Re z (validated, see window_problem)")
-    im_min = param.Number(WINDOW_DEFAULT[1], allow_None=True, label=LABELS["im_min"],
-                          doc="lower edge of the window in Im z (validated)")
-    im_max = param.Number(WINDOW_DEFAULT[2], allow_None=True, label=LABELS["im_max"],
-                          doc="upper edge of the window in Im z (validated)")
+    log10_kH = Physical(math.log10(KH_DEFAULT), bounds=(-2.0, 2.0), step=0.01, label="kH", log10=True,
+                        doc="kH: wavenumber k times the upper block's height H (slider: log10 kH)")
+    re_max = Physical(WINDOW_DEFAULT[0], allow_None=True, step=0.5, label="window: max |Re z|", widget="input",
+                      doc="half-width of the window in Re z (validated, see window_problem)")
+    im_min = Physical(WINDOW_DEFAULT[1], allow_None=True, step=1e-4, label="window: min Im z", widget="input",
+                      doc="lower edge of the window in Im z (validated)")
+    im_max = Physical(WINDOW_DEFAULT[2], allow_None=True, step=0.1, label="window: max Im z", widget="input",
+                      doc="upper edge of the window in Im z (validated)")
 
     # normalised keys, one per dependency group; a view depends only on the keys it uses
     args_key = param.Tuple(default=None, length=6, allow_None=True, precedence=-1)
@@ -260,8 +239,8 @@ class AllBranchesScene(param.Parameterized):
         super().__init__(**kwargs)
         self.window_alert = pn.pane.Alert("", alert_type="danger", visible=False, sizing_mode="stretch_width")
         self._update_keys()
-        self.params.param.watch(self._update_keys, list(PHYSICAL_LABELS))
-        self.param.watch(self._update_keys, [*LABELS, "active"])
+        self.params.param.watch(self._update_keys, [*physical_parameters(SpectrumParams), "eta_infinite"])
+        self.param.watch(self._update_keys, [*physical_parameters(AllBranchesScene), "active"])
         self.zplane_dmap = hv.DynamicMap(self.zplane_plot)
         self.count_dmap = hv.DynamicMap(self.count_plot)
         self.roots_download = csv_download(self.roots_csv, "asymslide_all_branches_roots.csv", "Download roots (CSV)")
@@ -273,7 +252,7 @@ class AllBranchesScene(param.Parameterized):
         if not self.active:
             return
         args = self.params.model_args()
-        kh = _kh(self.log10_kH)
+        kh = from_log10(self.log10_kH)
         message = window_problem(self.re_max, self.im_min, self.im_max)
         if message:
             window = self.window_key if self.window_key is not None else WINDOW_DEFAULT
@@ -467,20 +446,11 @@ class AllBranchesScene(param.Parameterized):
     # -- layout --------------------------------------------------------------------------------
 
     def make_widgets(self) -> dict[str, pn.widgets.Widget]:
-        """Fresh widgets bound to this scene: the kH slider updates on release; window inputs on change."""
-        w: dict[str, pn.widgets.Widget] = {
-            "log10_kH": pn.widgets.FloatSlider(
-                label=LABELS["log10_kH"], start=self.param.log10_kH.bounds[0], end=self.param.log10_kH.bounds[1],
-                step=0.01, value=self.log10_kH, sizing_mode="stretch_width",
-                format=CustomJSTickFormatter(code="return Math.pow(10, tick).toPrecision(3)")),
-        }
-        for name, step in (("re_max", 0.5), ("im_min", 1e-4), ("im_max", 0.1)):
-            w[name] = pn.widgets.FloatInput(label=LABELS[name], value=getattr(self, name), step=step,
-                                            sizing_mode="stretch_width")
-        bind_two_way(self, w)
-        return w
+        """Fresh widgets bound to this scene (from the declarations): the kH slider updates on release, the window
+        inputs on change."""
+        return make_widgets(self)
 
-    def panel(self) -> pn.viewable.Viewable:
+    def __panel__(self) -> pn.viewable.Viewable:
         """The tab: shared and own widgets, window message and readout (left); plots, downloads, help (right)."""
         own = self.make_widgets()
         controls = pn.Column(

@@ -99,7 +99,7 @@ class App:
         """Fill the tab `index` with its scene's panel the first time it is shown."""
         content = self._tab_content[TABS[index]]
         if not content.objects:
-            content.objects = [self._scenes[TABS[index]].panel()]
+            content.objects = [self._scenes[TABS[index]].__panel__()]
 
     def _apply(self, updates: Updates) -> None:
         self.spectrum_params.param.update(**updates["spectrum"])

@@ -1,6 +1,8 @@
-"""User-facing parameters of the spectrum scene and their widgets (paper symbols as labels).
+"""The user-facing parameters, declared once, and what is derived from the declarations: widgets, URL keys,
+stability-map axes (see :class:`Physical`); plus the helpers every scene uses (readout numbers, CSV export,
+the frozen-document context for parameter changes, the zero line of the plots).
 
-Data flow: widget (throttled) -> :class:`SpectrumParams` parameter -> cached model call -> plot.
+Data flow: widget (sliders on release) -> parameter -> cached model call -> HoloViews element.
 """
 
 from __future__ import annotations
@@ -9,12 +11,14 @@ import contextlib
 import io
 import math
 from collections.abc import Callable, Iterator, Mapping
+from typing import Any
 
 import holoviews as hv
 import numpy as np
 import panel as pn
 import param
 from bokeh.models import CustomJSTickFormatter, Span
+from param.parameterized import Undefined
 
 hv.extension("bokeh", logo=False)
 # Canvas, not WebGL: the plots hold at most a few thousand points, and copying the WebGL layer onto
@@ -26,18 +30,6 @@ hv.renderer("bokeh").webgl = False
 # curve that grew beyond them was cut off (tests/test_app_ranges.py).
 hv.opts.defaults(*(getattr(hv.opts, kind)(framewise=True) for kind in (
     "Curve", "Scatter", "Points", "Path", "QuadMesh", "HLine", "VLine", "VLines", "VSpans", "Bounds")))
-
-#: the widget labels, in display order (the paper's symbols)
-LABELS = {
-    "gamma": "γ",
-    "f": "f",
-    "beta": "β",
-    "log10_eta": "η",
-    "eta_infinite": "η = ∞",
-    "Delta": "Δ",
-    "xi": "ξ",
-}
-
 
 #: colours of families of curves (colour-blind safe, Okabe-Ito)
 PALETTE = ("#E69F00", "#56B4E9", "#009E73", "#CC79A7", "#D55E00", "#0072B2", "#999999", "#F0E442")
@@ -132,6 +124,159 @@ def set_frozen(obj: param.Parameterized, name: str, value: object) -> None:
         setattr(obj, name, value)
 
 
+def from_log10(x: float) -> float:
+    """10**x rounded to 12 significant digits (10**log10(5) is 5, not 4.999999999999999)."""
+    return float(f"{10.0 ** x:.12g}")
+
+
+class Physical(param.Number):
+    """A number the user sets, declared once with everything the app derives from it.
+
+    The standard slots give the paper's symbol (``label``), the valid range (``bounds``), the slider range
+    (``softbounds``, default: bounds), the slider ``step`` and the ``doc``. The extra slots say how the
+    parameter appears elsewhere:
+
+    - ``url``: its key in the URL query (None: not in the URL);
+    - ``log10``: the parameter holds log10 of the physical value (URL values, slider ticks and map axes are in
+      the physical value);
+    - ``axis``: ``(lo, hi, log)`` of its stability-map axis, in the physical value (None: never a map axis);
+    - ``widget``: "slider" or "input" (a number field, for values typed rather than dragged).
+    """
+
+    __slots__ = ["url", "log10", "axis", "widget"]
+    _slot_defaults = dict(param.Number._slot_defaults, url=None, log10=False, axis=None, widget="slider")
+
+    def __init__(self, default: Any = Undefined, *, url: Any = Undefined, log10: Any = Undefined,
+                 axis: Any = Undefined, widget: Any = Undefined, **params: Any) -> None:
+        super().__init__(default=default, **params)
+        self.url = url
+        self.log10 = log10
+        self.axis = axis
+        self.widget = widget
+
+    def physical_bounds(self) -> tuple[float, float]:
+        """The valid range of the physical value (10**bounds for a log10 parameter)."""
+        lo, hi = self.bounds
+        return (10.0**lo, 10.0**hi) if self.log10 else (lo, hi)
+
+
+def physical_parameters(cls: type[param.Parameterized]) -> dict[str, Physical]:
+    """Name -> declaration of every :class:`Physical` parameter of `cls`, in declaration order."""
+    return {name: p for name, p in cls.param.objects("existing").items() if isinstance(p, Physical)}
+
+
+class SpectrumParams(param.Parameterized):
+    """The physical parameters of the spectrum (paper Sect. IV; docs/physics.md §1), shared by the Spectrum,
+    Stability-map and All-branches scenes. Defaults: the paper's Fig. 4 (γ = 3, f = 0.9, β = 0.3, η = ∞, Δ = 1)."""
+
+    gamma = Physical(3.0, bounds=(1e-2, 1e3), softbounds=(0.1, 30.0), step=0.01, label="γ", url="gamma",
+                     axis=(0.1, 30.0, True),
+                     doc="γ = μ/(σ₀ c_s ∂_v f): elastodynamic stiffness over the direct velocity effect of friction")
+    f = Physical(0.9, bounds=(0.0, 2.0), step=0.01, label="f", url="f", axis=(0.0, 2.0, False),
+                 doc="f: the steady-state friction coefficient")
+    beta = Physical(0.3, bounds=(0.01, 0.7071), step=0.001, label="β", url="beta", axis=(0.01, 0.7071, False),
+                    doc="β = c_s/c_d: shear over dilatational wave speed (β² = (1 − 2ν)/(2 − 2ν))")
+    log10_eta = Physical(8.0, bounds=(-2.0, 12.0), step=0.1, label="η", url="eta", log10=True,
+                         axis=(1.0, 1e8, True),
+                         doc="η = H₂/H₁: the lower block's height over the upper block's (slider: log10 η)")
+    eta_infinite = param.Boolean(True, label="η = ∞", doc="the lower block is a half-space (η = ∞)")
+    Delta = Physical(1.0, bounds=(0.01, 1.0), step=0.01, label="Δ", url="Delta", axis=(0.01, 1.0, False),
+                     doc="Δ = d_v f/∂_v f: steady-state over direct velocity dependence of friction (1: no state)")
+    xi = Physical(0.0, bounds=(0.0, 1e4), softbounds=(0.0, 10.0), step=0.01, label="ξ", url="xi",
+                  axis=(1e-2, 1e3, True),
+                  doc="ξ = D c_s/(H v |g′(1)|): the memory length of the interface state (irrelevant at Δ = 1)")
+
+    #: the model's keyword arguments, in the order of :meth:`model_args`
+    MODEL_ARGS = ("gamma", "f", "beta", "eta", "Delta", "xi")
+
+    @property
+    def eta(self) -> float:
+        return math.inf if self.eta_infinite else 10.0**self.log10_eta
+
+    def model_args(self) -> tuple[float, float, float, float, float, float]:
+        """(gamma, f, beta, eta, Delta, xi) as passed to the model; xi is normalised to 0 when Delta == 1
+        (it does not enter F then), so that changing it is not a new cache key."""
+        xi = 0.0 if self.Delta == 1 else float(self.xi)
+        return (float(self.gamma), float(self.f), float(self.beta), float(self.eta), float(self.Delta), xi)
+
+    @classmethod
+    def declaration(cls, model_arg: str) -> Physical:
+        """The declaration behind a model argument (``eta`` is held as ``log10_eta``)."""
+        return cls.param["log10_eta" if model_arg == "eta" else model_arg]
+
+    @classmethod
+    def symbol(cls, model_arg: str) -> str:
+        """The paper's symbol of a model argument."""
+        return cls.declaration(model_arg).label
+
+    def make_widgets(self) -> dict[str, pn.widgets.Widget]:
+        """Fresh widgets bound to this object (:func:`make_widgets`); ξ is disabled while Δ = 1 and η while
+        η = ∞ is ticked."""
+        w = make_widgets(self)
+        w["xi"].disabled = self.Delta == 1
+        w["log10_eta"].disabled = self.eta_infinite
+        self.param.watch(lambda e: setattr(w["xi"], "disabled", e.new == 1), "Delta")
+        self.param.watch(lambda e: setattr(w["log10_eta"], "disabled", e.new), "eta_infinite")
+        return w
+
+
+class ThinOnThickParams(param.Parameterized):
+    """The parameters of the thin-on-thick scene (paper Sect. III; docs/physics.md §6). Defaults: the PMMA
+    experiment of Sect. S-V (kW = 5, ν = 0.33, c_s = 1345 m/s, σ₀ = 4.5 MPa; ρ = 1180 kg/m³ is assumed: the
+    paper does not state it)."""
+
+    log10_kW = Physical(math.log10(5.0), bounds=(-2.0, 2.0), step=0.01, label="kW", url="kW", log10=True,
+                        doc="kW: wavenumber k times the thin block's width W (slider: log10 kW)")
+    nu = Physical(0.33, bounds=(0.0, 0.49), step=0.005, label="ν", url="nu", doc="Poisson ratio ν")
+    c_s = Physical(1345.0, bounds=(1.0, 1e4), step=1.0, label="c_s [m/s]", url="c_s", widget="input",
+                   doc="shear wave speed c_s [m/s] (PMMA: 1345)")
+    rho = Physical(1180.0, bounds=(1.0, 3e4), step=10.0, label="ρ [kg/m³]", url="rho", widget="input",
+                   doc="density ρ [kg/m³]; μ = ρ c_s²")
+    sigma0_MPa = Physical(4.5, bounds=(1e-3, 1e4), step=0.1, label="σ₀ [MPa]", url="sigma0", widget="input",
+                          doc="normal stress σ₀ [MPa]")
+
+    @property
+    def kW(self) -> float:
+        return from_log10(self.log10_kW)
+
+    def make_widgets(self) -> dict[str, pn.widgets.Widget]:
+        """Fresh widgets bound to this object (:func:`make_widgets`)."""
+        return make_widgets(self)
+
+
+#: tick labels of a log10 slider show the physical value
+LOG10_TICKS = "return Math.pow(10, tick).toPrecision(3)"
+
+
+def make_widget(p: param.Parameter, value: Any) -> pn.widgets.Widget:
+    """The widget of one declared parameter: a slider over its soft range (widened to include `value`, which a
+    URL or a preset may put outside), a number field, or a checkbox."""
+    if isinstance(p, param.Boolean):
+        return pn.widgets.Checkbox(label=p.label, value=value)
+    if getattr(p, "widget", "slider") == "input":
+        lo, hi = p.bounds if p.bounds is not None else (None, None)
+        return pn.widgets.FloatInput(label=p.label, start=lo, end=hi, step=p.step, value=value,
+                                     sizing_mode="stretch_width")
+    lo, hi = p.softbounds if p.softbounds is not None else p.bounds
+    options: dict[str, Any] = {"format": CustomJSTickFormatter(code=LOG10_TICKS)} if getattr(p, "log10", False) else {}
+    return pn.widgets.FloatSlider(label=p.label, start=min(lo, value), end=max(hi, value), step=p.step, value=value,
+                                  sizing_mode="stretch_width", **options)
+
+
+def make_widgets(obj: param.Parameterized) -> dict[str, pn.widgets.Widget]:
+    """Widgets for every user-facing parameter of `obj` (:class:`Physical` ones and Booleans with a
+    non-negative precedence), in declaration order, built from the declarations and bound both ways
+    (:func:`bind_two_way`)."""
+    widgets = {}
+    for name, p in obj.param.objects("existing").items():
+        if name == "name" or (p.precedence is not None and p.precedence < 0):
+            continue
+        if isinstance(p, Physical | param.Boolean):
+            widgets[name] = make_widget(p, getattr(obj, name))
+    bind_two_way(obj, widgets)
+    return widgets
+
+
 def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]) -> None:
     """Widget -> parameter (sliders on release, `value_throttled`; other widgets on `value`) and back."""
     for name, widget in widgets.items():
@@ -155,56 +300,3 @@ def controls_column(widgets: dict[str, pn.widgets.Widget], readout) -> pn.Column
     """The left column of a scene: parameter widgets, then the readout."""
     return pn.Column("### Parameters", *widgets.values(), pn.pane.Markdown(readout, sizing_mode="stretch_width"),
                      width=320)
-
-
-class SpectrumParams(param.Parameterized):
-    """Physical parameters of the Rayleigh-branch spectrum (paper Sect. IV)."""
-
-    gamma = param.Number(3.0, bounds=(1e-2, 1e3), softbounds=(0.1, 30), label=LABELS["gamma"],
-                         doc="gamma: ratio of the elastic to the frictional (rate-and-state) stiffness")
-    f = param.Number(0.9, bounds=(0, 2), label=LABELS["f"], doc="friction coefficient f")
-    beta = param.Number(0.3, bounds=(0.01, 0.7071), label=LABELS["beta"], doc="beta = c_s / c_d")
-    log10_eta = param.Number(8.0, bounds=(-2, 12), label=LABELS["log10_eta"],
-                             doc="log10 of the viscosity parameter eta (used when eta_infinite is False)")
-    eta_infinite = param.Boolean(True, label=LABELS["eta_infinite"], doc="eta = inf (no viscous dissipation)")
-    Delta = param.Number(1.0, bounds=(0.01, 1), label=LABELS["Delta"],
-                         doc="Delta (1 = no rate dependence of the normal stress)")
-    xi = param.Number(0.0, bounds=(0, 1e4), softbounds=(0, 10), label=LABELS["xi"],
-                      doc="xi: normal-stress relaxation length (irrelevant when Delta = 1)")
-
-    @property
-    def eta(self) -> float:
-        return math.inf if self.eta_infinite else 10.0**self.log10_eta
-
-    def model_args(self) -> tuple[float, float, float, float, float, float]:
-        """(gamma, f, beta, eta, Delta, xi) as passed to the model; xi is normalised to 0 when Delta == 1
-        (it does not enter F then), so that changing it is not a new cache key."""
-        xi = 0.0 if self.Delta == 1 else float(self.xi)
-        return (float(self.gamma), float(self.f), float(self.beta), float(self.eta), float(self.Delta), xi)
-
-    # ----------------------------------------------------------------------------------------
-    # widgets
-    # ----------------------------------------------------------------------------------------
-
-    def make_widgets(self) -> dict[str, pn.widgets.Widget]:
-        """Fresh widgets bound to this object: sliders update it on release (value_throttled)."""
-        w: dict[str, pn.widgets.Widget] = {}
-        for name, step in (("gamma", 0.01), ("f", 0.01), ("beta", 0.001), ("Delta", 0.01), ("xi", 0.01)):
-            p = self.param[name]
-            lo, hi = p.softbounds if p.softbounds is not None else p.bounds
-            lo, hi = min(lo, getattr(self, name)), max(hi, getattr(self, name))  # e.g. gamma = 1e3 from a URL
-            w[name] = pn.widgets.FloatSlider(label=LABELS[name], start=lo, end=hi, step=step,
-                                             value=getattr(self, name), sizing_mode="stretch_width")
-        w["log10_eta"] = pn.widgets.FloatSlider(
-            label=LABELS["log10_eta"], start=self.param.log10_eta.bounds[0], end=self.param.log10_eta.bounds[1],
-            step=0.1, value=self.log10_eta, disabled=self.eta_infinite, sizing_mode="stretch_width",
-            format=CustomJSTickFormatter(code="return '10^' + tick.toFixed(1)"),
-        )
-        w["eta_infinite"] = pn.widgets.Checkbox(label=LABELS["eta_infinite"], value=self.eta_infinite)
-        w = {name: w[name] for name in LABELS}  # display order
-        w["xi"].disabled = self.Delta == 1
-
-        bind_two_way(self, w)
-        self.param.watch(lambda e: setattr(w["xi"], "disabled", e.new == 1), "Delta")
-        self.param.watch(lambda e: setattr(w["log10_eta"], "disabled", e.new), "eta_infinite")
-        return w

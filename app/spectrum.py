@@ -92,7 +92,7 @@ OVERLAYS = {
 
 
 #: model-argument index and symbol of each parameter a family of curves can vary (preset 'compare')
-FAMILY = {"gamma": (0, "γ"), "f": (1, "f"), "beta": (2, "β"), "eta": (3, "η"), "Delta": (4, "Δ"), "xi": (5, "ξ")}
+FAMILY = {name: (i, SpectrumParams.symbol(name)) for i, name in enumerate(SpectrumParams.MODEL_ARGS)}
 
 
 @pn.cache(max_items=64)
@@ -137,7 +137,7 @@ def family_label(key: str, value: float) -> str:
     return f"{FAMILY[key][1]} = {'∞' if math.isinf(value) else f'{value:g}'}"
 
 
-class SpectrumScene(param.Parameterized):
+class SpectrumScene(pn.viewable.Viewer):
     """Widgets, plots and readout of the spectrum for one :class:`SpectrumParams`."""
 
     params = param.ClassSelector(class_=SpectrumParams)
@@ -197,9 +197,9 @@ class SpectrumScene(param.Parameterized):
     def gy_plot(self) -> hv.Overlay:
         gamma, f, beta, eta = self.inputs[:4]
         layers = [self.gy_curve(beta, eta)]
-        if gamma * f > 0:
-            z_r = compute_gy_rayleigh(beta, eta)["z_R"]
-            layers.append(STYLE["criterion"].clone(-z_r / (gamma * f)))
+        level = float(model.criterion_gy_level(gamma=gamma, f=f, beta=beta))
+        if np.isfinite(level):
+            layers.append(STYLE["criterion"].clone(level))
         return OVERLAYS["gy"].clone(layers)
 
     def gy_curve(self, beta: float, eta: float) -> hv.Curve:
@@ -254,7 +254,7 @@ class SpectrumScene(param.Parameterized):
         if index + 1 < len(slots):
             pn.state.execute(partial(self._load_plots, slots, index + 1), schedule=True)
 
-    def panel(self) -> pn.viewable.Viewable:
+    def __panel__(self) -> pn.viewable.Viewable:
         """The tab: widgets and readout (left); equation, plots and download (right).
 
         Served, the plots are rendered after the page has loaded, one per event-loop turn (~50 ms each)

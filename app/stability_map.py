@@ -68,8 +68,7 @@ CHUNK_POINTS = 256 * (os.cpu_count() or 1)
 MIN_CHUNKS = 4
 
 #: the order of SpectrumParams.model_args()
-ARG_NAMES = ("gamma", "f", "beta", "eta", "Delta", "xi")
-SYMBOLS = {"gamma": "γ", "f": "f", "beta": "β", "eta": "η", "Delta": "Δ", "xi": "ξ"}
+ARG_NAMES = SpectrumParams.MODEL_ARGS
 
 #: β grids of Fig. 4c: the criterion (line) and, at every other of its points, the exact threshold (symbols)
 BETA_CRITERION = np.linspace(0.025, 0.70, 28)
@@ -86,9 +85,6 @@ NAN_COLOR = "#bdbdbd"
 #: number of calls (keys: the cached ``compute_*`` functions, the model functions, "chunks_cancelled"), for tests
 CALLS: collections.Counter[str] = collections.Counter()
 
-#: serialises the worker threads' calls into the chunk cache (pn.cache prunes its store without a lock)
-_COMPUTE_LOCK = threading.Lock()
-
 
 @dataclass(frozen=True)
 class Axis:
@@ -100,9 +96,16 @@ class Axis:
     log: bool
     step: float = 0.0  # a click on a linear axis is rounded to this (the slider's step)
 
+    @classmethod
+    def of(cls, name: str) -> Axis:
+        """The axis of the model argument `name`, from its declaration (SpectrumParams, ``axis`` and ``step``)."""
+        decl = SpectrumParams.declaration(name)
+        lo, hi, log = decl.axis
+        return cls(name, lo, hi, log, step=0.0 if log else decl.step)
+
     @property
     def label(self) -> str:
-        return SYMBOLS[self.name]
+        return SpectrumParams.symbol(self.name)
 
     def values(self, n: int) -> np.ndarray:
         """The n grid values (cell centres), log- or linearly spaced from lo to hi."""
@@ -124,15 +127,10 @@ class Axis:
         return 10.0**t if self.log else t
 
 
-GAMMA_AXIS = Axis("gamma", 0.1, 30.0, log=True)
-
-#: the planes: (x axis, y axis); the name reads "x-y"
+#: the planes (x, y) by model argument; the name of a plane reads "x-y" in the paper's symbols
+PLANE_ARGS = (("eta", "gamma"), ("Delta", "xi"), ("f", "gamma"), ("beta", "gamma"))
 PLANES: dict[str, tuple[Axis, Axis]] = {
-    "η-γ": (Axis("eta", 1.0, 1e8, log=True), GAMMA_AXIS),
-    "Δ-ξ": (Axis("Delta", 0.01, 1.0, log=False, step=0.01), Axis("xi", 1e-2, 1e3, log=True)),
-    "f-γ": (Axis("f", 0.0, 2.0, log=False, step=0.01), GAMMA_AXIS),
-    "β-γ": (Axis("beta", 0.01, 0.7071, log=False, step=0.001), GAMMA_AXIS),
-}
+    f"{Axis.of(x).label}-{Axis.of(y).label}": (Axis.of(x), Axis.of(y)) for x, y in PLANE_ARGS}
 
 
 def plane_axes(plane: str, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -152,7 +150,42 @@ def chunk_rows(n: int) -> list[tuple[int, int]]:
 # --------------------------------------------------------------------------------------------
 
 
-@pn.cache(max_items=1024)
+class ChunkCache:
+    """The map chunks computed by every session (LRU, `max_items`), safe for the sessions' worker threads.
+
+    Only a lookup or an insert holds the lock, never a computation: sessions computing different maps run in
+    parallel (a chunk two sessions need at the same moment is computed twice, harmlessly). pn.cache could
+    not be used here: it prunes its store outside its own lock.
+    """
+
+    def __init__(self, max_items: int) -> None:
+        self.max_items = max_items
+        self._items: collections.OrderedDict[tuple, dict] = collections.OrderedDict()
+        self._lock = threading.Lock()
+
+    def get(self, key: tuple) -> dict | None:
+        with self._lock:
+            value = self._items.get(key)
+            if value is not None:
+                self._items.move_to_end(key)
+            return value
+
+    def put(self, key: tuple, value: dict) -> None:
+        with self._lock:
+            self._items[key] = value
+            self._items.move_to_end(key)
+            while len(self._items) > self.max_items:
+                self._items.popitem(last=False)
+
+    def clear(self) -> None:
+        with self._lock:
+            self._items.clear()
+
+
+#: the chunks of every map computed by this process
+CHUNKS = ChunkCache(max_items=1024)
+
+
 def compute_chunk(plane: str, n: int, start: int, stop: int, fixed: tuple[tuple[str, float], ...]) -> dict:
     """Rows start..stop-1 (y values) of the map of `plane` at n x n points; `fixed` = the other parameters.
 
@@ -258,7 +291,7 @@ def _round_sig(v: float, digits: int = 3) -> float:
     return float(f"{v:.{digits - 1}e}") if v != 0 else 0.0
 
 
-class StabilityMapScene(param.Parameterized):
+class StabilityMapScene(pn.viewable.Viewer):
     """Heat map of the maximal growth rate over a parameter plane, with Fig. 4c, for one :class:`SpectrumParams`."""
 
     params = param.ClassSelector(class_=SpectrumParams)
@@ -418,10 +451,13 @@ class StabilityMapScene(param.Parameterized):
                 if job.gen != self._generation:
                     CALLS["chunks_cancelled"] += len(chunks) - i
                     return
-                with _COMPUTE_LOCK:
-                    before = CALLS["compute_chunk"]
-                    parts.append(compute_chunk(plane, n, a, b, fixed))
-                    computed += CALLS["compute_chunk"] - before
+                key = (plane, n, a, b, fixed)
+                part = CHUNKS.get(key)
+                if part is None:
+                    part = compute_chunk(plane, n, a, b, fixed)
+                    CHUNKS.put(key, part)
+                    computed += 1
+                parts.append(part)
                 job.done = i + 1
                 if not served and i + 1 < len(chunks):
                     self._apply()
@@ -583,7 +619,7 @@ class StabilityMapScene(param.Parameterized):
     def readout(self) -> str:
         plane, n, fixed = self.map_key
         ax, ay = PLANES[plane]
-        others = ", ".join(f"{SYMBOLS[k]} = {'∞' if np.isinf(v) else fmt(v)}" for k, v in fixed)
+        others = ", ".join(f"{SpectrumParams.symbol(k)} = {'∞' if np.isinf(v) else fmt(v)}" for k, v in fixed)
         lines = [f"**Plane** {plane}: x = {ax.label}, y = {ay.label}; {others}",
                  f"**Grid** {n} × {n} points, max over {KH.size} kH from {KH[0]:g} to {KH[-1]:g}"]
         res = self.result
@@ -646,7 +682,7 @@ class StabilityMapScene(param.Parameterized):
     # layout
     # ----------------------------------------------------------------------------------------
 
-    def panel(self) -> pn.viewable.Viewable:
+    def __panel__(self) -> pn.viewable.Viewable:
         controls = controls_column(self.params.make_widgets(), self.readout)
         plane = pn.widgets.RadioButtonGroup.from_param(self.param.plane, color="primary", variant="outline")
         resolution = pn.widgets.RadioButtonGroup.from_param(self.param.resolution, color="light")

@@ -10,26 +10,15 @@ from __future__ import annotations
 
 import collections
 import io
-import math
 
 import holoviews as hv
 import numpy as np
 import panel as pn
 import param
-from bokeh.models import CustomJSTickFormatter
 
 import model
 
-from .params import PALETTE, bind_two_way, controls_column, csv_download, csv_table, fmt
-
-#: the widget labels, in display order (the paper's symbols)
-LABELS = {
-    "log10_kW": "kW",
-    "nu": "ν",
-    "c_s": "c_s [m/s]",
-    "rho": "ρ [kg/m³]",
-    "sigma0_MPa": "σ₀ [MPa]",
-}
+from .params import PALETTE, ThinOnThickParams, controls_column, csv_download, csv_table, fmt, physical_parameters
 
 #: kW grid of the effective-moduli plots (Fig. 3a and inset)
 KW = np.logspace(-2, 3, 400)
@@ -38,7 +27,7 @@ V = np.linspace(0.0, 2.0, 201)
 #: number of points of the c/c_s grid of Fig. 3b
 N_Z = 400
 Z_MIN = 1e-3
-#: fraction of the limiting speed min(1, sqrt(mu_eff/mu)) at which the c/c_s grid stops
+#: fraction of the limiting speed (model.limiting_speed) at which the c/c_s grid stops
 Z_MAX_FRACTION = 0.999
 
 MU_LABEL = "μ_eff/μ"
@@ -58,11 +47,6 @@ def _quiet() -> np.errstate:
 
 #: number of calls (keys: the cached ``compute_*`` functions and the model functions), for tests
 CALLS: collections.Counter[str] = collections.Counter()
-
-
-def _kw(log10_kw: float) -> float:
-    """kW from its log10, rounded to 12 significant digits (10**log10(5) is 5, not 4.999999999999999)."""
-    return float(f"{10.0 ** log10_kw:.12g}")
 
 
 # --------------------------------------------------------------------------------------------
@@ -87,15 +71,15 @@ def compute_point(kW: float, nu: float) -> dict:
     mu_ratio, nu_eff = model.effective_moduli(kW, nu)
     CALLS["effective_modulus_excess"] += 1
     excess = model.effective_modulus_excess(kW, nu)
-    # thin block under plane stress: beta1^2 = (c_s/c_d)^2 = (1 - nu)/2 (PHYSICS section 6)
+    # the thin block is under plane stress (docs/physics.md §6)
     CALLS["rayleigh_speed"] += 1
-    z_R = float(model.rayleigh_speed(math.sqrt((1.0 - nu) / 2.0)))
+    z_R = float(model.rayleigh_speed(model.wave_speed_ratio(nu, plane="stress")))
     CALLS["thin_on_thick_response"] += 1
     with _quiet():
         _, gy = model.thin_on_thick_response(z_R, kW, nu=nu)
+    CALLS["limiting_speed"] += 1
     return {"kW": kW, "nu": nu, "mu_ratio": float(mu_ratio), "nu_eff": float(nu_eff), "excess": float(excess),
-            "z_R": z_R, "gy_R": float(np.real(gy)),
-            "z_max": Z_MAX_FRACTION * min(1.0, math.sqrt(float(mu_ratio)))}
+            "z_R": z_R, "gy_R": float(np.real(gy)), "z_max": Z_MAX_FRACTION * float(model.limiting_speed(kW, nu))}
 
 
 @pn.cache(max_items=64)
@@ -114,7 +98,7 @@ def compute_stress_line(kW: float, nu: float, c_s: float, rho: float, sigma0: fl
     """Δσ_yy/σ₀ on :data:`V` at c = c_R of the thin block (Fig. 3c); sigma0 in Pa, mu = rho c_s^2."""
     CALLS["compute_stress_line"] += 1
     c = compute_point(kW, nu)["z_R"] * c_s
-    mu = rho * c_s**2
+    mu = float(model.shear_modulus(rho, c_s))
     CALLS["normal_stress_change"] += 2
     with _quiet():
         ds = model.normal_stress_change(V, c=c, c_s=c_s, kW=kW, nu=nu, mu=mu) / sigma0
@@ -122,45 +106,7 @@ def compute_stress_line(kW: float, nu: float, c_s: float, rho: float, sigma0: fl
     return {"v": V, "ds": ds, "slope": slope, "c": c, "mu": mu}
 
 
-# --------------------------------------------------------------------------------------------
-# parameters and widgets
-# --------------------------------------------------------------------------------------------
-
-
-class ThinOnThickParams(param.Parameterized):
-    """User-facing parameters of the thin-on-thick scene (paper Sect. III; PMMA defaults of Sect. S-V)."""
-
-    log10_kW = param.Number(math.log10(5.0), bounds=(-2, 2), label=LABELS["log10_kW"],
-                            doc="log10 of kW (wavenumber k times the thin block's width W)")
-    nu = param.Number(0.33, bounds=(0, 0.49), label=LABELS["nu"], doc="Poisson ratio ν")
-    c_s = param.Number(1345.0, bounds=(1.0, 1e4), label=LABELS["c_s"], doc="shear wave speed c_s [m/s] (PMMA)")
-    rho = param.Number(1180.0, bounds=(1.0, 3e4), label=LABELS["rho"], doc="density ρ [kg/m³]; μ = ρ c_s²")
-    sigma0_MPa = param.Number(4.5, bounds=(1e-3, 1e4), label=LABELS["sigma0_MPa"], doc="normal stress σ₀ [MPa]")
-
-    @property
-    def kW(self) -> float:
-        return _kw(self.log10_kW)
-
-    def make_widgets(self) -> dict[str, pn.widgets.Widget]:
-        """Fresh widgets bound to this object: sliders update it on release (value_throttled)."""
-        w: dict[str, pn.widgets.Widget] = {
-            "log10_kW": pn.widgets.FloatSlider(
-                label=LABELS["log10_kW"], start=self.param.log10_kW.bounds[0], end=self.param.log10_kW.bounds[1],
-                step=0.01, value=self.log10_kW, sizing_mode="stretch_width",
-                format=CustomJSTickFormatter(code="return Math.pow(10, tick).toPrecision(3)"),
-            ),
-            "nu": pn.widgets.FloatSlider(label=LABELS["nu"], start=0.0, end=0.49, step=0.005, value=self.nu,
-                                         sizing_mode="stretch_width"),
-        }
-        for name, step in (("c_s", 1.0), ("rho", 10.0), ("sigma0_MPa", 0.1)):
-            lo, hi = self.param[name].bounds
-            w[name] = pn.widgets.FloatInput(label=LABELS[name], start=lo, end=hi, step=step, value=getattr(self, name),
-                                            sizing_mode="stretch_width")
-        bind_two_way(self, w)
-        return w
-
-
-class ThinOnThickScene(param.Parameterized):
+class ThinOnThickScene(pn.viewable.Viewer):
     """Widgets, plots (Fig. 3a-c) and readout for one :class:`ThinOnThickParams`."""
 
     params = param.ClassSelector(class_=ThinOnThickParams)
@@ -176,7 +122,7 @@ class ThinOnThickScene(param.Parameterized):
             kwargs["params"] = ThinOnThickParams()
         super().__init__(**kwargs)
         self._update_keys()
-        self.params.param.watch(self._update_keys, list(LABELS))
+        self.params.param.watch(self._update_keys, list(physical_parameters(ThinOnThickParams)))
         self.moduli_dmap = hv.DynamicMap(self.moduli_plot)
         self.nu_eff_dmap = hv.DynamicMap(self.nu_eff_plot)
         self.gy_dmap = hv.DynamicMap(self.gy_plot)
@@ -288,7 +234,7 @@ class ThinOnThickScene(param.Parameterized):
                          f"rho = {rho!r} kg/m^3, sigma0 = {sigma0!r} Pa",
                          {"v_m_per_s": d["v"], "dsigma_yy_over_sigma0": d["ds"]})
 
-    def panel(self) -> pn.viewable.Viewable:
+    def __panel__(self) -> pn.viewable.Viewable:
         controls = controls_column(self.params.make_widgets(), self.readout)
         plots = pn.Column(
             pn.Row(pn.pane.HoloViews(self.moduli_dmap, sizing_mode="stretch_width"),

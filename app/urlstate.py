@@ -14,6 +14,8 @@ import urllib.parse
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
+from .params import SpectrumParams, ThinOnThickParams, physical_parameters
+
 #: longest raw value quoted back in a message (values are HTML-escaped as well)
 MAX_QUOTE = 24
 
@@ -23,33 +25,30 @@ TABS = ("spectrum", "map", "thin", "branches")
 
 @dataclass(frozen=True)
 class QueryParam:
-    """One URL query key: which object/parameter it sets, its range, and how it is displayed."""
+    """One URL query key, derived from a :class:`~app.params.Physical` declaration with a ``url`` key."""
 
     key: str  # name in the URL
     target: str  # "spectrum" (SpectrumParams) or "thin" (ThinOnThickParams)
+    attribute: str  # the parameter it sets
     symbol: str  # the paper's symbol, for messages
-    lo: float
+    lo: float  # valid range of the URL value
     hi: float
     log10: bool = False  # the parameter stores log10 of the URL value
 
 
-#: the query keys, in the order they are written
-QUERY = (
-    QueryParam("gamma", "spectrum", "γ", 1e-2, 1e3),
-    QueryParam("f", "spectrum", "f", 0.0, 2.0),
-    QueryParam("beta", "spectrum", "β", 0.01, 0.7071),
-    QueryParam("eta", "spectrum", "η", 1e-2, 1e12, log10=True),  # or "inf"
-    QueryParam("Delta", "spectrum", "Δ", 0.01, 1.0),
-    QueryParam("xi", "spectrum", "ξ", 0.0, 1e4),
-    QueryParam("kW", "thin", "kW", 1e-2, 1e2, log10=True),
-    QueryParam("nu", "thin", "ν", 0.0, 0.49),
-    QueryParam("c_s", "thin", "c_s", 1.0, 1e4),
-    QueryParam("rho", "thin", "ρ", 1.0, 3e4),
-    QueryParam("sigma0", "thin", "σ₀", 1e-3, 1e4),
-)
+def _query_params() -> tuple[QueryParam, ...]:
+    out = []
+    for target, cls in (("spectrum", SpectrumParams), ("thin", ThinOnThickParams)):
+        for name, p in physical_parameters(cls).items():
+            if p.url:
+                lo, hi = p.physical_bounds()
+                out.append(QueryParam(p.url, target, name, p.label, lo, hi, p.log10))
+    return tuple(out)
+
+
+#: the query keys, in the order they are written (the declaration order)
+QUERY = _query_params()
 BY_KEY = {q.key: q for q in QUERY}
-#: parameter name on the target object for each key
-ATTRIBUTE = {"eta": "log10_eta", "kW": "log10_kW", "sigma0": "sigma0_MPa"}
 
 
 def _quote(raw: str) -> str:
@@ -101,7 +100,7 @@ def parse_query(args: Mapping[str, Iterable[bytes | str]]) -> tuple[Updates, str
         if q is None:
             messages.append(f"unknown parameter '{_quote(key)}': ignored.")
             continue
-        attr = ATTRIBUTE.get(key, key)
+        attr = q.attribute
         if key == "eta" and raw.strip().lower() in {"inf", "infinity", "∞"}:
             updates["spectrum"]["eta_infinite"] = True
             continue
@@ -132,7 +131,7 @@ def query_string(spectrum, thin, tab: str) -> str:
             continue
         if q.key == "xi" and spectrum.Delta == 1:
             continue  # xi does not enter the physics at Delta = 1
-        v = getattr(obj, ATTRIBUTE.get(q.key, q.key))
+        v = getattr(obj, q.attribute)
         values[q.key] = f"{10.0 ** v:.6g}" if q.log10 else f"{v:.6g}"
     values["tab"] = tab
     return "?" + urllib.parse.urlencode(values)

@@ -77,6 +77,7 @@ from tornado.websocket import websocket_connect
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))  # `model` for the verification, also when run as a script
+from app.params import SpectrumParams, physical_parameters  # noqa: E402
 from asymslide.processes import children, descendants  # noqa: E402
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 
@@ -88,9 +89,9 @@ ERROR_LINE = re.compile(r"\bERROR\b|Traceback|Exception in callback|Uncaught exc
 #: the sliders a session moves, with the range its values are drawn from
 MOVES: dict[str, tuple[float, float]] = {"γ": (0.5, 20.0), "f": (0.2, 1.5), "β": (0.1, 0.65)}
 
-#: slider titles of the six parameters and the checkbox label, in model order
-PARAM_TITLES = {"gamma": "γ", "f": "f", "beta": "β", "log10_eta": "η", "Delta": "Δ", "xi": "ξ"}
-ETA_INFINITE_LABEL = "η = ∞"
+#: slider titles of the six parameters and the checkbox label, in model order (the app's declarations)
+PARAM_TITLES = {name: p.label for name, p in physical_parameters(SpectrumParams).items()}
+ETA_INFINITE_LABEL = SpectrumParams.param.eta_infinite.label
 
 #: a closed session is replaced only if at least this fraction of the window remains
 MIN_SESSION = 0.25

@@ -6,7 +6,7 @@ ValueError naming the parameter and its range). The equations and numerics are i
 Elastodynamics of two blocks (docs/physics.md §2-§3, §5)
     :func:`rayleigh_speed` (Rayleigh cubic), :func:`response_functions`, :func:`response_derivatives`
     (Eq. Gs_general), :func:`dispersion`, :func:`dispersion_derivative`, :func:`dispersion_scale`
-    (Eq. implicit_spectrum with Eq. delta f RSF).
+    (Eq. implicit_spectrum with Eq. delta f RSF), :func:`root_error_estimate` (residual and error of a root).
 
 Rayleigh branch of the spectrum (§3, §4, §8)
     :func:`spectrum`, :func:`rayleigh_branch` returning :class:`SpectrumResult` (masked points and their
@@ -15,7 +15,8 @@ Rayleigh branch of the spectrum (§3, §4, §8)
 Stability (§4, §9)
     :func:`growth_analysis` returning :class:`GrowthResult`, :func:`growth_chunk` (one chunk of a stability
     map, for distributed sweeps), :func:`max_growth`, :func:`unstable_band`, :func:`critical_gamma`,
-    :func:`critical_eta`, :func:`min_gy_at_rayleigh_speed`, :func:`criterion_chi` (Eq. criterion),
+    :func:`critical_eta`, :func:`min_gy_at_rayleigh_speed`, :func:`criterion_chi`, :func:`criterion_gy_level`
+    (Eq. criterion),
     :func:`critical_chi` (Fig. 4c), :func:`stability_verdict` returning :class:`StabilityVerdict`,
     :func:`stable`.
 
@@ -25,7 +26,8 @@ All branches (§10)
 Thin-on-thick (§6)
     :func:`bessel_integral_B`, :func:`one_minus_bessel_integral_B`, :func:`bessel_term_C` (Eq. B(q)C(q)),
     :func:`effective_moduli`, :func:`effective_modulus_excess` (Eq. effective_constants),
-    :func:`thin_on_thick_response` (Eq. S-m2s), :func:`normal_stress_change` (Eq. dsigma).
+    :func:`thin_on_thick_response` (Eq. S-m2s), :func:`limiting_speed` (below the shear speed of both
+    effective blocks), :func:`normal_stress_change` (Eq. dsigma).
 
 Elastic constants (§1, §6)
     :func:`wave_speed_ratio`, :func:`poisson_ratio` (plane strain and plane stress), :func:`shear_modulus`,
@@ -52,6 +54,7 @@ from .elastodynamics import (
     dispersion_scale,
     response_derivatives,
     response_functions,
+    root_error_estimate,
 )
 from .lab_units import (
     Delta_from_lab,
@@ -93,6 +96,7 @@ from .stability import (
     GrowthResult,
     StabilityVerdict,
     criterion_chi,
+    criterion_gy_level,
     critical_chi,
     critical_eta,
     critical_gamma,
@@ -109,6 +113,7 @@ from .thin_on_thick import (
     bessel_term_C,
     effective_moduli,
     effective_modulus_excess,
+    limiting_speed,
     normal_stress_change,
     one_minus_bessel_integral_B,
     thin_on_thick_response,
@@ -124,6 +129,7 @@ __all__ = [
     "critical_eta",
     "critical_gamma",
     "criterion_chi",
+    "criterion_gy_level",
     "growth_analysis",
     "growth_chunk",
     "min_gy_at_rayleigh_speed",
@@ -134,6 +140,7 @@ __all__ = [
     "effective_moduli",
     "effective_modulus_excess",
     "normal_stress_change",
+    "limiting_speed",
     "one_minus_bessel_integral_B",
     "thin_on_thick_response",
     "unstable_count",
@@ -147,6 +154,7 @@ __all__ = [
     "rayleigh_speed",
     "response_derivatives",
     "response_functions",
+    "root_error_estimate",
     "spectrum",
     "poisson_ratio",
     "shear_modulus",

@@ -102,3 +102,16 @@ def dispersion_derivative(z, kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=
 def dispersion_scale(z, kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0):
     """Sum of magnitudes of the terms of F: |F|/scale is the relative residual of a root."""
     return _dispersion_all(z, kH, gamma, f, beta, eta, Delta, xi)[2]
+
+
+def root_error_estimate(z, kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0):
+    """(residual, error) of approximate roots z of F(z; kH) = 0 (Eq. implicit_spectrum with Eq. delta f RSF).
+
+    residual = |F(z)| / scale (scale: :func:`dispersion_scale`, the sum of the magnitudes of F's terms), and
+    error = (|F(z)| + eps scale) / |F'(z)|: the first-order distance to the exact root, i.e. the Newton
+    correction plus the shift that rounding errors of F cause. Broadcasts like :func:`dispersion`.
+    """
+    fv, dfv, sc = _dispersion_all(z, kH, gamma, f, beta, eta, Delta, xi)
+    a = np.abs(fv)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return a / sc, (a + np.finfo(float).eps * sc) / np.abs(dfv)

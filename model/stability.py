@@ -231,7 +231,7 @@ def critical_chi(beta, *, f):
 class StabilityVerdict:
     """Global verdict on linear stability of steady sliding in a stated window.
 
-    stable : True when the Rayleigh branch has max growth <= 0 on the kH grid and no root of the
+    stable : True when the Rayleigh branch has max growth <= 0 on the kH grid (NaN: not stable) and no root of the
         dispersion relation (any branch) lies in the window im_min <= Im z <= im_max, |Re z| <= re_max
         at any kH of the grid.
     rayleigh_growth : max Im z of the Rayleigh branch over the grid (refined)
@@ -265,7 +265,8 @@ def stability_verdict(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=Non
     p = dict(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
     growth = float(growth_analysis(q, **p).growth)
     counts = np.array([unstable_count(float(k), **p, re_max=re_max, im_min=im_min, im_max=im_max) for k in q])
-    ok = (not growth > 0.0) and not np.any(counts > 0)
+    # a NaN growth (branch masked on the whole grid) certifies nothing: not stable
+    ok = growth <= 0.0 and not np.any(counts > 0)
     return StabilityVerdict(bool(ok), growth, counts, np.asarray(q), (re_max, im_min, im_max))
 
 
@@ -273,3 +274,16 @@ def stable(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, re_max=5
     """True if steady sliding is linearly stable: see :func:`stability_verdict` (which gives the details)."""
     return stability_verdict(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi, kH=kH, re_max=re_max,
                              im_min=im_min, im_max=im_max).stable
+
+
+def criterion_gy_level(*, gamma, f, beta):
+    """The level -z_R/(gamma f) of the approximate criterion gamma f G_y(z_R, kH) = -z_R (Eq. criterion).
+
+    Steady sliding is approximately unstable at the kH where G_y(z_R, kH) (:func:`model.response_functions` at
+    the Rayleigh speed) lies below this level (docs/physics.md §4). Broadcasts; -inf where gamma f = 0 (the
+    criterion is never met without friction).
+    """
+    g, ff, b = check("gamma", gamma), check("f", f), check("beta", beta)
+    chi = g * ff
+    with np.errstate(divide="ignore"):
+        return np.where(chi == 0.0, -np.inf, -rayleigh_speed(b) / np.where(chi == 0.0, 1.0, chi))

@@ -166,6 +166,16 @@ def thin_on_thick_response(z, kW, *, nu):
     return (ad1 * dt2 + r * ad2 * dt1) / big_n, (p1 * dt2 - r * p2 * dt1) / big_n
 
 
+def limiting_speed(kW, nu):
+    """The largest c/c_s (c_s of the thin block) below the shear wave speed of both effective blocks:
+    min(1, sqrt(mu_eff/mu)) (same density, so the lower block's shear speed is c_s sqrt(mu_eff/mu); Eq.
+    effective_constants). G_y of :func:`thin_on_thick_response` diverges there (docs/physics.md §6)."""
+    q = check("kW", kW)
+    n = check("nu", nu)
+    den = _moduli_parts(*np.broadcast_arrays(q, n))[1]
+    return np.minimum(1.0, np.sqrt(1.0 / den))
+
+
 def normal_stress_change(v, *, c, c_s, kW, nu, mu):
     """Normal-stress change Delta sigma_yy = -(mu/c) G_y(c/c_s; kW, nu) v (Eq. dsigma), SI units.
 
@@ -176,9 +186,7 @@ def normal_stress_change(v, *, c, c_s, kW, nu, mu):
     cc, cs, m = check("c", c), check("c_s", c_s), check("mu", mu)
     q, n = check("kW", kW), check("nu", nu)
     ratio = cc / cs
-    mu_ratio = 1.0 / _moduli_parts(*np.broadcast_arrays(q, n))[1]
-    limit = np.minimum(1.0, np.sqrt(mu_ratio))
-    if np.any(ratio >= limit):
+    if np.any(ratio >= limiting_speed(q, n)):
         raise ValueError("c must be below the shear wave speed of both blocks: c/c_s < min(1, sqrt(mu_eff/mu))")
     _, gy = thin_on_thick_response(ratio.astype(complex), q, nu=n)
     return -(m / cc) * gy.real * vv

@@ -185,16 +185,21 @@ def open_app(page, url: str, tab: str | None = None) -> None:
 
 @pytest.fixture
 def fresh_caches() -> Iterator[None]:
-    """Empty the app's pn.cache stores and every scene's model-call counter (``CALLS``) around a test."""
+    """Empty the app's caches (pn.cache and the map chunks) and every scene's model-call counter (``CALLS``)
+    around a test."""
     import panel as pn
 
     from app import all_branches, spectrum, stability_map, thin_on_thick
 
-    pn.state.clear_caches()
+    def clear() -> None:
+        pn.state.clear_caches()
+        stability_map.CHUNKS.clear()
+
+    clear()
     for scene in (all_branches, spectrum, stability_map, thin_on_thick):
         scene.CALLS.clear()
     yield
-    pn.state.clear_caches()
+    clear()
 
 
 _SET_SLIDER_JS = """([title, value]) => {

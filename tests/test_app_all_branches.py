@@ -18,7 +18,7 @@ from pyviz_comms import Comm
 import model
 from app import all_branches as ab
 from app.all_branches import CALLS, KH_COUNT, KH_FINE, AllBranchesScene
-from app.params import SpectrumParams
+from app.params import SpectrumParams, from_log10
 from tests.conftest import open_app, set_slider
 
 PAPER = dict(gamma=3.0, f=0.9, beta=0.3)  # the defaults of SpectrumParams (eta = inf, Delta = 1)
@@ -178,7 +178,7 @@ def test_eta10_fastest_root_is_not_the_rayleigh_root() -> None:
 
 
 def test_building_the_tab_computes_nothing() -> None:
-    AllBranchesScene().panel()
+    AllBranchesScene().__panel__()
     assert sum(CALLS.values()) == 0
 
 
@@ -236,7 +236,7 @@ def test_inactive_scene_defers_shared_parameter_changes_until_shown() -> None:
     another tab recomputes nothing here until the tab is shown again, and then exactly once."""
     params = SpectrumParams()
     scene = AllBranchesScene(params=params, log10_kH=math.log10(0.45))
-    tabs = pn.Tabs(("Other", pn.pane.Markdown("other tab")), ("All branches", scene.panel()), dynamic=True)
+    tabs = pn.Tabs(("Other", pn.pane.Markdown("other tab")), ("All branches", scene.__panel__()), dynamic=True)
     tabs.param.watch(lambda e: setattr(scene, "active", e.new == 1), "active")
     scene.active = False
     tabs.get_root(Document(), comm=Comm())
@@ -444,7 +444,7 @@ def test_all_branches_tab_shows_the_model_roots(served_app: str, browser_page) -
     # the kH slider (on release) moves the roots
     log_kh = math.log10(0.77)
     assert set_slider(page, "kH", log_kh)
-    kh = ab._kh(log_kh)
+    kh = from_log10(log_kh)
     expected = model.unstable_modes(kh, **PAPER)
     page.wait_for_function(f"() => {{ const d = ({_SOURCE_JS})('residual'); return d !== null && "
                            f"d.re.length === {expected.size} && d.re[0] !== {got['re'][0]!r}; }}", timeout=30_000)

@@ -250,5 +250,5 @@ def test_plots_are_rendered_at_once_outside_a_server_session() -> None:
     """Outside a served session (scripts, notebooks, these tests) the three plots are in the panel at once;
     served, they are rendered after the page has loaded (the load test and the browser tests see them)."""
     scene = SpectrumScene()
-    panes = [p for p in scene.panel().select(pn.pane.HoloViews)]
+    panes = [p for p in scene.__panel__().select(pn.pane.HoloViews)]
     assert [p.object for p in panes] == [scene.im_dmap, scene.re_dmap, scene.gy_dmap]

@@ -196,6 +196,33 @@ def test_plane_and_resolution_are_part_of_the_key(small) -> None:
 # --------------------------------------------------------------------------------------------
 
 
+def test_two_sessions_compute_their_maps_at_the_same_time(small, monkeypatch) -> None:
+    """No process-wide lock: a chunk of one session's map is computed while another session's chunk is (the
+    barrier is passed only if both computations are inside compute_chunk together)."""
+    both_inside = threading.Barrier(2, timeout=30)
+    real = sm.compute_chunk
+    met: list[bool] = []
+
+    def meeting_chunk(plane, n, start, stop, fixed):
+        if start == 0:
+            try:
+                both_inside.wait()
+                met.append(True)
+            except threading.BrokenBarrierError:
+                met.append(False)
+        return real(plane, n, start, stop, fixed)
+
+    monkeypatch.setattr(sm, "compute_chunk", meeting_chunk)
+    one, two = StabilityMapScene(), StabilityMapScene()
+    two.params.f = 0.5  # another map: no chunk in common
+    one.view()[()]
+    two.view()[()]
+    one.wait()
+    two.wait()
+    assert met == [True, True]
+    assert one.status == two.status == "done" and one.result.key != two.result.key
+
+
 def test_stale_computation_stops_after_its_chunk(small, monkeypatch) -> None:
     calls: list[tuple] = []
     first_started, go_on = threading.Event(), threading.Event()

@@ -126,3 +126,10 @@ def test_growth_map_agrees_with_full_spectrum_and_stays_on_the_grid():
             for band_end in (r.kH_min[i, j], r.kH_max[i, j]):
                 if np.isfinite(band_end):
                     assert abs(model.spectrum(np.array([band_end]), gamma=g, eta=e, **PAPER)[0].imag) < 1e-13
+
+
+def test_verdict_is_not_stable_where_the_rayleigh_branch_cannot_be_followed():
+    """A masked branch (NaN growth on the whole grid) certifies nothing, even with no root in the window."""
+    v = model.stability_verdict(gamma=0.01, f=2.0, beta=1 / math.sqrt(2), eta=10**0.5)
+    assert math.isnan(v.rayleigh_growth)
+    assert not v.stable and not model.stable(gamma=0.01, f=2.0, beta=1 / math.sqrt(2), eta=10**0.5)

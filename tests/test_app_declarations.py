@@ -1,0 +1,63 @@
+"""One source of truth (issue 15, point 4): the parameter declarations (app/params.py) decide the widgets, the
+URL keys and ranges, the stability-map axes and the symbols shown everywhere."""
+
+from __future__ import annotations
+
+import pytest
+
+from app.params import Physical, SpectrumParams, ThinOnThickParams, physical_parameters
+from app.spectrum import FAMILY
+from app.stability_map import PLANES
+from app.urlstate import QUERY, parse_query
+
+CLASSES = (("spectrum", SpectrumParams), ("thin", ThinOnThickParams))
+
+
+def test_every_url_key_is_a_declared_parameter_with_its_range_and_symbol() -> None:
+    declared = [(target, name, p) for target, cls in CLASSES for name, p in physical_parameters(cls).items() if p.url]
+    assert [q.key for q in QUERY] == [p.url for _, _, p in declared]
+    for q, (target, name, p) in zip(QUERY, declared, strict=True):
+        assert (q.target, q.attribute, q.symbol, q.log10) == (target, name, p.label, p.log10)
+        assert (q.lo, q.hi) == p.physical_bounds()
+
+
+@pytest.mark.parametrize(("target", "cls"), CLASSES)
+def test_url_values_outside_the_declared_bounds_are_clamped_to_them(target: str, cls) -> None:
+    for p in physical_parameters(cls).values():
+        if not p.url:
+            continue
+        lo, hi = p.physical_bounds()
+        updates, _, messages = parse_query({p.url: [repr(hi * 10 if hi > 0 else 1.0)]})
+        value = updates[target][[q.attribute for q in QUERY if q.key == p.url][0]]
+        assert value == pytest.approx(p.bounds[1]) and messages
+
+
+def test_widgets_are_built_from_the_declarations() -> None:
+    for _, cls in CLASSES:
+        obj = cls()
+        widgets = obj.make_widgets()
+        for name, p in physical_parameters(cls).items():
+            w = widgets[name]
+            assert w.label == p.label
+            if p.widget == "slider":
+                assert (w.start, w.end) == (p.softbounds or p.bounds) and w.step == p.step
+
+
+def test_map_axes_and_families_come_from_the_declarations() -> None:
+    for ax, ay in PLANES.values():
+        for a in (ax, ay):
+            decl = SpectrumParams.declaration(a.name)
+            assert (a.lo, a.hi, a.log) == decl.axis and a.label == decl.label
+    assert list(PLANES) == ["η-γ", "Δ-ξ", "f-γ", "β-γ"]
+    assert {k: v[1] for k, v in FAMILY.items()} == {n: SpectrumParams.symbol(n) for n in SpectrumParams.MODEL_ARGS}
+
+
+def test_declarations_are_complete() -> None:
+    for _, cls in CLASSES:
+        for name, p in physical_parameters(cls).items():
+            assert isinstance(p, Physical) and p.label and p.doc and p.step, name
+            assert p.bounds[0] < p.default < p.bounds[1] or p.default in p.bounds, name
+    # the load test moves the sliders by these titles
+    from benchmarks.load_test import PARAM_TITLES
+
+    assert PARAM_TITLES == {n: p.label for n, p in physical_parameters(SpectrumParams).items()}
