@@ -9,6 +9,12 @@ Public API (NumPy in, NumPy out; physical parameters keyword-only and broadcasti
 - :func:`linear_expansion` (Eq. S-dz)
 - :func:`bessel_integral_B`, :func:`bessel_term_C`, :func:`effective_moduli`,
   :func:`thin_on_thick_response`, :func:`normal_stress_change` (Sect. III, Eqs. effective_constants, dsigma)
+- :func:`rayleigh_wave_speed`, :func:`plane_modulus`, :func:`mode_ii_universal_function`,
+  :func:`cohesive_zone_size`, :func:`peak_cohesive_stress`, :func:`stress_intensity_factor`,
+  :func:`universal_slip_profile`, :func:`shear_stress_profile`, :func:`slip_velocity_profile`,
+  :func:`peak_slip_velocity`, :func:`peak_slip_location`, :func:`relative_normal_stress_change_at_peak_slip`,
+  :class:`RuptureParameters` / ``PAPER_DEFAULTS`` (supplement Sect. S-V, steady mode-II cohesive zone;
+  docs/physics.md §13)
 """
 
 from .elastic import poisson_ratio, shear_modulus, wave_speed_ratio
@@ -21,6 +27,24 @@ from .elastodynamics import (
 )
 from .modes import unstable_count, unstable_modes
 from .rayleigh import rayleigh_speed
+from .rupture import (
+    PAPER_DEFAULTS,
+    PEAK_SLIP_POSITION,
+    PEAK_SLIP_PROFILE,
+    RuptureParameters,
+    cohesive_zone_size,
+    mode_ii_universal_function,
+    peak_cohesive_stress,
+    peak_slip_location,
+    peak_slip_velocity,
+    plane_modulus,
+    rayleigh_wave_speed,
+    relative_normal_stress_change_at_peak_slip,
+    shear_stress_profile,
+    slip_velocity_profile,
+    stress_intensity_factor,
+    universal_slip_profile,
+)
 from .spectrum import STATUS, SpectrumResult, linear_expansion, rayleigh_branch, spectrum
 from .stability import (
     GrowthResult,
@@ -80,4 +104,20 @@ __all__ = [
     "poisson_ratio",
     "shear_modulus",
     "wave_speed_ratio",
+    "PAPER_DEFAULTS",
+    "PEAK_SLIP_POSITION",
+    "PEAK_SLIP_PROFILE",
+    "RuptureParameters",
+    "cohesive_zone_size",
+    "mode_ii_universal_function",
+    "peak_cohesive_stress",
+    "peak_slip_location",
+    "peak_slip_velocity",
+    "plane_modulus",
+    "rayleigh_wave_speed",
+    "relative_normal_stress_change_at_peak_slip",
+    "shear_stress_profile",
+    "slip_velocity_profile",
+    "stress_intensity_factor",
+    "universal_slip_profile",
 ]

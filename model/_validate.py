@@ -27,6 +27,10 @@ DOMAINS: dict[str, tuple[float, float, bool, bool, bool, str]] = {
     "mu": (0.0, math.inf, False, False, False, "(0, inf)"),
     "c": (0.0, math.inf, False, False, False, "(0, inf)"),
     "c_s": (0.0, math.inf, False, False, False, "(0, inf)"),
+    "x": (-math.inf, math.inf, False, False, False, "finite real"),
+    "Gamma": (0.0, math.inf, False, False, False, "(0, inf)"),
+    "X_c0": (0.0, math.inf, False, False, False, "(0, inf)"),
+    "sigma0": (0.0, math.inf, False, False, False, "(0, inf)"),
 }
 
 
