@@ -45,6 +45,14 @@ Lab units (§12): the dimensionless groups from lab quantities and back
     :func:`e_folding_time`, :func:`im_z_from_e_folding_time`, :func:`phase_speed`, :func:`re_z_from_phase_speed`,
     :func:`spectrum_in_lab_units`; material presets: :func:`material_names`, :func:`material` returning
     :class:`Material`.
+
+Rupture fronts: the steady mode-II cohesive-zone model of the supplement (§13)
+    :func:`rayleigh_wave_speed`, :func:`plane_modulus`, :func:`mode_ii_universal_function` (f_II),
+    :func:`cohesive_zone_size`, :func:`peak_cohesive_stress`, :func:`stress_intensity_factor`,
+    :func:`universal_slip_profile`, :func:`shear_stress_profile`, :func:`slip_velocity_profile`,
+    :func:`peak_slip_velocity`, :func:`peak_slip_location` (constants :data:`PEAK_SLIP_POSITION`,
+    :data:`PEAK_SLIP_PROFILE`), :func:`relative_normal_stress_change_at_peak_slip` (Eq. dsigma at the peak);
+    the paper's inputs: :class:`RuptureParameters`, :data:`PAPER_DEFAULTS`.
 """
 
 from .elastic import poisson_ratio, shear_modulus, wave_speed_ratio
@@ -91,6 +99,24 @@ from .lab_units import (
 )
 from .modes import unstable_count, unstable_modes
 from .rayleigh import rayleigh_speed
+from .rupture import (
+    PAPER_DEFAULTS,
+    PEAK_SLIP_POSITION,
+    PEAK_SLIP_PROFILE,
+    RuptureParameters,
+    cohesive_zone_size,
+    mode_ii_universal_function,
+    peak_cohesive_stress,
+    peak_slip_location,
+    peak_slip_velocity,
+    plane_modulus,
+    rayleigh_wave_speed,
+    relative_normal_stress_change_at_peak_slip,
+    shear_stress_profile,
+    slip_velocity_profile,
+    stress_intensity_factor,
+    universal_slip_profile,
+)
 from .spectrum import STATUS, SpectrumResult, linear_expansion, rayleigh_branch, spectrum
 from .stability import (
     GrowthResult,
@@ -190,4 +216,20 @@ __all__ = [
     "wavelength",
     "xi_from_lab",
     "xi_from_rate_state",
+    "PAPER_DEFAULTS",
+    "PEAK_SLIP_POSITION",
+    "PEAK_SLIP_PROFILE",
+    "RuptureParameters",
+    "cohesive_zone_size",
+    "mode_ii_universal_function",
+    "peak_cohesive_stress",
+    "peak_slip_location",
+    "peak_slip_velocity",
+    "plane_modulus",
+    "rayleigh_wave_speed",
+    "relative_normal_stress_change_at_peak_slip",
+    "shear_stress_profile",
+    "slip_velocity_profile",
+    "stress_intensity_factor",
+    "universal_slip_profile",
 ]

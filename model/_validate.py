@@ -43,6 +43,10 @@ DOMAINS: dict[str, tuple[float, float, bool, bool, bool, str]] = {
     "growth_rate": (-math.inf, math.inf, False, False, False, "finite real, 1/s"),
     "e_folding_time": (0.0, math.inf, False, True, True, "(0, inf] s (inf = not growing)"),
     "phase_speed": (-math.inf, math.inf, False, False, False, "finite real, m/s"),
+    # cohesive-zone model (model/rupture.py, docs/physics.md §13), SI units
+    "x": (-math.inf, math.inf, False, False, False, "finite real"),
+    "Gamma": (0.0, math.inf, False, False, False, "(0, inf)"),
+    "X_c0": (0.0, math.inf, False, False, False, "(0, inf)"),
 }
 
 
