@@ -1,7 +1,7 @@
 """Scene "All branches": every unstable root of F(z; kH) = 0 in the complex z-plane, not only the Rayleigh branch.
 
 The paper (Sect. IV) follows the Rayleigh branch; other branches of the same dispersion relation exist and can be
-unstable where the Rayleigh branch is stable (PHYSICS.md section 3). This scene shows, at a chosen kH, every root
+unstable where the Rayleigh branch is stable (docs/physics.md §3). This scene shows, at a chosen kH, every root
 with Im z > 0 in a window (:func:`model.unstable_modes`, counted with the argument principle), the Rayleigh-branch
 root (:func:`model.rayleigh_branch`), and the certified number of unstable roots (:func:`model.unstable_count`)
 against kH.
@@ -38,7 +38,7 @@ KH_FINE = np.logspace(-2, 2, 385)
 KH_COUNT = KH_FINE[::8].copy()
 
 #: default kH: at the paper's defaults (gamma = 3, f = 0.9, beta = 0.3, eta = inf) there is an unstable root
-#: faster than c_d besides the Rayleigh root (PHYSICS.md section 3)
+#: faster than c_d besides the Rayleigh root (docs/physics.md §3)
 KH_DEFAULT = 0.45
 
 #: default window (the model's defaults): |Re z| <= re_max, im_min <= Im z <= im_max
@@ -68,7 +68,7 @@ root at the same kH, drawn even when it is stable (Im z < 0) or outside the wind
 and ±1/β (c = ±c_d), where F has branch points. The lower plot counts the unstable roots on a log kH grid; the
 shaded bands are where the Rayleigh branch itself is unstable, the dashed curve counts the other branches.
 
-Reference cases (PHYSICS.md §3; f = 0.9, β = 0.3, Δ = 1, γ = 3):
+Reference cases (docs/physics.md §3; f = 0.9, β = 0.3, Δ = 1, γ = 3):
 η = ∞, kH = 0.45: besides the Rayleigh root, a root z ≈ 3.5335 + 0.0759i faster than c_d.
 η = 3, kH = 0.45: the Rayleigh branch is stable, but a backward-travelling root z ≈ −1.8615 + 0.0481i is not
 (that branch is unstable for about 0.29 < kH < 0.76).

@@ -1,4 +1,4 @@
-"""Elastodynamic response of two finite blocks and the dispersion relation (PHYSICS.md sections 2-3)."""
+"""Elastodynamic response of two finite blocks and the dispersion relation (docs/physics.md §2-§3)."""
 
 from __future__ import annotations
 
@@ -23,7 +23,7 @@ def response_functions(z, kH, *, beta, eta=math.inf):
     G_x = z^-2 [(1+a_s^2)^2/(a_s (T1_s+T2_s)) - 4 a_d/(T1_d+T2_d)],
     G_y = 2 (1+a_s^2) z^-2 [T2_d/(T1_d+T2_d) - T2_s/(T1_s+T2_s)],
     a_s = sqrt(1-z^2), a_d = sqrt(1-beta^2 z^2), T1_j = tanh(kH a_j), T2_j = tanh(eta kH a_j);
-    eta = inf means a half-space below (T2 = +1, Eqs. Gx_LSA/Gy_LSA; PHYSICS.md notes the misprint).
+    eta = inf means a half-space below (T2 = +1, Eqs. Gx_LSA/Gy_LSA; docs/physics.md §11 notes the misprint).
 
     Evaluated in cancellation-free form (see ``model._kernels``): no z^-2 cancellation at small |z|,
     no overflow for large complex arguments, G_y = 0 exactly for eta = 1. Poles lie on the real axis

@@ -1,4 +1,4 @@
-"""Rayleigh wave speed (PHYSICS.md section 5)."""
+"""Rayleigh wave speed (docs/physics.md §5)."""
 
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ def _rayleigh_x(b: np.ndarray) -> np.ndarray:
 
 
 def rayleigh_speed(beta):
-    """Rayleigh wave speed z_R = c_R/c_s for beta = c_s/c_d (PHYSICS.md section 5).
+    """Rayleigh wave speed z_R = c_R/c_s for beta = c_s/c_d (docs/physics.md §5).
 
     z_R^2 is the root in (0, 1) of the Rayleigh cubic x^3 - 8x^2 + 8(3 - 2 beta^2)x - 16(1 - beta^2) = 0,
     solved in closed form (trigonometric Cardano) and polished by two Newton steps; accurate to

@@ -1,4 +1,4 @@
-"""The Rayleigh branch of the stability spectrum and its linear expansion (PHYSICS.md sections 3-4)."""
+"""The Rayleigh branch of the stability spectrum and its linear expansion (docs/physics.md §3-§4)."""
 
 from __future__ import annotations
 
@@ -74,7 +74,7 @@ def rayleigh_branch(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0,
                     rtol: float | None = None) -> SpectrumResult:
     """Rayleigh-branch roots z = c/c_s of F(z; kH) = 0 with diagnostics (Eq. implicit_spectrum).
 
-    The branch is defined as in PHYSICS.md section 3: at kH = 1e4 the root continued from z_R
+    The branch is defined as in docs/physics.md §3: at kH = 1e4 the root continued from z_R
     (homotopy in 1/gamma from gamma = inf, where it is the Rayleigh root of the large-kH response),
     then continued in ln kH downward (and upward for kH > 1e4) by an adaptive predictor-corrector path
     whose nodes depend only on the physical parameters. Every requested kH is reached by Newton's

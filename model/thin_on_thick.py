@@ -134,7 +134,7 @@ def _half_space_m(z: np.ndarray, b2: np.ndarray):
 
 
 def thin_on_thick_response(z, kW, *, nu):
-    """(G_x, G_y) of the effective bimaterial pair of the thin-on-thick setup (Eq. G, S-m2s, PHYSICS section 6).
+    """(G_x, G_y) of the effective bimaterial pair of the thin-on-thick setup (Eq. G, S-m2s, docs/physics.md §6).
 
     Upper: the thin block under plane stress (shear modulus mu, 2D Poisson ratio nu/(1+nu));
     lower: a half-space with mu_eff(kW), nu_eff(kW) (Eq. effective_constants) and the same density,

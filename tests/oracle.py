@@ -1,6 +1,6 @@
 """Independent high-precision reference implementation ("test oracle") built on mpmath.
 
-Everything here is written directly from ``/work/shared/PHYSICS.md`` and the supplement of
+Everything here is written directly from ``docs/physics.md`` and the supplement of
 Aldam et al., PRX 6, 041023 (2016) (``paper/aldam2016_geometric_asymmetry.tex``); equation labels in
 the docstrings are the LaTeX labels of that file. It deliberately shares no code with ``model/``.
 
@@ -10,7 +10,7 @@ Conventions
   mpmath numbers rounded to ``DPS = 30`` significant digits. Internally they raise the working
   precision (``mp.workdps`` / ``mp.extradps``) as needed; the global ``mp.dps`` is never changed.
 * ``eta`` may be ``math.inf`` or ``mp.inf``: the lower block is then a half-space, i.e. ``T2 = +1``
-  (PHYSICS.md section 2; the supplement's "T2 -> -1" is a misprint).
+  (docs/physics.md §2; the supplement's "T2 -> -1" is a misprint).
 * ``*_core`` helpers evaluate at the *ambient* precision plus the number of digits that the formula
   is known to lose by cancellation, so they can be used inside ``mp.diff`` / ``mp.findroot``.
 """
@@ -28,7 +28,7 @@ from mpmath import mp
 
 DPS = 30  # digits of every public result
 CONT_DPS = 20  # working digits while continuing the Rayleigh branch in q
-Q_TOP = 10**4  # the Rayleigh branch is defined by its root nearest z_R at q = Q_TOP (PHYSICS.md 3)
+Q_TOP = 10**4  # the Rayleigh branch is defined by its root nearest z_R at q = Q_TOP (docs/physics.md §3)
 H_MAX = mpmath.mpf("0.02")  # grid spacing / largest continuation step in ln q
 H_MIN = mpmath.mpf("1e-9")  # smallest continuation step in ln q before the branch counts as lost
 MAX_ATTEMPTS = 400  # continuation steps (accepted + rejected) allowed per grid interval
@@ -110,7 +110,7 @@ def _adaptive(
 
 
 # =============================================================================================
-# 1. Rayleigh speed (PHYSICS.md section 5)
+# 1. Rayleigh speed (docs/physics.md §5)
 # =============================================================================================
 
 
@@ -158,7 +158,7 @@ def _block_factors(a: mpmath.mpc, q: mpmath.mpf, eta: mpmath.mpf) -> tuple[mpmat
     tanh(large) and the cancellations 1 - tanh, T1 + T2 at small q, and T2 - T1 near eta = 1:
         T1 + T2 = 2 (1 - u v) / ((1 + u)(1 + v)),   T2/(T1 + T2) = 1/2 + (u - v) / (2 (1 - u v)),
         u - v = -u expm1(-2 (eta - 1) q a),          1 - u v = -expm1(-2 (1 + eta) q a).
-    For eta = inf (v = 0): X = (1 + u)/2, A = u/2 (the "safe form" of PHYSICS.md 2).
+    For eta = inf (v = 0): X = (1 + u)/2, A = u/2 (the "safe form" of docs/physics.md §2).
     """
     u = mp.exp(-2 * q * a)
     if _is_inf(eta):
@@ -229,7 +229,7 @@ def response_functions_tanh(z: Num, q: Num, beta: Num, eta: Num = math.inf) -> t
 
 @dataclass(frozen=True)
 class Params:
-    """Parameters of the dispersion relation (PHYSICS.md section 1); b = beta^2."""
+    """Parameters of the dispersion relation (docs/physics.md §1); b = beta^2."""
 
     gamma: mpmath.mpf
     f: mpmath.mpf
@@ -256,7 +256,7 @@ def dispersion_core(z: mpmath.mpc, q: mpmath.mpf, p: Params) -> mpmath.mpc:
 def dispersion(
     z: Num, q: Num, gamma: Num, f: Num, beta: Num, eta: Num, Delta: Num = 1, xi: Num = 0
 ) -> mpmath.mpc:
-    """F(z; q) of PHYSICS.md section 3 (Eq. implicit_spectrum + Eq. delta f RSF + Eq. Gs_general)."""
+    """F(z; q) of docs/physics.md §3 (Eq. implicit_spectrum + Eq. delta f RSF + Eq. Gs_general)."""
     p = Params.make(gamma, f, beta, eta, Delta, xi)
     zz, qq = _num(z), _num(q)
     g_x, g_y = response_functions(zz, qq, beta, eta)
@@ -276,7 +276,7 @@ def dispersion_dz(
 
 
 # =============================================================================================
-# 4. The Rayleigh branch (PHYSICS.md section 3): continuation in ln q from q = 1e4
+# 4. The Rayleigh branch (docs/physics.md §3): continuation in ln q from q = 1e4
 # =============================================================================================
 
 
@@ -569,7 +569,7 @@ def rayleigh_branch(
     xi: Num = 0,
     strict: bool = True,
 ) -> list[mpmath.mpc | None]:
-    """Roots z(q) on the Rayleigh branch (PHYSICS.md section 3), one per requested q (any order).
+    """Roots z(q) on the Rayleigh branch (docs/physics.md §3), one per requested q (any order).
 
     Definition: at q = 1e4 the root nearest z_R (the nearer of mp.findroot started at z_R and of a
     continuation in ln gamma from gamma = 1e4, where the root is next to z_R; for gamma <~ 1 findroot from
@@ -688,7 +688,7 @@ def linear_expansion(q: Num, gamma: Num, f: Num, beta: Num, eta: Num = math.inf)
 
 
 def criterion_min_gy(beta: Num, eta: Num = math.inf, q_guess: Num = 0.9) -> tuple[mpmath.mpf, mpmath.mpf]:
-    """(q_min, min_q G_y(z_R, q)) (Eq. criterion; PHYSICS.md 4), by mp.findroot on dG_y/dq = 0."""
+    """(q_min, min_q G_y(z_R, q)) (Eq. criterion; docs/physics.md §4), by mp.findroot on dG_y/dq = 0."""
     z_r = rayleigh_speed(beta)
     b, ee = _sq(beta), _num(eta)
     with mp.workdps(DPS + 20):
@@ -795,7 +795,7 @@ def mu_eff_minus_one(q: Num, nu: Num) -> mpmath.mpf:
 
 
 def mu_eff_minimum(nu: Num) -> tuple[mpmath.mpf, mpmath.mpf]:
-    """(q_min, 1 - min_q mu_eff/mu) (PHYSICS.md 6; the supplement's numbers are partly misprinted).
+    """(q_min, 1 - min_q mu_eff/mu) (docs/physics.md §6; the supplement's numbers are partly misprinted).
 
     d/dq (mu_eff/mu) = N'/(1-N)^2 with N' = -(2(1-nu)/pi) K0(q/2) + ((1-2nu)/2) e^{-q/2} (from
     dB/dq = K0(q/2)/pi); mp.findroot on N' = 0 written as ln(e^x K0(x)) = ln(pi(1-2nu)/(4(1-nu))), x = q/2

@@ -136,7 +136,7 @@ def test_count_curve_equals_unstable_count_on_the_grid() -> None:
 
 
 # --------------------------------------------------------------------------------------------
-# reference cases of PHYSICS.md section 3: unstable roots off the Rayleigh branch
+# reference cases of docs/physics.md §3: unstable roots off the Rayleigh branch
 # --------------------------------------------------------------------------------------------
 
 

@@ -1,4 +1,4 @@
-"""Accuracy of the model against the independent mpmath oracle (tests/oracle.py) and PHYSICS.md check values.
+"""Accuracy of the model against the independent mpmath oracle (tests/oracle.py) and the check values of docs/physics.md §7.
 
 Errors are relative unless stated. The measured maxima are printed (pytest -s) for the closing notes.
 """
@@ -285,7 +285,7 @@ def test_effective_moduli_check_values():
 @pytest.mark.parametrize("nu,q_min,depth", [(0.2, 8.5897, 7.0327e-4), (0.33, 19.2946, 9.7473e-7),
                                             (0.4, 45.345, 5.847e-13), (0.3, 15.119, 1.13875e-5)])
 def test_effective_modulus_minima(nu, q_min, depth):
-    """The three minima of PHYSICS section 6 (and nu = 0.3): 1 - min mu_eff/mu to 1e-3 relative."""
+    """The three minima of docs/physics.md §6 (and nu = 0.3): 1 - min mu_eff/mu to 1e-3 relative."""
     q = np.linspace(q_min * 0.98, q_min * 1.02, 2001)
     ex = model.effective_modulus_excess(q, nu)
     k = np.argmin(ex)

@@ -1,4 +1,4 @@
-"""Property tests (hypothesis) of numerical stability over wide parameter ranges (PHYSICS.md stress cases)."""
+"""Property tests (hypothesis) of numerical stability over wide parameter ranges (docs/physics.md §7 stress cases)."""
 
 from __future__ import annotations
 
@@ -140,7 +140,7 @@ def test_other_functions_reject_bad_input():
 
 
 def test_stress_extremes_are_finite_or_masked():
-    """PHYSICS.md stress list: kH = 1e-4 and 1e4, eta = 1, 1+1e-9, 1e8, inf; beta -> 0, 1/sqrt2;
+    """docs/physics.md §7 stress list: kH = 1e-4 and 1e4, eta = 1, 1+1e-9, 1e8, inf; beta -> 0, 1/sqrt2;
     gamma tiny and huge; Delta -> 0; xi = 0 and 1e4."""
     q = np.array([1e-4, 1e-2, 1.0, 1e2, 1e4])
     for p in [

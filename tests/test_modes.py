@@ -1,6 +1,6 @@
-"""Tests of model.modes: every unstable mode in a window (issue 3; PHYSICS.md sections 2-3).
+"""Tests of model.modes: every unstable mode in a window (issue 3; docs/physics.md §2-§3).
 
-Reference roots are the PHYSICS.md "other branch" values (f = 0.9, beta = 0.3, Delta = 1, gamma = 3).
+Reference roots are the "other branch" values of docs/physics.md §3 (f = 0.9, beta = 0.3, Delta = 1, gamma = 3).
 """
 
 from __future__ import annotations

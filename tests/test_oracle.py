@@ -1,7 +1,7 @@
-"""Tests of the mpmath oracle (tests/oracle.py) against the check values of /work/shared/PHYSICS.md
+"""Tests of the mpmath oracle (tests/oracle.py) against the check values of docs/physics.md
 (sections 3, 4, 6, 7) and against internal consistency (independent formulas, symmetries, precision).
 
-Tolerances follow the number of digits quoted in PHYSICS.md. Equation labels refer to
+Tolerances follow the number of digits quoted in docs/physics.md §7. Equation labels refer to
 paper/aldam2016_geometric_asymmetry.tex.
 """
 
@@ -14,7 +14,7 @@ import pytest
 from mpmath import mp
 
 INF = math.inf
-F0, BETA0 = 0.9, 0.3  # f and beta of PHYSICS.md section 7
+F0, BETA0 = 0.9, 0.3  # f and beta of docs/physics.md §7
 
 
 @pytest.fixture(autouse=True)
@@ -37,7 +37,7 @@ def rel_close(a, b, tol: float) -> bool:
 
 
 # =============================================================================================
-# Rayleigh speed (PHYSICS.md 5, 7)
+# Rayleigh speed (docs/physics.md §5, §7)
 # =============================================================================================
 
 
@@ -65,7 +65,7 @@ def test_rayleigh_speed_solves_rayleigh_equation() -> None:
 
 
 def test_pmma_plane_stress_rayleigh_speed() -> None:
-    """PHYSICS.md 6: plane stress nu = 0.33 -> nu/(1+nu); z_R = 0.91909, c_R ~ 1237 m/s with c_s = 1345."""
+    """docs/physics.md §6: plane stress nu = 0.33 -> nu/(1+nu); z_R = 0.91909, c_R ~ 1237 m/s with c_s = 1345."""
     with mp.workdps(40):
         nu1 = mp.mpf("0.33") / mp.mpf("1.33")
         beta = mp.sqrt((1 - 2 * nu1) / (2 - 2 * nu1))
@@ -152,7 +152,7 @@ def test_gy_near_eta_one_is_linear_in_eta_minus_one() -> None:
 
 
 def test_dispersion_mirror_symmetry() -> None:
-    """z -> -conj(z) maps solutions for f to those for -f (PHYSICS.md 3): F(-conj z; -f) = conj F(z; f)."""
+    """z -> -conj(z) maps solutions for f to those for -f (docs/physics.md §3): F(-conj z; -f) = conj F(z; f)."""
     z = 0.88 + 0.01j
     for eta in (3, INF):
         a = o.dispersion(z, 0.6, 3, F0, BETA0, eta, 0.5, 1.0)
@@ -173,7 +173,7 @@ def test_dispersion_dz_against_cauchy_integral() -> None:
 
 
 # =============================================================================================
-# Rayleigh branch (PHYSICS.md 3, 7)
+# Rayleigh branch (docs/physics.md §3, §7)
 # =============================================================================================
 
 
@@ -227,7 +227,7 @@ def test_finite_eta_full_continuation(eta) -> None:
 
 
 def test_eta10_rayleigh_branch_and_faster_mode() -> None:
-    """PHYSICS.md 3: eta = 10, q = 0.77: Rayleigh branch 0.8847 + 0.01045 i; another root 2.3954 + 0.03804 i
+    """docs/physics.md §3: eta = 10, q = 0.77: Rayleigh branch 0.8847 + 0.01045 i; another root 2.3954 + 0.03804 i
     grows faster."""
     z = o.rayleigh_branch(0.77, 3, F0, BETA0, 10)[0]
     assert close(mp.re(z), "0.8847", 5e-5)
@@ -252,7 +252,7 @@ def test_eta10_rayleigh_branch_and_faster_mode() -> None:
     ],
 )
 def test_other_branch_reference_roots(z_ref, q, eta) -> None:
-    """PHYSICS.md 3: the quoted other-branch roots (14 digits) are roots of F."""
+    """docs/physics.md §3: the quoted other-branch roots (14 digits) are roots of F."""
     with mp.workdps(40):
         z_ref = mp.mpc(*z_ref)
     f_val = o.dispersion(z_ref, q, 3, F0, BETA0, eta)
@@ -290,7 +290,7 @@ def _count_roots_in_rectangle(fun, x0, x1, y0, y1, n=200) -> mp.mpf:
 
 
 def test_eta10_ten_unstable_roots_in_window() -> None:
-    """PHYSICS.md 3: eta = 10, q = 0.77: ten roots with Im z >= 1e-4 and |Re z| <= 5 (window Im z <= 3)."""
+    """docs/physics.md §3: eta = 10, q = 0.77: ten roots with Im z >= 1e-4 and |Re z| <= 5 (window Im z <= 3)."""
     p = o.Params.make(3, F0, BETA0, 10)
     with mp.workdps(20):
         count = _count_roots_in_rectangle(lambda w: o.dispersion_core(w, mp.mpf(0.77), p), -5, 5, 1e-4, 3)
@@ -298,21 +298,21 @@ def test_eta10_ten_unstable_roots_in_window() -> None:
 
 
 def test_max_growth_eta_inf() -> None:
-    """PHYSICS.md 7: max_q Im z = 0.0106758 at q ~ 0.767 (eta = inf, gamma = 3, Delta = 1)."""
+    """docs/physics.md §7: max_q Im z = 0.0106758 at q ~ 0.767 (eta = inf, gamma = 3, Delta = 1)."""
     q_star, im_max = o.rayleigh_branch_max_growth(0.77, 3, F0, BETA0, INF)
     assert close(im_max, "0.0106758", 5e-8)
     assert abs(q_star - mp.mpf("0.767")) < 1e-3
 
 
 def test_max_growth_state_dependent_friction() -> None:
-    """PHYSICS.md 7: Delta = 0.5, xi = 1, eta = inf, gamma = 3: max_q Im z = 0.028570."""
+    """docs/physics.md §7: Delta = 0.5, xi = 1, eta = inf, gamma = 3: max_q Im z = 0.028570."""
     _, im_max = o.rayleigh_branch_max_growth(0.75, 3, F0, BETA0, INF, 0.5, 1)
     assert close(im_max, "0.028570", 5e-7)
 
 
 @pytest.mark.slow
 def test_critical_gamma() -> None:
-    """PHYSICS.md 7: critical gamma = 2.4149 (eta = inf, Delta = 1): max_q Im z(gamma) = 0."""
+    """docs/physics.md §7: critical gamma = 2.4149 (eta = inf, Delta = 1): max_q Im z(gamma) = 0."""
     state = {"q": mp.mpf("0.72")}
 
     def growth(g):
@@ -327,7 +327,7 @@ def test_critical_gamma() -> None:
 
 @pytest.mark.slow
 def test_critical_eta() -> None:
-    """PHYSICS.md 7: critical eta = 3.2982 at gamma = 3, Delta = 1, onset at q ~ 0.976 (paper: ~3.3)."""
+    """docs/physics.md §7: critical eta = 3.2982 at gamma = 3, Delta = 1, onset at q ~ 0.976 (paper: ~3.3)."""
     state = {"q": mp.mpf("0.976")}
 
     def growth(e):
@@ -352,7 +352,7 @@ def test_small_gamma_branch_runs_into_the_cut() -> None:
 
 
 # =============================================================================================
-# Linear expansion and criterion (PHYSICS.md 4, Eqs. S-dz, S-fffff, criterion)
+# Linear expansion and criterion (docs/physics.md §4, Eqs. S-dz, S-fffff, criterion)
 # =============================================================================================
 
 
@@ -384,7 +384,7 @@ def test_linear_expansion_matches_explicit_real_imag_parts(q) -> None:
 
 
 def test_criterion_min_gy() -> None:
-    """PHYSICS.md 7: min_q G_y(z_R, q) = -0.475111 at q = 0.86438, chi_c = z_R / |min| = 1.99750."""
+    """docs/physics.md §7: min_q G_y(z_R, q) = -0.475111 at q = 0.86438, chi_c = z_R / |min| = 1.99750."""
     q_min, gy_min = o.criterion_min_gy(BETA0, INF)
     assert close(gy_min, "-0.475111", 5e-7)
     assert close(q_min, "0.86438", 5e-6)
@@ -392,7 +392,7 @@ def test_criterion_min_gy() -> None:
 
 
 # =============================================================================================
-# Thin-on-thick (PHYSICS.md 6)
+# Thin-on-thick (docs/physics.md §6)
 # =============================================================================================
 
 
@@ -464,7 +464,7 @@ def test_mu_eff_minimum(nu, q_ref, q_tol, depth_ref, depth_tol) -> None:
 
 
 def test_thin_on_thick_check_values() -> None:
-    """PHYSICS.md 6 (nu = 0.33)."""
+    """docs/physics.md §6 (nu = 0.33)."""
     assert close(o.thin_on_thick_response(0.919, 5, 0.33)[1], "-0.0544266880084", 5e-14)
     assert close(o.thin_on_thick_response(0.9, 3, 0.33)[1], "-0.101096689153", 5e-13)
     assert close(o.thin_on_thick_quasistatic_gy(5, 0.33), "-0.04921931781306", 5e-15)

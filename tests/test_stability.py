@@ -1,4 +1,4 @@
-"""Thresholds and growth maps on the Rayleigh branch (issue: stability analysis) against PHYSICS.md section 7
+"""Thresholds and growth maps on the Rayleigh branch (issue: stability analysis) against docs/physics.md §7
 and the mpmath oracle."""
 
 from __future__ import annotations
