@@ -1,4 +1,4 @@
-"""Accuracy of the model against the independent mpmath oracle (tests/oracle.py) and the check values of docs/physics.md §7.
+"""Accuracy of the model against the independent mpmath oracle (tests/oracle.py) and docs/physics.md §7.
 
 Errors are relative unless stated. The measured maxima are printed (pytest -s) for the closing notes.
 """
