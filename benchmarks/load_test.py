@@ -396,7 +396,7 @@ class AppSession:
                 raise SessionError("timed out waiting for the server")
             try:
                 fragment = await asyncio.wait_for(self.ws.read_message(), remaining)
-            except asyncio.TimeoutError:
+            except TimeoutError:
                 raise SessionError("timed out waiting for the server") from None
             if fragment is None:
                 raise SessionError("the server closed the websocket")
