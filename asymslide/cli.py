@@ -1,4 +1,10 @@
-"""The ``asymslide`` command line: ``asymslide serve`` (the web app, as ``make serve`` and the Docker image run it)."""
+"""The ``asymslide`` command line.
+
+``asymslide serve``  the web app, as ``make serve`` and the Docker image run it;
+``asymslide sweep``  compute a stability atlas (Dask, stored in Zarr, resumable);
+``asymslide info``   describe an atlas;
+``asymslide export`` write an atlas as one NetCDF file.
+"""
 
 from __future__ import annotations
 
@@ -18,6 +24,93 @@ def _serve(args: argparse.Namespace) -> int:
     return run(cmd)
 
 
+#: exit codes besides 0 (done) and 2 (bad command line, as argparse)
+EXIT_SCHEDULER = 3  # the scheduler address did not answer
+EXIT_INTERRUPTED = 130  # Ctrl-C: the chunks written so far are kept; run the same command again to resume
+
+
+def _fail(message: str, code: int = 2) -> int:
+    print(f"asymslide: error: {message}", file=sys.stderr)
+    return code
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from .sweep import CONNECT_TIMEOUT, CountSpec, SweepError, make_plan, parse_axis, parse_fixed, plan_points, sweep
+
+    try:
+        axes = dict(parse_axis(a) for a in args.axis)
+        if len(axes) != len(args.axis):
+            raise SweepError("an axis is given twice")
+        fixed = dict(parse_fixed(f) for f in args.fixed)
+        _, kh = parse_axis(f"kH={args.kH}")
+        gamma_range = tuple(float(x) for x in args.gamma_range.split(":")) if args.gamma_range else None
+        if gamma_range is not None and len(gamma_range) != 2:
+            raise SweepError(f"--gamma-range must be lo:hi; got {args.gamma_range!r}")
+        count = None
+        if args.count:
+            window = tuple(float(x) for x in args.count.split(","))
+            if len(window) != 3:
+                raise SweepError(f"--count must be re_max,im_min,im_max; got {args.count!r}")
+            count = CountSpec(tuple(parse_axis(f"kH={args.count_kH}")[1]), window)  # type: ignore[arg-type]
+        settings = dict(fixed=fixed, kH=kh, rtol=args.rtol, gamma_c=not args.no_gamma_c, gamma_range=gamma_range,
+                        count=count, chunk_points=args.chunk_points)
+        plan = make_plan(axes, **settings)
+    except (SweepError, ValueError) as exc:
+        return _fail(str(exc))
+    client = None
+    if args.scheduler:
+        try:
+            from distributed import Client
+
+            client = Client(args.scheduler, timeout=CONNECT_TIMEOUT)
+        except (OSError, TimeoutError, ValueError) as exc:
+            return _fail(f"the scheduler at {args.scheduler} did not answer within {CONNECT_TIMEOUT} s "
+                         f"({type(exc).__name__}: {exc})", EXIT_SCHEDULER)
+    from tqdm import tqdm
+
+    bars = {kind: tqdm(total=n, desc=f"{kind:8s}", unit="pt", unit_scale=True, dynamic_ncols=True, position=i,
+                       disable=args.quiet) for i, (kind, n) in enumerate(plan_points(plan).items())}
+    command = " ".join(["asymslide", *sys.argv[1:]]) if sys.argv and sys.argv[0].endswith("asymslide") else None
+    try:
+        sweep(axes, **settings, store=args.out, client=client, workers=args.workers,
+              progress=lambda kind, n: bars[kind].update(n), command=command)
+    except SweepError as exc:
+        return _fail(str(exc))
+    except KeyboardInterrupt:
+        print(f"\ninterrupted: the chunks written so far are in {args.out}; run the same command to resume",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
+    finally:
+        for bar in bars.values():
+            bar.close()
+        if client is not None:
+            client.close()
+    print(f"atlas written to {args.out}")
+    return 0
+
+
+def _info(args: argparse.Namespace) -> int:
+    from .sweep import iter_summary
+
+    try:
+        for line in iter_summary(args.store):
+            print(line)
+    except (OSError, ValueError, KeyError) as exc:
+        return _fail(f"{args.store} is not a readable atlas ({type(exc).__name__}: {exc})")
+    return 0
+
+
+def _export(args: argparse.Namespace) -> int:
+    from .sweep import export_netcdf
+
+    try:
+        out = export_netcdf(args.store, args.netcdf)
+    except (OSError, ValueError, KeyError) as exc:
+        return _fail(f"could not export {args.store} ({type(exc).__name__}: {exc})")
+    print(f"written {out}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="asymslide", description=__doc__)
     parser.add_argument("--version", action="version", version=f"asymslide {__version__}")
@@ -35,6 +128,43 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--liveness", action="store_true", help="answer health checks at /liveness")
     serve.add_argument("panel_args", nargs="*", metavar="-- PANEL_ARGS", help="passed to panel serve")
     serve.set_defaults(func=_serve)
+
+    sw = sub.add_parser("sweep", help="compute a stability atlas over a grid of parameters (resumable)",
+                        description="Max growth of the Rayleigh branch (and the threshold gamma_c) over a grid of "
+                                    "parameters, computed with Dask and written chunk by chunk to a Zarr store. "
+                                    "Running the same command again resumes an interrupted sweep.")
+    sw.add_argument("--axis", action="append", required=True, metavar="NAME=LO:HI:N[:log]",
+                    help="a grid axis: gamma, f, beta, eta, Delta or xi; lo:hi:n points, linear or :log (eta: log "
+                         "unless :lin), or an explicit list v1,v2,...; repeatable")
+    sw.add_argument("--fixed", action="append", default=[], metavar="NAME=VALUE",
+                    help="a parameter held fixed (eta=inf allowed); the others take the paper's values gamma=3, "
+                         "f=0.9, beta=0.3, eta=inf, Delta=1, xi=0")
+    sw.add_argument("--out", required=True, help="the Zarr store (a directory) to write or resume")
+    sw.add_argument("--kH", default="1e-3:1e3:97:log", metavar="LO:HI:N[:log]",
+                    help="the kH grid the growth is bracketed on (default 1e-3:1e3:97:log)")
+    sw.add_argument("--rtol", type=float, default=None, help="relative accuracy of the roots (default: full)")
+    sw.add_argument("--no-gamma-c", action="store_true", help="skip the threshold gamma_c over the other axes")
+    sw.add_argument("--gamma-range", metavar="LO:HI", help="where gamma_c is searched (default: the gamma axis' "
+                                                           "range, or 1e-2:1e3)")
+    sw.add_argument("--count", metavar="RE_MAX,IM_MIN,IM_MAX",
+                    help="also count every unstable root (any branch) in this window")
+    sw.add_argument("--count-kH", default="0.1:10:5:log", metavar="LO:HI:N[:log]",
+                    help="kH grid of the count (default 0.1:10:5:log)")
+    sw.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler, e.g. tcp://HOST:8786 (default: "
+                                                           "threads on this machine)")
+    sw.add_argument("--workers", type=int, default=None, help="threads on this machine (default: one per core)")
+    sw.add_argument("--chunk-points", type=int, default=2048, help="grid points per chunk (default 2048)")
+    sw.add_argument("--quiet", action="store_true", help="no progress bars")
+    sw.set_defaults(func=_sweep)
+
+    info = sub.add_parser("info", help="describe an atlas")
+    info.add_argument("store")
+    info.set_defaults(func=_info)
+
+    export = sub.add_parser("export", help="write an atlas as one NetCDF file")
+    export.add_argument("store")
+    export.add_argument("netcdf", help="the .nc file to write")
+    export.set_defaults(func=_export)
     return parser
 
 

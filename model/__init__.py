@@ -3,6 +3,10 @@
 Public API (NumPy in, NumPy out; physical parameters keyword-only and broadcasting; bad input raises
 ValueError naming the parameter and its range). The equations and numerics are in docs/physics.md.
 
+Parameters (§1)
+    :data:`PARAMETERS` (name, symbol, meaning and domain of gamma, f, beta, eta, Delta, xi as
+    :class:`Parameter`), :func:`check_parameter`.
+
 Elastodynamics of two blocks (docs/physics.md §2-§3, §5)
     :func:`rayleigh_speed` (Rayleigh cubic), :func:`response_functions`, :func:`response_derivatives`
     (Eq. Gs_general), :func:`dispersion`, :func:`dispersion_derivative`, :func:`dispersion_scale`
@@ -98,6 +102,7 @@ from .lab_units import (
     xi_from_rate_state,
 )
 from .modes import unstable_count, unstable_modes
+from .parameters import PARAMETERS, Parameter, check_parameter
 from .rayleigh import rayleigh_speed
 from .rupture import (
     PAPER_DEFAULTS,
@@ -146,6 +151,9 @@ from .thin_on_thick import (
 )
 
 __all__ = [
+    "PARAMETERS",
+    "Parameter",
+    "check_parameter",
     "STATUS",
     "GrowthResult",
     "StabilityVerdict",

@@ -1,0 +1,728 @@
+"""Stability atlases: N-D sweeps of the Rayleigh branch's growth analysis, distributed with Dask, stored in Zarr.
+
+The paper leaves the multi-dimensional stability phase diagram in (γ, f, β, η, Δ, ξ) to future work; an atlas is
+that diagram on a grid. The engine only distributes: every number is computed by the model (docs/physics.md §9),
+
+- ``growth``, ``kH_at_max``, ``kH_min``, ``kH_max``, ``n_masked``: :func:`model.growth_chunk` at every grid point,
+  bitwise what :func:`model.growth_analysis` gives at the same point;
+- ``gamma_c``, ``gamma_c_reason``: the exact threshold γ_c (:func:`model.critical_gamma_chunk`, as
+  :func:`model.critical_gamma`) over the grid of the other axes, so the 6-D boundary is stored as a 5-D function
+  (NaN plus a reason code where there is no crossing in the γ range);
+- optionally ``unstable_count``: :func:`model.unstable_count` (all branches) in a stated window at each kH of a
+  stated grid.
+
+The grid is cut into chunks (a hyper-rectangle of grid points each, aligned with the Zarr chunks). A chunk is a
+pure task: it needs only this package on the machine that runs it, and returns its arrays to the process that
+writes them. With a store, each finished chunk is written at once (an xarray region write) and then marked done
+(``done_*`` flags, one Zarr chunk per flag, written atomically after the data); Ctrl-C, a killed process or a lost
+worker loses at most the chunks in flight, and running the same sweep again computes only the chunks not marked
+done. A store remembers its plan (axes, fixed values, kH grid, rtol, chunks, variables) and the model's
+fingerprint; a sweep with another plan or another model refuses to resume it, saying why, and leaves it untouched.
+
+Execution: without a client, Dask's threaded scheduler on this machine (the compiled kernels release the GIL;
+``benchmarks/bench_sweep.py`` compares it with a ``distributed.LocalCluster``); with ``client=`` a
+``distributed.Client`` of any cluster runs the same tasks (``asymslide sweep --scheduler tcp://HOST:PORT``).
+"""
+
+from __future__ import annotations
+
+import datetime
+import functools
+import hashlib
+import json
+import math
+import os
+import shutil
+import subprocess
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import model
+
+from . import __version__
+
+#: the sweepable parameters, in the model's order
+PARAMETERS = tuple(model.PARAMETERS)
+#: values of the parameters that are neither an axis nor given as fixed: the paper's Fig. 4 setting
+DEFAULT_FIXED = {"gamma": 3.0, "f": 0.9, "beta": 0.3, "eta": math.inf, "Delta": 1.0, "xi": 0.0}
+#: default kH grid: 16 points per decade over [1e-3, 1e3]
+DEFAULT_KH = np.logspace(-3, 3, 97)
+#: grid points per growth chunk (about 0.1 s at eta = inf, ~1 s at finite eta on one core)
+CHUNK_POINTS = 2048
+#: grid points per gamma_c chunk (each point costs ~10-20 growth evaluations)
+GAMMA_C_CHUNK_POINTS = 256
+#: grid points per unstable_count chunk (each point costs one count per kH of the count grid, ~1-5 ms each)
+COUNT_CHUNK_POINTS = 16
+#: the window of the optional all-branch count: model.unstable_count's defaults
+DEFAULT_WINDOW = (5.0, 1e-4, 2.0)
+#: seconds a scheduler address may take to answer (the command then fails within ~10 s of its start)
+CONNECT_TIMEOUT = 8
+#: the growth variables, their Zarr fill values (where not computed) and attributes
+GROWTH_VARS = {
+    "growth": (np.float64, np.nan, "max over kH of Im(c/c_s) on the Rayleigh branch (refined between grid points)",
+               "1"),
+    "kH_at_max": (np.float64, np.nan, "kH where the growth is largest", "1"),
+    "kH_min": (np.float64, np.nan, "lower end of the unstable band around the maximum (NaN: none or beyond the grid)",
+               "1"),
+    "kH_max": (np.float64, np.nan, "upper end of the unstable band around the maximum (NaN: none or beyond the grid)",
+               "1"),
+    "n_masked": (np.int16, -1, "kH grid points where the Rayleigh branch could not be followed (masked; -1: not "
+                 "computed)", "1"),
+}
+
+
+class SweepError(ValueError):
+    """A sweep that cannot run as asked (bad axes or values, a store that cannot be resumed); the message says why."""
+
+
+# ------------------------------------------------------------------------------------------------
+# the plan: what a sweep computes, independent of where
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class CountSpec:
+    """The optional all-branch count: :func:`model.unstable_count` in `window` (re_max, im_min, im_max) at every kH
+    of `kH`."""
+
+    kH: tuple[float, ...]
+    window: tuple[float, float, float] = DEFAULT_WINDOW
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A validated sweep: the axes (name -> increasing values), the fixed parameters, the kH grid and the rest.
+
+    Everything that determines the numbers in the store (and so whether a store can be resumed) is in
+    :meth:`identity`.
+    """
+
+    axes: dict[str, tuple[float, ...]]
+    fixed: dict[str, float]
+    kH: tuple[float, ...]
+    rtol: float | None
+    gamma_c: bool
+    gamma_range: tuple[float, float]
+    count: CountSpec | None
+    chunks: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(self.axes)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(v) for v in self.axes.values())
+
+    @property
+    def size(self) -> int:
+        return math.prod(self.shape)
+
+    @property
+    def gamma_c_names(self) -> tuple[str, ...]:
+        """The axes of gamma_c: every axis but gamma."""
+        return tuple(n for n in self.axes if n != "gamma")
+
+    def identity(self) -> dict[str, Any]:
+        """The plan as JSON-able data: equal identities give equal numbers (with the same model)."""
+        return {
+            "axes": {k: list(v) for k, v in self.axes.items()},
+            "fixed": {k: _json_float(v) for k, v in self.fixed.items()},
+            "kH": list(self.kH),
+            "rtol": self.rtol,
+            "gamma_c": self.gamma_c,
+            "gamma_range": list(self.gamma_range),
+            "count": None if self.count is None else {"kH": list(self.count.kH), "window": list(self.count.window)},
+            "chunks": dict(self.chunks),
+        }
+
+    # -- chunks -------------------------------------------------------------------------------
+
+    def growth_blocks(self) -> list[tuple[tuple[int, int], ...]]:
+        """Index ranges [start, stop) per axis of every growth chunk, in C order."""
+        return _blocks([(len(self.axes[n]), self.chunks[n]) for n in self.names])
+
+    def gamma_c_blocks(self) -> list[tuple[tuple[int, int], ...]]:
+        return _blocks([(len(self.axes[n]), self.chunks[f"gamma_c:{n}"]) for n in self.gamma_c_names])
+
+    def count_blocks(self) -> list[tuple[tuple[int, int], ...]]:
+        return _blocks([(len(self.axes[n]), self.chunks[f"count:{n}"]) for n in self.names])
+
+
+def _json_float(x: float) -> float | str:
+    return "inf" if x == math.inf else float(x)
+
+
+def _blocks(sizes: Sequence[tuple[int, int]]) -> list[tuple[tuple[int, int], ...]]:
+    ranges = [[(a, min(a + c, n)) for a in range(0, n, c)] for n, c in sizes]
+    out: list[tuple[tuple[int, int], ...]] = [()]
+    for r in ranges:
+        out = [(*b, x) for b in out for x in r]
+    return out
+
+
+def chunk_sizes(shape: Sequence[int], points: int) -> list[int]:
+    """Chunk length per axis with at most `points` points per chunk: the longest chunk axis is halved until the
+    chunk is small enough (deterministic, so a resumed sweep cuts the grid the same way)."""
+    c = list(shape)
+    while math.prod(c) > points and max(c) > 1:
+        i = int(np.argmax(c))
+        c[i] = math.ceil(c[i] / 2)
+    return c
+
+
+def parse_axis(spec: str) -> tuple[str, np.ndarray]:
+    """``name=lo:hi:n[:log|:lin]`` or ``name=v1,v2,...`` -> (name, values). η axes are log-spaced unless ``:lin``."""
+    if "=" not in spec:
+        raise SweepError(f"axis {spec!r}: expected name=lo:hi:n[:log] or name=v1,v2,...")
+    name, _, values = (s.strip() for s in spec.partition("="))
+    if ":" in values:
+        parts = values.split(":")
+        if len(parts) not in (3, 4) or (len(parts) == 4 and parts[3] not in ("log", "lin")):
+            raise SweepError(f"axis {name}: expected lo:hi:n[:log|:lin]; got {values!r}")
+        lo, hi = _number(name, parts[0]), _number(name, parts[1])
+        try:
+            n = int(parts[2])
+        except ValueError:
+            raise SweepError(f"axis {name}: the number of points must be an integer; got {parts[2]!r}") from None
+        if n < 1:
+            raise SweepError(f"axis {name}: empty range (n = {n}); give at least one point")
+        if not lo < hi and not (n == 1 and lo == hi):
+            raise SweepError(f"axis {name}: the range {lo:g}:{hi:g} is {'empty' if lo == hi else 'reversed'} "
+                             "(lo must be below hi)")
+        log = parts[3] == "log" if len(parts) == 4 else name == "eta"
+        if log and lo <= 0:
+            raise SweepError(f"axis {name}: a log-spaced axis needs lo > 0; got {lo:g}")
+        pts = np.geomspace(lo, hi, n) if log else np.linspace(lo, hi, n)
+        return name, pts
+    return name, np.array([_number(name, v) for v in values.split(",") if v.strip()])
+
+
+def parse_fixed(spec: str) -> tuple[str, float]:
+    """``name=value`` (``eta=inf`` for a half-space below)."""
+    if "=" not in spec:
+        raise SweepError(f"fixed {spec!r}: expected name=value")
+    name, _, value = (s.strip() for s in spec.partition("="))
+    return name, _number(name, value)
+
+
+def _number(name: str, text: str) -> float:
+    """A float from text; only float() is applied (nothing is evaluated)."""
+    try:
+        return float(text)
+    except ValueError:
+        raise SweepError(f"{name}: {text!r} is not a number") from None
+
+
+def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[str, float] | None = None,
+              kH: Sequence[float] | np.ndarray | None = None, rtol: float | None = None, gamma_c: bool = True,
+              gamma_range: tuple[float, float] | None = None, count: CountSpec | None = None,
+              chunk_points: int = CHUNK_POINTS) -> Plan:
+    """Validate a sweep and fix its chunks; SweepError (a ValueError) naming the problem otherwise.
+
+    axes: parameter name -> strictly increasing finite values in the model's domain (η = ∞ only as a fixed
+    value); fixed: values of other parameters (the rest take :data:`DEFAULT_FIXED`); kH: the grid on which the
+    growth is bracketed (increasing, > 0; default :data:`DEFAULT_KH`); gamma_range: where γ_c is searched
+    (default: the γ axis' range if γ is an axis, else (1e-2, 1e3)).
+    """
+    if not axes:
+        raise SweepError("no axis given: a sweep needs at least one axis (e.g. gamma=0.1:30:64:log)")
+    fixed = dict(fixed or {})
+    clean_axes: dict[str, tuple[float, ...]] = {}
+    for name, values in axes.items():
+        if name not in PARAMETERS:
+            raise SweepError(f"unknown axis {name!r}; the axes can be {', '.join(PARAMETERS)}")
+        if name in fixed:
+            raise SweepError(f"{name} is given both as an axis and as a fixed value")
+        v = np.asarray(values, dtype=float).ravel()
+        if v.size == 0:
+            raise SweepError(f"axis {name}: empty (no values)")
+        if not np.all(np.isfinite(v)):
+            raise SweepError(f"axis {name}: values must be finite (η = ∞ is allowed as a fixed value only)")
+        if np.any(np.diff(v) <= 0):
+            raise SweepError(f"axis {name}: values must be strictly increasing")
+        try:
+            model.check_parameter(name, v)
+        except ValueError as exc:
+            raise SweepError(f"axis {name}: {exc}") from None
+        clean_axes[name] = tuple(float(x) for x in v)
+    for name, value in fixed.items():
+        if name not in PARAMETERS:
+            raise SweepError(f"unknown fixed parameter {name!r}; the parameters are {', '.join(PARAMETERS)}")
+        try:
+            model.check_parameter(name, float(value))
+        except (TypeError, ValueError) as exc:
+            raise SweepError(f"fixed {name}: {exc}") from None
+    full_fixed = {k: float(fixed.get(k, DEFAULT_FIXED[k])) for k in PARAMETERS if k not in clean_axes}
+    grid = DEFAULT_KH if kH is None else np.asarray(kH, dtype=float).ravel()
+    if grid.size < 2 or not np.all(np.isfinite(grid)) or np.any(grid <= 0) or np.any(np.diff(grid) <= 0):
+        raise SweepError("kH must be an increasing grid of at least 2 positive values")
+    if rtol is not None:
+        try:
+            model.growth_chunk(np.log(grid[:2]), np.zeros((6, 0)), rtol)  # validates rtol (ValueError naming it)
+        except ValueError as exc:
+            raise SweepError(str(exc)) from None
+    if gamma_range is None:
+        gamma_range = (clean_axes["gamma"][0], clean_axes["gamma"][-1]) if "gamma" in clean_axes else (1e-2, 1e3)
+    lo, hi = (float(x) for x in gamma_range)
+    if not (0 < lo < hi < math.inf):
+        raise SweepError(f"gamma_range must be 0 < lo < hi < inf; got {gamma_range}")
+    if count is not None:
+        ck = np.asarray(count.kH, dtype=float)
+        if ck.size < 1 or np.any(~np.isfinite(ck)) or np.any(ck <= 0):
+            raise SweepError("the count's kH grid must hold positive finite values")
+        re_max, im_min, im_max = (float(x) for x in count.window)
+        if not (re_max > 0 and 0 <= im_min < im_max):
+            raise SweepError(f"count window must be re_max > 0, 0 <= im_min < im_max; got {count.window}")
+        count = CountSpec(tuple(float(x) for x in ck), (re_max, im_min, im_max))
+    if chunk_points < 1:
+        raise SweepError(f"chunk_points must be >= 1; got {chunk_points}")
+    shape = [len(v) for v in clean_axes.values()]
+    chunks = dict(zip(clean_axes, chunk_sizes(shape, chunk_points), strict=True))
+    gc_names = [n for n in clean_axes if n != "gamma"]
+    gc = chunk_sizes([len(clean_axes[n]) for n in gc_names], max(1, chunk_points * GAMMA_C_CHUNK_POINTS
+                                                                    // CHUNK_POINTS))
+    chunks.update({f"gamma_c:{n}": c for n, c in zip(gc_names, gc, strict=True)})
+    cc = chunk_sizes(shape, max(1, chunk_points * COUNT_CHUNK_POINTS // CHUNK_POINTS))
+    chunks.update({f"count:{n}": c for n, c in zip(clean_axes, cc, strict=True)})
+    return Plan(clean_axes, full_fixed, tuple(float(x) for x in grid), rtol, gamma_c, (lo, hi), count, chunks)
+
+
+# ------------------------------------------------------------------------------------------------
+# tasks: pure functions of one chunk, run wherever the scheduler puts them
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Task:
+    """One chunk of one variable group: `kind` ("growth", "gamma_c" or "count"), its index among the group's
+    chunks, its index ranges and the axis values of the chunk (so a worker needs nothing else)."""
+
+    kind: str
+    index: int
+    block: tuple[tuple[int, int], ...]
+    names: tuple[str, ...]
+    values: tuple[tuple[float, ...], ...]
+    fixed: tuple[tuple[str, float], ...]
+    kH: tuple[float, ...]
+    rtol: float | None
+    gamma_range: tuple[float, float]
+    count: CountSpec | None
+
+    @property
+    def points(self) -> int:
+        return math.prod(len(v) for v in self.values)
+
+
+def _params(task: Task) -> tuple[tuple[int, ...], np.ndarray]:
+    """The chunk's grid points as growth_chunk's (6, n) parameter rows (gamma, f, beta, eta, Delta, xi)."""
+    shape = tuple(len(v) for v in task.values)
+    mesh = np.meshgrid(*(np.asarray(v) for v in task.values), indexing="ij")
+    columns = dict(zip(task.names, (m.ravel() for m in mesh), strict=True))
+    n = math.prod(shape)
+    fixed = dict(task.fixed)
+    rows = [columns[p] if p in columns else np.full(n, fixed.get(p, 0.0)) for p in PARAMETERS]
+    return shape, np.ascontiguousarray(np.stack(rows))
+
+
+def run_task(task: Task) -> dict[str, np.ndarray]:
+    """Compute one chunk (the only code that runs on a worker): model calls, nothing else."""
+    shape, params = _params(task)
+    s = np.log(np.asarray(task.kH))
+    if task.kind == "growth":
+        out = model.growth_chunk(s, params, task.rtol)
+        # the same operations as model.growth_analysis, so the values are bitwise equal
+        return {"growth": out[0].reshape(shape), "kH_at_max": np.exp(out[1]).reshape(shape),
+                "kH_min": np.exp(out[2]).reshape(shape), "kH_max": np.exp(out[3]).reshape(shape),
+                "n_masked": out[4].astype(np.int16).reshape(shape)}
+    if task.kind == "gamma_c":
+        value, reason = model.critical_gamma_chunk(s, params, gamma_range=task.gamma_range, rtol=task.rtol)
+        return {"gamma_c": value.reshape(shape), "gamma_c_reason": reason.astype(np.int8).reshape(shape)}
+    if task.kind == "count":
+        assert task.count is not None
+        re_max, im_min, im_max = task.count.window
+        counts = np.empty((params.shape[1], len(task.count.kH)), np.int16)
+        for i in range(params.shape[1]):
+            p = dict(zip(PARAMETERS, (float(x) for x in params[:, i]), strict=True))
+            for j, k in enumerate(task.count.kH):
+                try:
+                    counts[i, j] = model.unstable_count(k, **p, re_max=re_max, im_min=im_min, im_max=im_max)
+                except (RuntimeError, ValueError):
+                    counts[i, j] = -1  # the count failed (flag in the variable's attributes)
+        return {"unstable_count": counts.reshape((*shape, len(task.count.kH)))}
+    raise ValueError(f"unknown task kind {task.kind!r}")
+
+
+def tasks(plan: Plan, kinds: Sequence[str] | None = None) -> dict[str, list[Task]]:
+    """Every task of the plan, per kind."""
+    common = dict(fixed=tuple(plan.fixed.items()), kH=plan.kH, rtol=plan.rtol, gamma_range=plan.gamma_range,
+                  count=plan.count)
+    groups: dict[str, tuple[tuple[str, ...], list]] = {"growth": (plan.names, plan.growth_blocks())}
+    if plan.gamma_c:
+        groups["gamma_c"] = (plan.gamma_c_names, plan.gamma_c_blocks())
+    if plan.count is not None:
+        groups["count"] = (plan.names, plan.count_blocks())
+    out: dict[str, list[Task]] = {}
+    for kind, (names, blocks) in groups.items():
+        if kinds is not None and kind not in kinds:
+            continue
+        out[kind] = [Task(kind, i, b, names, tuple(plan.axes[n][a:z] for n, (a, z) in zip(names, b, strict=True)),
+                          **common) for i, b in enumerate(blocks)]
+    return out
+
+
+# ------------------------------------------------------------------------------------------------
+# the store
+# ------------------------------------------------------------------------------------------------
+
+
+@functools.cache
+def model_fingerprint() -> str:
+    """sha256 of the model's source and data files: any change of the model is another model version."""
+    h = hashlib.sha256()
+    root = Path(model.__file__).parent
+    for path in sorted([*root.glob("*.py"), *root.glob("*.json")]):
+        h.update(path.name.encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+@functools.cache
+def git_revision() -> str:
+    """The git commit of the source tree this package runs from ("+dirty" with uncommitted model changes), or
+    "unknown" for an installed package."""
+    root = Path(__file__).resolve().parent.parent
+    try:
+        rev = subprocess.run(["git", "-C", str(root), "rev-parse", "--short=12", "HEAD"], capture_output=True,
+                             text=True, timeout=10, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(root), "status", "--porcelain", "--", "model"],
+                               capture_output=True, text=True, timeout=10, check=True).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return rev + ("+dirty" if dirty else "")
+
+
+def _attrs(plan: Plan, command: str | None) -> dict[str, Any]:
+    return {
+        "title": "asymslide stability atlas: Rayleigh-branch growth and the threshold gamma_c",
+        "source": "Aldam et al., Frictional sliding without geometrical reflection symmetry, PRX 6, 041023 (2016); "
+                  "docs/physics.md §9",
+        "asymslide_version": __version__,
+        "model_fingerprint": model_fingerprint(),
+        "git_revision": git_revision(),
+        "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "plan": json.dumps(plan.identity()),
+        "fixed": json.dumps({k: _json_float(v) for k, v in plan.fixed.items()}),
+        "kH_grid": f"{len(plan.kH)} points from {plan.kH[0]:g} to {plan.kH[-1]:g} (variable kH)",
+        "rtol": "None (full certified accuracy)" if plan.rtol is None else float(plan.rtol),
+        "command": command or "",
+    }
+
+
+def _long_name(name: str) -> str:
+    p = model.PARAMETERS[name]
+    return f"{p.symbol}: {p.description}"
+
+
+def template(plan: Plan, command: str | None = None):
+    """The empty dataset of a plan (lazy arrays of fill values, chunked as the store), with every attribute."""
+    import dask.array as da
+    import xarray as xr
+
+    coords: dict[str, Any] = {}
+    for name, values in plan.axes.items():
+        p = model.PARAMETERS[name]
+        scale = "log" if len(values) > 2 and np.allclose(np.diff(np.log(values)), np.log(values[1] / values[0]))\
+            and values[0] > 0 else "linear"
+        coords[name] = (name, np.asarray(values), {"long_name": _long_name(name), "units": "1", "symbol": p.symbol,
+                                                   "scale": scale})
+    coords["kH"] = ("kH", np.asarray(plan.kH), {"long_name": "the kH grid the growth is bracketed on (then refined "
+                                                "between its points)", "units": "1"})
+    dims = plan.names
+    chunks = tuple(plan.chunks[n] for n in dims)
+    data: dict[str, Any] = {}
+    for name, (dtype, fill, long_name, units) in GROWTH_VARS.items():
+        data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks),
+                      {"long_name": long_name, "units": units})
+    flags = {"growth": len(plan.growth_blocks())}
+    if plan.gamma_c:
+        gdims = plan.gamma_c_names
+        gshape = tuple(len(plan.axes[n]) for n in gdims)
+        gchunks = tuple(plan.chunks[f"gamma_c:{n}"] for n in gdims)
+        data["gamma_c"] = (gdims, da.full(gshape, np.nan, chunks=gchunks or None),
+                           {"long_name": "the threshold gamma_c: max growth on the Rayleigh branch crosses zero "
+                                         f"(searched in gamma {plan.gamma_range[0]:g} to {plan.gamma_range[1]:g})",
+                            "units": "1"})
+        codes = sorted(model.THRESHOLD_STATUS)
+        data["gamma_c_reason"] = (gdims, da.full(gshape, INT_FILL["gamma_c_reason"], dtype=np.int8,
+                                                 chunks=gchunks or None),
+                                  {"long_name": "why gamma_c is NaN (0: found)", "flag_values": codes,
+                                   "flag_meanings": json.dumps({str(k): model.THRESHOLD_STATUS[k] for k in codes})})
+        flags["gamma_c"] = len(plan.gamma_c_blocks())
+    if plan.count is not None:
+        coords["kH_count"] = ("kH_count", np.asarray(plan.count.kH), {"long_name": "kH of the all-branch count",
+                                                                      "units": "1"})
+        cchunks = (*(plan.chunks[f"count:{n}"] for n in dims), len(plan.count.kH))
+        re_max, im_min, im_max = plan.count.window
+        data["unstable_count"] = ((*dims, "kH_count"), da.full((*plan.shape, len(plan.count.kH)),
+                                                               INT_FILL["unstable_count"], dtype=np.int16,
+                                                               chunks=cchunks),
+                                  {"long_name": "roots of F (any branch) with |Re z| <= re_max and im_min <= Im z <= "
+                                                "im_max (argument principle; -1: the count failed)",
+                                   "re_max": re_max, "im_min": im_min, "im_max": im_max, "units": "1"})
+        flags["count"] = len(plan.count_blocks())
+    for kind, n in flags.items():
+        data[f"done_{kind}"] = (f"{kind}_chunk", da.zeros(n, dtype=np.int8, chunks=1),
+                                {"long_name": f"1 where the {kind} chunk is written (resumable sweeps)"})
+    return xr.Dataset(data, coords=coords, attrs=_attrs(plan, command))
+
+
+#: Zarr fill values (what a chunk not written yet reads as) of the integer variables; floats: NaN
+INT_FILL = {"n_masked": -1, "gamma_c_reason": -1, "unstable_count": -2}
+
+
+def _encoding(ds) -> dict[str, dict]:
+    return {name: {"fill_value": np.nan if var.dtype.kind == "f" else INT_FILL.get(name, 0)}
+            for name, var in ds.data_vars.items()}
+
+
+def _refuse(store: Path, why: str) -> SweepError:
+    return SweepError(f"refusing to resume {store}: {why}. Nothing was written; use another --out or remove it.")
+
+
+def check_resumable(store: Path, plan: Plan) -> None:
+    """SweepError saying why the existing store cannot continue this plan (another plan or another model)."""
+    import xarray as xr
+
+    try:
+        ds = xr.open_zarr(store, consolidated=False)
+    except Exception as exc:  # noqa: BLE001 (any failure to read it means: not ours)
+        raise _refuse(store, f"it is not a readable atlas ({type(exc).__name__}: {exc})") from None
+    attrs = ds.attrs
+    if "plan" not in attrs or "model_fingerprint" not in attrs:
+        raise _refuse(store, "it was not written by asymslide sweep")
+    theirs, ours = json.loads(attrs["plan"]), plan.identity()
+    if theirs != ours:
+        raise _refuse(store, "it was written with " + _plan_difference(theirs, ours))
+    if attrs["model_fingerprint"] != model_fingerprint():
+        raise _refuse(store, f"it was written by another model version (asymslide {attrs.get('asymslide_version')}, "
+                             f"git {attrs.get('git_revision')}, model {attrs['model_fingerprint'][:12]}; this is "
+                             f"asymslide {__version__}, git {git_revision()}, model {model_fingerprint()[:12]})")
+
+
+def _plan_difference(theirs: dict, ours: dict) -> str:
+    def axes_text(p: dict) -> str:
+        return ", ".join(f"{k}({len(v)}: {v[0]:g}..{v[-1]:g})" for k, v in p["axes"].items())
+
+    if theirs.get("axes") != ours["axes"]:
+        return f"other axes: {axes_text(theirs)}; this sweep asks for {axes_text(ours)}"
+    for key in ("fixed", "kH", "rtol", "gamma_c", "gamma_range", "count", "chunks"):
+        if theirs.get(key) != ours[key]:
+            return f"another {key}: {theirs.get(key)!r:.200}; this sweep asks for {ours[key]!r:.200}"
+    return "another plan"
+
+
+def done_chunks(store: Path) -> dict[str, np.ndarray]:
+    """kind -> boolean array: which chunks of the store are written."""
+    import xarray as xr
+
+    ds = xr.open_zarr(store, consolidated=False)
+    return {name[len("done_"):]: ds[name].values.astype(bool) for name in ds.data_vars if name.startswith("done_")}
+
+
+def _write(store: Path, task: Task, result: dict[str, np.ndarray], region_dims: dict[str, tuple[str, ...]]) -> None:
+    """Region write of one chunk, then its done flag (atomic files: a kill leaves the chunk unmarked)."""
+    import xarray as xr
+
+    dims = region_dims[task.kind]
+    region = {n: slice(a, z) for n, (a, z) in zip(task.names, task.block, strict=True)}
+    data = {}
+    for name, arr in result.items():
+        var_dims = (*dims, "kH_count") if name == "unstable_count" else dims
+        data[name] = (var_dims, arr)
+    if task.kind == "count":
+        region = {**region, "kH_count": slice(0, len(task.count.kH))}  # type: ignore[union-attr]
+    xr.Dataset(data).to_zarr(store, region=region, consolidated=False)
+    flag = np.ones(1, np.int8)
+    xr.Dataset({f"done_{task.kind}": (f"{task.kind}_chunk", flag)}).to_zarr(
+        store, region={f"{task.kind}_chunk": slice(task.index, task.index + 1)}, consolidated=False)
+
+
+# ------------------------------------------------------------------------------------------------
+# running
+# ------------------------------------------------------------------------------------------------
+
+Progress = Callable[[str, int], None]
+
+
+def _execute(todo: list[Task], on_result: Callable[[Task, dict[str, np.ndarray]], None], client=None,
+             workers: int | None = None) -> None:
+    """Run `todo`, calling `on_result` in this thread as each task finishes (in any order)."""
+    if not todo:
+        return
+    if client is not None:
+        from distributed import as_completed
+
+        futures = client.map(run_task, todo, pure=False)
+        by_key = {f.key: t for f, t in zip(futures, todo, strict=True)}
+        try:
+            for future, result in as_completed(futures, with_results=True):
+                on_result(by_key[future.key], result)
+                future.release()
+        finally:
+            client.cancel(futures)
+        return
+    import dask.threaded
+    from dask.callbacks import Callback
+
+    n_workers = workers or os.cpu_count() or 1
+    results: dict[str, Task] = {}
+
+    class _Writer(Callback):
+        def _posttask(self, key, result, dsk, state, worker_id):  # noqa: ARG002 (dask's signature)
+            on_result(results[key], result)
+
+    # batches bound the memory: the threaded scheduler keeps the results until its compute returns
+    batch = max(8 * n_workers, 64)
+    for start in range(0, len(todo), batch):
+        part = todo[start:start + batch]
+        graph = {}
+        for t in part:
+            key = f"{t.kind}-{t.index}"
+            results[key] = t
+            graph[key] = (run_task, t)
+        with _Writer():
+            dask.threaded.get(graph, list(graph), num_workers=n_workers)
+        for key in graph:
+            results.pop(key, None)
+
+
+def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[str, float] | None = None,
+          kH: Sequence[float] | np.ndarray | None = None, rtol: float | None = None,
+          store: str | os.PathLike | None = None, client=None, gamma_c: bool = True,
+          gamma_range: tuple[float, float] | None = None, count: CountSpec | None = None,
+          chunk_points: int = CHUNK_POINTS, workers: int | None = None, progress: Progress | None = None,
+          command: str | None = None):
+    """Sweep the Rayleigh branch's growth analysis over the grid `axes` (x the fixed values); an xarray.Dataset.
+
+    axes: parameter name (gamma, f, beta, eta, Delta, xi) -> increasing values; fixed: other parameters (default:
+    :data:`DEFAULT_FIXED`, η = ∞ allowed); kH: the grid the growth is bracketed on (default :data:`DEFAULT_KH`);
+    rtol: the model's accuracy setting (None: full certified accuracy); store: a Zarr directory, written chunk by
+    chunk and resumed if it exists with the same plan and model (else SweepError, nothing written); client: a
+    ``distributed.Client`` (None: Dask's threaded scheduler here, `workers` threads); gamma_c: also the threshold
+    γ_c over the other axes (searched in `gamma_range`); count: the optional all-branch count; progress: called
+    with (kind, points) as chunks finish; command: recorded in the attributes.
+
+    Returns the dataset: in memory without a store, else opened lazily from the store. Variables and attributes:
+    see the module docstring. Bad input raises SweepError (a ValueError) naming the problem.
+    """
+    import xarray as xr
+
+    plan = make_plan(axes, fixed=fixed, kH=kH, rtol=rtol, gamma_c=gamma_c, gamma_range=gamma_range, count=count,
+                     chunk_points=chunk_points)
+    groups = tasks(plan)
+    region_dims = {"growth": plan.names, "gamma_c": plan.gamma_c_names, "count": plan.names}
+    if store is None:
+        ds = template(plan, command).compute()
+        for name in ds.data_vars:  # writable copies (dask's fill arrays are broadcast views)
+            ds[name] = ds[name].copy(data=np.array(ds[name].values))
+        todo = [t for group in groups.values() for t in group]
+
+        def keep(task: Task, result: dict[str, np.ndarray]) -> None:
+            index = tuple(slice(a, z) for a, z in task.block)
+            for name, arr in result.items():
+                ds[name].values[index] = arr
+            ds[f"done_{task.kind}"].values[task.index] = 1
+            if progress is not None:
+                progress(task.kind, task.points)
+
+        _execute(todo, keep, client, workers)
+        return ds
+    path = Path(store)
+    if path.exists():
+        check_resumable(path, plan)
+    else:
+        ds0 = template(plan, command)
+        try:
+            ds0.to_zarr(path, compute=False, mode="w-", encoding=_encoding(ds0), consolidated=False)
+        except BaseException:
+            shutil.rmtree(path, ignore_errors=True)  # a half-created store would be refused as unreadable
+            raise
+    done = done_chunks(path)
+    todo = [t for kind, group in groups.items() for t in group if not done[kind][t.index]]
+    if progress is not None:
+        for kind, group in groups.items():
+            finished = sum(t.points for t in group if done[kind][t.index])
+            if finished:
+                progress(kind, finished)
+
+    def write(task: Task, result: dict[str, np.ndarray]) -> None:
+        _write(path, task, result, region_dims)
+        if progress is not None:
+            progress(task.kind, task.points)
+
+    _execute(todo, write, client, workers)
+    return xr.open_zarr(path, consolidated=False)
+
+
+def plan_points(plan: Plan) -> dict[str, int]:
+    """Grid points per kind of task (for progress bars)."""
+    out = {"growth": plan.size}
+    if plan.gamma_c:
+        out["gamma_c"] = math.prod(len(plan.axes[n]) for n in plan.gamma_c_names)
+    if plan.count is not None:
+        out["count"] = plan.size
+    return out
+
+
+def iter_summary(store: str | os.PathLike) -> Iterator[str]:
+    """Lines describing an atlas: plan, provenance, completion and a summary of its values."""
+    import xarray as xr
+
+    path = Path(store)
+    ds = xr.open_zarr(path, consolidated=False)
+    plan = json.loads(ds.attrs.get("plan", "{}"))
+    yield f"atlas {path}"
+    yield (f"  written by asymslide {ds.attrs.get('asymslide_version')} (git {ds.attrs.get('git_revision')}, model "
+           f"{str(ds.attrs.get('model_fingerprint', ''))[:12]}) on {ds.attrs.get('created')}")
+    for name, values in plan.get("axes", {}).items():
+        v = np.asarray(values)
+        yield f"  axis {name} ({model.PARAMETERS[name].symbol}): {v.size} values from {v[0]:g} to {v[-1]:g}"
+    yield "  fixed: " + ", ".join(f"{k} = {v}" for k, v in plan.get("fixed", {}).items())
+    yield f"  kH grid: {ds.attrs.get('kH_grid')}; rtol: {ds.attrs.get('rtol')}"
+    done = done_chunks(path)
+    yield "  chunks written: " + ", ".join(f"{kind} {int(f.sum())} of {f.size}" for kind, f in done.items())
+    g = ds["growth"].values
+    finite = np.isfinite(g)
+    if finite.any():
+        yield (f"  growth: {int(finite.sum())} of {g.size} points computed; unstable (growth > 0) at "
+               f"{100 * float((g[finite] > 0).mean()):.1f} %; range {np.nanmin(g):.4g} .. {np.nanmax(g):.4g}")
+    if "gamma_c" in ds:
+        gc, reason = ds["gamma_c"].values, ds["gamma_c_reason"].values
+        ok = reason == 0
+        yield (f"  gamma_c: found at {int(ok.sum())} of {gc.size} points"
+               + (f", range {np.nanmin(gc):.6g} .. {np.nanmax(gc):.6g}" if ok.any() else ""))
+        for code, text in model.THRESHOLD_STATUS.items():
+            n = int((reason == code).sum())
+            if code and n:
+                yield f"    reason {code} at {n} points: {text}"
+    if "unstable_count" in ds:
+        uc = ds["unstable_count"]
+        yield (f"  unstable_count: window |Re z| <= {uc.attrs['re_max']:g}, {uc.attrs['im_min']:g} <= Im z <= "
+               f"{uc.attrs['im_max']:g} on {ds.sizes['kH_count']} kH; max {int(uc.max())}, failed counts "
+               f"{int((uc == -1).sum())}")
+
+
+def export_netcdf(store: str | os.PathLike, out: str | os.PathLike) -> Path:
+    """Write the atlas as one NetCDF file (the done flags left out; attributes kept)."""
+    import xarray as xr
+
+    ds = xr.open_zarr(Path(store), consolidated=False)
+    ds = ds.drop_vars([n for n in ds.data_vars if n.startswith("done_")])
+    out = Path(out)
+    ds.load().to_netcdf(out, engine="scipy", format="NETCDF3_64BIT")
+    return out

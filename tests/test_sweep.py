@@ -1,0 +1,329 @@
+"""Stability atlases (issue 13): the sweep engine equals the model, resumes after a kill, refuses bad input.
+
+Small grids only: every test runs in seconds. The Dask cluster tests start a LocalCluster of two processes
+and close it (the session fails if a process outlives it).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import model
+from asymslide import sweep as S
+from asymslide.cli import EXIT_SCHEDULER
+
+ROOT = Path(__file__).resolve().parent.parent
+KH = np.logspace(-3, 3, 49)
+GROWTH_VARS = ("growth", "kH_at_max", "kH_min", "kH_max", "n_masked")
+
+
+def _expected(axes: dict[str, np.ndarray], fixed: dict[str, float], kH: np.ndarray = KH) -> model.GrowthResult:
+    """growth_analysis over the same grid, broadcasting the axes in their order."""
+    n = len(axes)
+    args = {name: np.asarray(v).reshape([-1 if i == j else 1 for j in range(n)])
+            for i, (name, v) in enumerate(axes.items())}
+    return model.growth_analysis(kH, **{**S.DEFAULT_FIXED, **fixed, **args})
+
+
+def _assert_growth_equal(ds: xr.Dataset, expected: model.GrowthResult) -> None:
+    for name in GROWTH_VARS:
+        np.testing.assert_array_equal(ds[name].values, getattr(expected, name), err_msg=name)  # NaN == NaN here
+
+
+def _tree_digest(path: Path) -> str:
+    h = hashlib.sha256()
+    for p in sorted(path.rglob("*")):
+        h.update(str(p.relative_to(path)).encode())
+        if p.is_file():
+            h.update(p.read_bytes())
+            h.update(str(p.stat().st_mtime_ns).encode())
+    return h.hexdigest()
+
+
+def _cli(*args: str, timeout: float = 120) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "asymslide", *args], cwd=ROOT, capture_output=True, text=True,
+                          timeout=timeout)
+
+
+# ------------------------------------------------------------------------------------------------
+# the numbers: the engine only distributes
+# ------------------------------------------------------------------------------------------------
+
+
+def test_growth_is_bitwise_growth_analysis_in_memory_with_finite_eta_and_state() -> None:
+    axes = {"gamma": np.geomspace(0.5, 20, 7), "eta": np.geomspace(1.5, 1e3, 5), "Delta": np.array([0.5, 1.0])}
+    fixed = {"f": 0.7, "xi": 2.0}
+    ds = S.sweep(axes, fixed=fixed, kH=KH, gamma_c=False, chunk_points=16)
+    assert ds.growth.dims == ("gamma", "eta", "Delta") and bool(ds.done_growth.all())
+    _assert_growth_equal(ds, _expected(axes, fixed))
+
+
+def test_store_holds_the_same_numbers_and_says_what_they_are(tmp_path: Path) -> None:
+    axes = {"beta": np.linspace(0.1, 0.6, 6), "gamma": np.geomspace(0.5, 20, 5)}
+    store = tmp_path / "atlas.zarr"
+    ds = S.sweep(axes, fixed={"f": 0.9}, kH=KH, store=store, gamma_c=False, chunk_points=8, rtol=1e-8,
+                 command="asymslide sweep (test)")
+    _assert_growth_equal(ds, model.growth_analysis(KH, beta=axes["beta"][:, None], gamma=axes["gamma"][None, :],
+                                                   f=0.9, rtol=1e-8))
+    again = xr.open_zarr(store, consolidated=False)
+    attrs = again.attrs
+    assert attrs["asymslide_version"] and len(attrs["model_fingerprint"]) == 64 and attrs["git_revision"]
+    assert attrs["rtol"] == 1e-8 and "49 points from 0.001 to 1000" in attrs["kH_grid"] and attrs["created"]
+    assert json.loads(attrs["plan"])["axes"]["beta"] == list(axes["beta"])
+    np.testing.assert_array_equal(again.kH.values, KH)
+    for name in GROWTH_VARS:
+        assert again[name].attrs["long_name"] and again[name].attrs["units"] == "1"
+    assert again.beta.attrs["symbol"] == "β" and again.gamma.attrs["scale"] == "log"
+    assert again.beta.attrs["scale"] == "linear" and "c_s/c_d" in again.beta.attrs["long_name"]
+
+
+def test_gamma_c_is_the_critical_gamma_of_the_model() -> None:
+    axes = {"gamma": np.geomspace(0.3, 30, 4), "beta": np.array([0.2, 0.3, 0.5]), "f": np.array([0.6, 0.9])}
+    ds = S.sweep(axes, kH=KH, chunk_points=8)
+    assert ds.gamma_c.dims == ("beta", "f")
+    for i, beta in enumerate(axes["beta"]):
+        for j, f in enumerate(axes["f"]):
+            gc, reason = float(ds.gamma_c[i, j]), int(ds.gamma_c_reason[i, j])
+            try:
+                want = model.critical_gamma(f=float(f), beta=float(beta), kH=KH, gamma_range=(0.3, 30.0))
+            except ValueError:
+                assert reason != 0 and math.isnan(gc)
+            else:
+                assert reason == 0 and gc == pytest.approx(want, rel=1e-11)
+    # the check value of docs/physics.md §7 sits in this atlas: f = 0.9, beta = 0.3, eta = inf
+    assert float(ds.gamma_c.sel(beta=0.3, f=0.9)) == pytest.approx(2.4149, rel=1e-4)
+
+
+def test_no_crossing_in_the_range_gives_nan_and_a_reason() -> None:
+    ds = S.sweep({"f": np.array([0.0, 0.9])}, kH=KH, gamma_range=(0.01, 0.5))
+    assert ds.gamma_c_reason.values[0] != 0 and math.isnan(ds.gamma_c.values[0])
+    assert ds.gamma_c_reason.values[1] == 1  # gamma < 0.5: stable throughout (gamma_c = 2.41 at f = 0.9)
+    assert "found" in json.loads(ds.gamma_c_reason.attrs["flag_meanings"])["0"]
+
+
+def test_all_branch_count_equals_model_unstable_count() -> None:
+    count = S.CountSpec(kH=(0.45, 0.77), window=(5.0, 1e-3, 2.0))
+    axes = {"eta": np.array([3.0, 10.0])}
+    ds = S.sweep(axes, kH=KH, gamma_c=False, count=count)
+    assert ds.unstable_count.dims == ("eta", "kH_count") and ds.unstable_count.attrs["im_min"] == 1e-3
+    for i, eta in enumerate(axes["eta"]):
+        for j, k in enumerate(count.kH):
+            want = model.unstable_count(k, gamma=3.0, f=0.9, beta=0.3, eta=float(eta), re_max=5.0, im_min=1e-3,
+                                        im_max=2.0)
+            assert int(ds.unstable_count[i, j]) == want
+
+
+# ------------------------------------------------------------------------------------------------
+# Dask: the same numbers on a cluster of processes
+# ------------------------------------------------------------------------------------------------
+
+
+def test_local_cluster_of_two_processes_gives_the_same_atlas(tmp_path: Path) -> None:
+    from distributed import Client, LocalCluster
+
+    axes = {"gamma": np.geomspace(0.5, 20, 6), "beta": np.linspace(0.1, 0.6, 5), "f": np.array([0.5, 0.9])}
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        ds = S.sweep(axes, kH=KH, store=tmp_path / "a.zarr", client=client, chunk_points=8)
+        workers = {w["id"] for w in client.scheduler_info()["workers"].values()}
+    local = S.sweep(axes, kH=KH, chunk_points=8)
+    _assert_growth_equal(ds, _expected(axes, {}))
+    np.testing.assert_array_equal(ds.gamma_c.values, local.gamma_c.values)
+    np.testing.assert_array_equal(ds.gamma_c_reason.values, local.gamma_c_reason.values)
+    assert len(workers) == 2
+
+
+# ------------------------------------------------------------------------------------------------
+# resumable stores
+# ------------------------------------------------------------------------------------------------
+
+#: a sweep of ~5-10 s on one thread: 96 chunks at finite eta
+RESUME_ARGS = ["sweep", "--axis", "gamma=0.5:20:12:log", "--axis", "eta=2:1e4:8", "--axis", "f=0.5:1.0:4",
+               "--kH", "1e-3:1e3:33:log", "--chunk-points", "4", "--workers", "1", "--no-gamma-c", "--quiet"]
+
+
+def test_killed_sweep_resumes_and_equals_a_clean_run(tmp_path: Path) -> None:
+    store = tmp_path / "killed.zarr"
+    proc = subprocess.Popen([sys.executable, "-m", "asymslide", *RESUME_ARGS, "--out", str(store)], cwd=ROOT,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        done_before = 0
+        while time.monotonic() < deadline and proc.poll() is None:
+            if (store / "done_growth" / "zarr.json").exists():
+                done_before = int(S.done_chunks(store)["growth"].sum())
+                if done_before >= 10:
+                    break
+            time.sleep(0.1)
+        assert proc.poll() is None, f"the sweep ended before it could be killed: {proc.stderr.read()}"
+        proc.send_signal(signal.SIGKILL)
+        proc.wait(30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    flags = S.done_chunks(store)["growth"]
+    assert 10 <= flags.sum() < flags.size  # a part was written, not all
+    written = {p: p.stat().st_mtime_ns for p in (store / "growth").rglob("*") if p.is_file() and p.name != "zarr.json"}
+    rerun = _cli(*RESUME_ARGS, "--out", str(store))
+    assert rerun.returncode == 0, rerun.stderr
+    assert S.done_chunks(store)["growth"].all()
+    # the chunks written before the kill were not computed again
+    assert all(p.stat().st_mtime_ns == t for p, t in written.items())
+    axes = {"gamma": np.geomspace(0.5, 20, 12), "eta": np.geomspace(2, 1e4, 8), "f": np.linspace(0.5, 1.0, 4)}
+    _assert_growth_equal(xr.open_zarr(store, consolidated=False), _expected(axes, {}, np.logspace(-3, 3, 33)))
+
+
+def test_a_store_of_another_plan_or_model_is_refused_and_left_untouched(tmp_path: Path) -> None:
+    store = tmp_path / "a.zarr"
+    args = ["sweep", "--axis", "gamma=1:10:4:log", "--axis", "beta=0.2:0.4:3", "--no-gamma-c", "--quiet",
+            "--out", str(store)]
+    assert _cli(*args).returncode == 0
+    before = _tree_digest(store)
+    other_axes = _cli(*[a.replace("beta=0.2:0.4:3", "beta=0.2:0.4:5") for a in args])
+    assert other_axes.returncode == 2 and "refusing to resume" in other_axes.stderr
+    assert "other axes" in other_axes.stderr and "beta(3" in other_axes.stderr and "beta(5" in other_axes.stderr
+    other_fixed = _cli(*args, "--fixed", "f=0.5")
+    assert other_fixed.returncode == 2 and "another fixed" in other_fixed.stderr
+    assert _tree_digest(store) == before
+    # another model version: the store remembers the model's fingerprint
+    meta = store / "zarr.json"
+    doc = json.loads(meta.read_text())
+    doc["attributes"]["model_fingerprint"] = "0" * 64
+    meta.write_text(json.dumps(doc))
+    before = _tree_digest(store)
+    other_model = _cli(*args)
+    assert other_model.returncode == 2 and "another model version" in other_model.stderr
+    assert _tree_digest(store) == before
+
+
+def test_resuming_a_finished_store_computes_nothing(tmp_path: Path) -> None:
+    axes = {"gamma": np.geomspace(1, 10, 3)}
+    store = tmp_path / "a.zarr"
+    S.sweep(axes, kH=KH, store=store, gamma_c=False)
+    before = _tree_digest(store)
+    calls: list[tuple[str, int]] = []
+    S.sweep(axes, kH=KH, store=store, gamma_c=False, progress=lambda kind, n: calls.append((kind, n)))
+    assert _tree_digest(store) == before and calls == [("growth", 3)]  # reported as done, not recomputed
+
+
+# ------------------------------------------------------------------------------------------------
+# bad input: a clear message, a non-zero exit, no store written
+# ------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("axis", "message"), [
+    ("gama=1:2:3", "unknown axis 'gama'"),
+    ("gamma=3:1:4", "reversed"),
+    ("gamma=1:1:4", "empty"),
+    ("gamma=1:2:0", "empty range"),
+    ("beta=0.1:0.8:3", "beta must be in (0, 1/sqrt(2)]"),
+    ("eta=0:10:3", "log-spaced axis needs lo > 0"),
+    ("gamma=1:2:three", "must be an integer"),
+    ("gamma=a:2:3", "is not a number"),
+    ("Delta=0.5:1.5:3", "Delta must be in (0, 1]"),
+])
+def test_bad_axes_are_refused_with_a_message(tmp_path: Path, axis: str, message: str) -> None:
+    store = tmp_path / "a.zarr"
+    result = _cli("sweep", "--axis", axis, "--out", str(store), "--quiet")
+    assert result.returncode == 2 and message in result.stderr, result.stderr
+    assert not store.exists()
+
+
+def test_other_bad_input_is_refused(tmp_path: Path) -> None:
+    store = str(tmp_path / "a.zarr")
+    cases = [
+        (["--axis", "gamma=1:2:3", "--fixed", "gamma=2"], "both as an axis and as a fixed value"),
+        (["--axis", "gamma=1:2:3", "--fixed", "beta=0.9"], "beta must be in"),
+        (["--axis", "gamma=1:2:3", "--fixed", "nu=0.3"], "unknown fixed parameter 'nu'"),
+        (["--axis", "gamma=1:2:3", "--axis", "gamma=1:2:4"], "given twice"),
+        (["--axis", "gamma=1:2:3", "--kH", "10:1:5"], "reversed"),
+        (["--axis", "gamma=1:2:3", "--rtol", "0.5"], "rtol must be"),
+        (["--axis", "gamma=1:2:3", "--gamma-range", "5:1"], "gamma_range"),
+    ]
+    for extra, message in cases:
+        result = _cli("sweep", *extra, "--out", store, "--quiet")
+        assert result.returncode == 2 and message in result.stderr, (extra, result.stderr)
+    assert not Path(store).exists()
+
+
+def test_a_scheduler_that_does_not_answer_is_reported(tmp_path: Path) -> None:
+    from tests.conftest import _find_free_port
+
+    store = tmp_path / "a.zarr"
+    result = _cli("sweep", "--axis", "gamma=1:2:3", "--out", str(store), "--scheduler",
+                  f"tcp://127.0.0.1:{_find_free_port()}", timeout=30)
+    assert result.returncode == EXIT_SCHEDULER and "did not answer within" in result.stderr
+    assert not store.exists()
+
+
+# ------------------------------------------------------------------------------------------------
+# the command line: info and export; the model without Dask
+# ------------------------------------------------------------------------------------------------
+
+
+def test_cli_sweep_info_and_netcdf_export(tmp_path: Path) -> None:
+    store, nc = tmp_path / "a.zarr", tmp_path / "a.nc"
+    made = _cli("sweep", "--axis", "gamma=0.5:20:8:log", "--axis", "beta=0.05:0.7:4", "--fixed", "f=0.9",
+                "--out", str(store))
+    assert made.returncode == 0, made.stderr
+    assert "growth" in made.stderr and "pt/s" in made.stderr  # the progress bars (rate and ETA)
+    info = _cli("info", str(store))
+    assert info.returncode == 0
+    for needle in ("axis gamma (γ): 8 values from 0.5 to 20", "axis beta (β): 4 values", "f = 0.9",
+                   "growth 1 of 1", "gamma_c: found at", "unstable (growth > 0) at"):
+        assert needle in info.stdout, (needle, info.stdout)
+    exported = _cli("export", str(store), str(nc))
+    assert exported.returncode == 0, exported.stderr
+    one = xr.open_dataset(nc, engine="scipy")
+    atlas = xr.open_zarr(store, consolidated=False)
+    np.testing.assert_array_equal(one.growth.values, atlas.growth.values)
+    np.testing.assert_array_equal(one.gamma_c.values, atlas.gamma_c.values)
+    assert one.attrs["model_fingerprint"] == atlas.attrs["model_fingerprint"] and "done_growth" not in one
+    one.close()
+    bad = _cli("info", str(tmp_path / "missing.zarr"))
+    assert bad.returncode == 2 and "not a readable atlas" in bad.stderr
+
+
+def test_model_imports_and_runs_without_dask_xarray_or_zarr() -> None:
+    code = """
+import sys
+class Block:
+    def find_spec(self, name, path=None, target=None):
+        if name.split(".")[0] in {"dask", "distributed", "xarray", "zarr", "asymslide"}:
+            raise ImportError(f"{name} blocked for this test")
+sys.meta_path.insert(0, Block())
+import numpy as np, model
+z = model.spectrum(np.array([1.0]), gamma=3.0, f=0.9, beta=0.3)
+assert abs(z[0] - (0.88336356305352538 + 0.00815518661032729j)) < 1e-12
+assert not any(m.split(".")[0] in {"dask", "xarray", "zarr"} for m in sys.modules)
+print("ok")
+"""
+    result = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120,
+                            env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert result.returncode == 0 and result.stdout.strip() == "ok", result.stderr
+
+
+@pytest.mark.parametrize(("spec", "values"), [
+    ("gamma=1:100:3:log", [1.0, 10.0, 100.0]),
+    ("f=0:1:3", [0.0, 0.5, 1.0]),
+    ("eta=1:100:3", [1.0, 10.0, 100.0]),  # eta: log-spaced by default
+    ("eta=1:3:3:lin", [1.0, 2.0, 3.0]),
+    ("beta=0.1,0.2,0.3", [0.1, 0.2, 0.3]),
+])
+def test_axis_specs(spec: str, values: list[float]) -> None:
+    name, v = S.parse_axis(spec)
+    assert name == spec.split("=")[0]
+    np.testing.assert_allclose(v, values, rtol=1e-15)
