@@ -19,10 +19,11 @@ Rayleigh branch of the spectrum (§3, §4, §8)
 Stability (§4, §9)
     :func:`growth_analysis` returning :class:`GrowthResult`, :func:`growth_chunk` (one chunk of a stability
     map, for distributed sweeps), :func:`max_growth`, :func:`unstable_band`, :func:`critical_gamma`,
-    :func:`critical_eta`, :func:`min_gy_at_rayleigh_speed`, :func:`criterion_chi`, :func:`criterion_gy_level`
-    (Eq. criterion),
-    :func:`critical_chi` (Fig. 4c), :func:`stability_verdict` returning :class:`StabilityVerdict`,
-    :func:`stable`.
+    :func:`critical_eta` and, for whole chunks at once, :func:`threshold_chunk` returning
+    :class:`ThresholdChunk`, :func:`critical_gamma_chunk`, :func:`critical_eta_chunk` (reason codes
+    :data:`THRESHOLD_STATUS`); :func:`min_gy_at_rayleigh_speed`, :func:`criterion_chi`,
+    :func:`criterion_gy_level` (Eq. criterion), :func:`critical_chi` (Fig. 4c), :func:`stability_verdict`
+    returning :class:`StabilityVerdict`, :func:`stable`.
 
 All branches (§10)
     :func:`unstable_modes`, :func:`unstable_count` (argument principle in a stated window).
@@ -124,19 +125,24 @@ from .rupture import (
 )
 from .spectrum import STATUS, SpectrumResult, linear_expansion, rayleigh_branch, spectrum
 from .stability import (
+    THRESHOLD_STATUS,
     GrowthResult,
     StabilityVerdict,
+    ThresholdChunk,
     criterion_chi,
     criterion_gy_level,
     critical_chi,
     critical_eta,
+    critical_eta_chunk,
     critical_gamma,
+    critical_gamma_chunk,
     growth_analysis,
     growth_chunk,
     max_growth,
     min_gy_at_rayleigh_speed,
     stability_verdict,
     stable,
+    threshold_chunk,
     unstable_band,
 )
 from .thin_on_thick import (
@@ -164,6 +170,11 @@ __all__ = [
     "critical_gamma",
     "criterion_chi",
     "criterion_gy_level",
+    "THRESHOLD_STATUS",
+    "ThresholdChunk",
+    "threshold_chunk",
+    "critical_gamma_chunk",
+    "critical_eta_chunk",
     "growth_analysis",
     "growth_chunk",
     "min_gy_at_rayleigh_speed",

@@ -130,8 +130,10 @@ THRESHOLD_STATUS = {
     3: "undefined: max growth NaN (Rayleigh branch masked on the whole kH grid) at the scan values needed to "
     "bracket a crossing, or inside the bracket",
     4: "did not converge (not reachable: Brent's method falls back to bisection)",
+    5: "jump, not a threshold: the max growth jumps across zero where the Rayleigh branch can be followed over "
+    "fewer kH grid points on one side (a limit of the branch's continuation, not a marginal mode)",
 }
-_FOUND, _STABLE, _UNSTABLE, _UNDEFINED, _NOCONV = 0, 1, 2, 3, 4
+_FOUND, _STABLE, _UNSTABLE, _UNDEFINED, _NOCONV, _JUMP = 0, 1, 2, 3, 4, 5
 
 
 @dataclass(frozen=True)
@@ -140,20 +142,22 @@ class ThresholdChunk:
 
     value : the threshold (NaN unless reason == 0)
     reason : int8, a key of :data:`THRESHOLD_STATUS`
+    location : where the max growth changes sign (reason 0: the threshold; reason 5: the jump; else NaN)
     lo, hi : the adjacent scan values bracketing the crossing (NaN without a bracket)
     undefined_at : where the max growth is NaN inside the bracket (NaN unless that is the reason)
     growth_min, growth_max : extremes of the finite max growth at the scan values evaluated (NaN if none;
         without a bracket every scan value was evaluated)
     n_undefined : how many of the scan values evaluated have an undefined (NaN) max growth
-    n_masked : (2, n) masked kH grid points at the lower and upper end of the final bracket (-1 where
-        reason != 0). Where they differ, the max growth jumps across zero at the threshold because the
-        Rayleigh branch can be followed over less of the kH grid on one side: a limit of the branch's
-        continuation rather than a marginal mode.
+    n_masked : (2, n) masked kH grid points at the lower and upper end of the final bracket (-1 without a
+        located sign change). Where they differ, the max growth jumps across zero because the Rayleigh branch
+        can be followed over less of the kH grid on one side: a limit of the branch's continuation rather than
+        a marginal mode, so the point gets reason 5 and no value (its location is kept in ``location``).
     evaluations : growth evaluations (growth_one calls) per parameter set
     """
 
     value: np.ndarray
     reason: np.ndarray
+    location: np.ndarray
     lo: np.ndarray
     hi: np.ndarray
     undefined_at: np.ndarray
@@ -193,7 +197,9 @@ def threshold_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: t
 
     Reasons (:data:`THRESHOLD_STATUS`): 0 found; 1 stable / 2 unstable at every scan value where the max
     growth is defined; 3 undefined: no scan value defined, or growths of both signs only across undefined
-    scan values, or an undefined growth met inside the bracket (no silent jump to another crossing).
+    scan values, or an undefined growth met inside the bracket (no silent jump to another crossing); 5 a
+    jump: the sign change located is where the masked part of the kH grid changes (the max over the rest
+    jumps across zero), not a zero of a continuous max growth.
     rtol : None (default) or the relative accuracy of the threshold in [1e-15, 1e-3] (the final bracket
     width in t); the growth itself is always evaluated at full accuracy, since a looser growth is not
     cheaper to evaluate here and its error, divided by the slope, would move the threshold.
@@ -221,7 +227,8 @@ def threshold_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: t
         return out[0], out[4].astype(np.int64)
 
     res = ThresholdChunk(value=np.full(n, np.nan), reason=np.full(n, _NOCONV, dtype=np.int8),
-                         lo=np.full(n, np.nan), hi=np.full(n, np.nan), undefined_at=np.full(n, np.nan),
+                         location=np.full(n, np.nan), lo=np.full(n, np.nan), hi=np.full(n, np.nan),
+                         undefined_at=np.full(n, np.nan),
                          growth_min=np.full(n, np.inf), growth_max=np.full(n, -np.inf),
                          n_undefined=np.zeros(n, dtype=np.int64),
                          n_masked=np.full((2, n), -1, dtype=np.int64), evaluations=evaluations)
@@ -281,10 +288,13 @@ def _brent(growth: _Growth, idx: np.ndarray, xa: np.ndarray, xb: np.ndarray, fa:
     maxiter = BRENT_ITER + math.ceil(math.log2(width / xtol)) + 2
 
     def found(sel: np.ndarray, x: np.ndarray, m_lo: np.ndarray, m_hi: np.ndarray) -> None:
-        res.value[idx[sel]] = np.exp(x[sel])
-        res.reason[idx[sel]] = _FOUND
-        res.n_masked[0, idx[sel]] = m_lo[sel]
-        res.n_masked[1, idx[sel]] = m_hi[sel]
+        at = idx[sel]
+        jump = m_lo[sel] != m_hi[sel]  # the masked kH points change across the bracket: no threshold here
+        res.location[at] = np.exp(x[sel])
+        res.value[at] = np.where(jump, np.nan, res.location[at])
+        res.reason[at] = np.where(jump, _JUMP, _FOUND)
+        res.n_masked[0, at] = m_lo[sel]
+        res.n_masked[1, at] = m_hi[sel]
 
     # brentq returns an end where the growth is exactly zero without iterating
     zero_a = fa == 0
@@ -374,6 +384,11 @@ def _no_threshold_message(name: str, bounds: tuple[float, float], r: ThresholdCh
     span = f"between {r.growth_min[i]:.3g} and {r.growth_max[i]:.3g}"
     nu = int(r.n_undefined[i])
     where = f"; undefined at {nu} of {SCAN_POINTS} scan values" if nu else ""
+    if code == _JUMP:
+        m = r.n_masked[:, i]
+        return (f"no stability threshold for {name} in {valid}: the max growth jumps across zero at {name} = "
+                f"{r.location[i]:.10g}, where the Rayleigh branch is masked on {int(m[0])} kH grid points below and "
+                f"{int(m[1])} above (a limit of the branch's continuation, not a marginal mode)")
     why = {
         _STABLE: f"stable throughout: max growth stays {span} over the range (< 0 wherever defined{where})",
         _UNSTABLE: f"unstable throughout: max growth stays {span} over the range (>= 0 wherever defined{where})",
@@ -507,7 +522,7 @@ def stability_verdict(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=Non
                       im_max=2.0) -> StabilityVerdict:
     """Combine the Rayleigh branch (:func:`growth_analysis`) with :func:`model.unstable_count` over kH.
 
-    The count only covers its window (PHYSICS section 3: for large eta many roots sit just above the
+    The count only covers its window (docs/physics.md §3: for large eta many roots sit just above the
     real axis and the count depends on im_min), so the verdict states it.
     """
     from .modes import unstable_count

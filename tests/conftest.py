@@ -57,7 +57,16 @@ def pytest_runtest_setup(item: pytest.Item) -> None:
 
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
-    """Fail the session if any process it started outlives it (they are killed, so none keeps running)."""
+    """Fail the session if any process it started outlives it (they are killed, so none keeps running).
+
+    multiprocessing's resource tracker (started for spawned processes: the robustness worker, Dask's local
+    clusters) belongs to this process and would end with it; it is stopped first, as multiprocessing itself
+    does at exit."""
+    from multiprocessing import resource_tracker
+
+    stop_tracker = getattr(resource_tracker._resource_tracker, "_stop", None)
+    if stop_tracker is not None:
+        stop_tracker()
     lines = stop_marked(RUN_ID, LEFTOVER_GRACE, exclude=(os.getpid(),))
     if not lines:
         return

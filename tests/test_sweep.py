@@ -176,7 +176,14 @@ def test_killed_sweep_resumes_and_equals_a_clean_run(tmp_path: Path) -> None:
             proc.wait()
     flags = S.done_chunks(store)["growth"]
     assert 10 <= flags.sum() < flags.size  # a part was written, not all
-    written = {p: p.stat().st_mtime_ns for p in (store / "growth").rglob("*") if p.is_file() and p.name != "zarr.json"}
+    # the Zarr chunk files of the chunks marked done (c/i/j/k: the block's start over the chunk length per axis)
+    plan = json.loads(xr.open_zarr(store, consolidated=False).attrs["plan"])
+    blocks = S._blocks([(len(v), plan["chunks"][n]) for n, v in plan["axes"].items()])
+    written = {}
+    for i in np.flatnonzero(flags):
+        key = [str(a // plan["chunks"][n]) for n, (a, _) in zip(plan["axes"], blocks[i], strict=True)]
+        path = store.joinpath("growth", "c", *key)
+        written[path] = path.stat().st_mtime_ns
     rerun = _cli(*RESUME_ARGS, "--out", str(store))
     assert rerun.returncode == 0, rerun.stderr
     assert S.done_chunks(store)["growth"].all()
