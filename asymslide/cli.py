@@ -52,8 +52,8 @@ def _sweep(args: argparse.Namespace) -> int:
             if len(window) != 3:
                 raise SweepError(f"--count must be re_max,im_min,im_max; got {args.count!r}")
             count = CountSpec(tuple(parse_axis(f"kH={args.count_kH}")[1]), window)  # type: ignore[arg-type]
-        settings = dict(fixed=fixed, kH=kh, rtol=args.rtol, gamma_c=not args.no_gamma_c, gamma_range=gamma_range,
-                        count=count, chunk_points=args.chunk_points)
+        settings = dict(fixed=fixed, kH=kh, rtol=args.rtol, growth=not args.no_growth, gamma_c=not args.no_gamma_c,
+                        gamma_range=gamma_range, count=count, chunk_points=args.chunk_points)
         plan = make_plan(axes, **settings)
     except (SweepError, ValueError) as exc:
         return _fail(str(exc))
@@ -143,6 +143,7 @@ def build_parser() -> argparse.ArgumentParser:
     sw.add_argument("--kH", default="1e-3:1e3:97:log", metavar="LO:HI:N[:log]",
                     help="the kH grid the growth is bracketed on (default 1e-3:1e3:97:log)")
     sw.add_argument("--rtol", type=float, default=None, help="relative accuracy of the roots (default: full)")
+    sw.add_argument("--no-growth", action="store_true", help="skip the growth variables (e.g. gamma_c only)")
     sw.add_argument("--no-gamma-c", action="store_true", help="skip the threshold gamma_c over the other axes")
     sw.add_argument("--gamma-range", metavar="LO:HI", help="where gamma_c is searched (default: the gamma axis' "
                                                            "range, or 1e-2:1e3)")

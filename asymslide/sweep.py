@@ -105,6 +105,7 @@ class Plan:
     fixed: dict[str, float]
     kH: tuple[float, ...]
     rtol: float | None
+    growth: bool
     gamma_c: bool
     gamma_range: tuple[float, float]
     count: CountSpec | None
@@ -134,6 +135,7 @@ class Plan:
             "fixed": {k: _json_float(v) for k, v in self.fixed.items()},
             "kH": list(self.kH),
             "rtol": self.rtol,
+            "growth": self.growth,
             "gamma_c": self.gamma_c,
             "gamma_range": list(self.gamma_range),
             "count": None if self.count is None else {"kH": list(self.count.kH), "window": list(self.count.window)},
@@ -219,8 +221,8 @@ def _number(name: str, text: str) -> float:
 
 
 def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[str, float] | None = None,
-              kH: Sequence[float] | np.ndarray | None = None, rtol: float | None = None, gamma_c: bool = True,
-              gamma_range: tuple[float, float] | None = None, count: CountSpec | None = None,
+              kH: Sequence[float] | np.ndarray | None = None, rtol: float | None = None, growth: bool = True,
+              gamma_c: bool = True, gamma_range: tuple[float, float] | None = None, count: CountSpec | None = None,
               chunk_points: int = CHUNK_POINTS) -> Plan:
     """Validate a sweep and fix its chunks; SweepError (a ValueError) naming the problem otherwise.
 
@@ -231,6 +233,8 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
     """
     if not axes:
         raise SweepError("no axis given: a sweep needs at least one axis (e.g. gamma=0.1:30:64:log)")
+    if not (growth or gamma_c or count is not None):
+        raise SweepError("nothing to compute: ask for the growth, gamma_c or the all-branch count")
     fixed = dict(fixed or {})
     clean_axes: dict[str, tuple[float, ...]] = {}
     for name, values in axes.items():
@@ -289,7 +293,8 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
     chunks.update({f"gamma_c:{n}": c for n, c in zip(gc_names, gc, strict=True)})
     cc = chunk_sizes(shape, max(1, chunk_points * COUNT_CHUNK_POINTS // CHUNK_POINTS))
     chunks.update({f"count:{n}": c for n, c in zip(clean_axes, cc, strict=True)})
-    return Plan(clean_axes, full_fixed, tuple(float(x) for x in grid), rtol, gamma_c, (lo, hi), count, chunks)
+    return Plan(clean_axes, full_fixed, tuple(float(x) for x in grid), rtol, growth, gamma_c, (lo, hi), count,
+                chunks)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -361,7 +366,9 @@ def tasks(plan: Plan, kinds: Sequence[str] | None = None) -> dict[str, list[Task
     """Every task of the plan, per kind."""
     common = dict(fixed=tuple(plan.fixed.items()), kH=plan.kH, rtol=plan.rtol, gamma_range=plan.gamma_range,
                   count=plan.count)
-    groups: dict[str, tuple[tuple[str, ...], list]] = {"growth": (plan.names, plan.growth_blocks())}
+    groups: dict[str, tuple[tuple[str, ...], list]] = {}
+    if plan.growth:
+        groups["growth"] = (plan.names, plan.growth_blocks())
     if plan.gamma_c:
         groups["gamma_c"] = (plan.gamma_c_names, plan.gamma_c_blocks())
     if plan.count is not None:
@@ -445,10 +452,12 @@ def template(plan: Plan, command: str | None = None):
     dims = plan.names
     chunks = tuple(plan.chunks[n] for n in dims)
     data: dict[str, Any] = {}
-    for name, (dtype, fill, long_name, units) in GROWTH_VARS.items():
-        data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks),
-                      {"long_name": long_name, "units": units})
-    flags = {"growth": len(plan.growth_blocks())}
+    flags: dict[str, int] = {}
+    if plan.growth:
+        for name, (dtype, fill, long_name, units) in GROWTH_VARS.items():
+            data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks),
+                          {"long_name": long_name, "units": units})
+        flags["growth"] = len(plan.growth_blocks())
     if plan.gamma_c:
         gdims = plan.gamma_c_names
         gshape = tuple(len(plan.axes[n]) for n in gdims)
@@ -603,7 +612,7 @@ def _execute(todo: list[Task], on_result: Callable[[Task, dict[str, np.ndarray]]
 
 def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[str, float] | None = None,
           kH: Sequence[float] | np.ndarray | None = None, rtol: float | None = None,
-          store: str | os.PathLike | None = None, client=None, gamma_c: bool = True,
+          store: str | os.PathLike | None = None, client=None, growth: bool = True, gamma_c: bool = True,
           gamma_range: tuple[float, float] | None = None, count: CountSpec | None = None,
           chunk_points: int = CHUNK_POINTS, workers: int | None = None, progress: Progress | None = None,
           command: str | None = None):
@@ -613,17 +622,17 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
     :data:`DEFAULT_FIXED`, η = ∞ allowed); kH: the grid the growth is bracketed on (default :data:`DEFAULT_KH`);
     rtol: the model's accuracy setting (None: full certified accuracy); store: a Zarr directory, written chunk by
     chunk and resumed if it exists with the same plan and model (else SweepError, nothing written); client: a
-    ``distributed.Client`` (None: Dask's threaded scheduler here, `workers` threads); gamma_c: also the threshold
-    γ_c over the other axes (searched in `gamma_range`); count: the optional all-branch count; progress: called
-    with (kind, points) as chunks finish; command: recorded in the attributes.
+    ``distributed.Client`` (None: Dask's threaded scheduler here, `workers` threads); growth: the growth variables;
+    gamma_c: the threshold γ_c over the other axes (searched in `gamma_range`); count: the optional all-branch
+    count; progress: called with (kind, points) as chunks finish; command: recorded in the attributes.
 
     Returns the dataset: in memory without a store, else opened lazily from the store. Variables and attributes:
     see the module docstring. Bad input raises SweepError (a ValueError) naming the problem.
     """
     import xarray as xr
 
-    plan = make_plan(axes, fixed=fixed, kH=kH, rtol=rtol, gamma_c=gamma_c, gamma_range=gamma_range, count=count,
-                     chunk_points=chunk_points)
+    plan = make_plan(axes, fixed=fixed, kH=kH, rtol=rtol, growth=growth, gamma_c=gamma_c, gamma_range=gamma_range,
+                     count=count, chunk_points=chunk_points)
     groups = tasks(plan)
     region_dims = {"growth": plan.names, "gamma_c": plan.gamma_c_names, "count": plan.names}
     if store is None:
@@ -671,7 +680,7 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
 
 def plan_points(plan: Plan) -> dict[str, int]:
     """Grid points per kind of task (for progress bars)."""
-    out = {"growth": plan.size}
+    out = {"growth": plan.size} if plan.growth else {}
     if plan.gamma_c:
         out["gamma_c"] = math.prod(len(plan.axes[n]) for n in plan.gamma_c_names)
     if plan.count is not None:
@@ -696,7 +705,7 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
     yield f"  kH grid: {ds.attrs.get('kH_grid')}; rtol: {ds.attrs.get('rtol')}"
     done = done_chunks(path)
     yield "  chunks written: " + ", ".join(f"{kind} {int(f.sum())} of {f.size}" for kind, f in done.items())
-    g = ds["growth"].values
+    g = ds["growth"].values if "growth" in ds else np.empty(0)
     finite = np.isfinite(g)
     if finite.any():
         yield (f"  growth: {int(finite.sum())} of {g.size} points computed; unstable (growth > 0) at "

@@ -1,0 +1,647 @@
+"""Scene "Atlas": a stored stability atlas (``asymslide sweep``), explored slice by slice.
+
+An atlas is the Rayleigh branch's maximal growth rate on an N-D grid of (γ, f, β, η, Δ, ξ), with the exact threshold
+γ_c over the other axes (asymslide/sweep.py; docs/physics.md §9). This scene shows any two axes as a heat map of the
+growth with the neutral curve (growth = 0) and, where γ is one of the two, the slice of the γ_c surface; the other axes
+are sliders that snap to the grid. A slice change only reads the stored cube (no model function is called). A 3-D
+view shows the neutral surface (growth = 0) over three chosen axes, and a click on a cell sets the shared parameters
+of the other scenes to that cell.
+
+Atlases are read from one directory only: ``$ASYMSLIDE_ATLAS_DIR`` (``asymslide serve --atlas-dir``), default
+``$XDG_CACHE_HOME/asymslide/atlases`` (~/.cache/asymslide/atlases). The URL may name an atlas of that directory
+(``?tab=atlas&atlas=NAME`` for ``NAME.zarr``); no other path is ever read. The default atlas (4-D: γ, η, f, β) is not
+shipped: it is computed on first use into that directory, in the background with a progress bar (~10-30 s on two
+cores), and reused afterwards; another server process computing it is waited for (a file lock).
+"""
+
+from __future__ import annotations
+
+import collections
+import fcntl
+import functools
+import io
+import json
+import logging
+import math
+import os
+import re
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import contourpy
+import holoviews as hv
+import numpy as np
+import panel as pn
+import param
+from bokeh.models import CustomJSTickFormatter
+
+from asymslide import sweep as engine
+
+from .params import SpectrumParams, csv_table, fmt, frozen_document
+
+log = logging.getLogger(__name__)
+
+#: number of calls (keys: loads and slices), for tests: a slice change must not load or compute anything
+CALLS: collections.Counter[str] = collections.Counter()
+
+#: the default atlas: 4-D over (γ, η, f, β) at Δ = 1, ξ = 0, with γ_c over (η, f, β)
+DEFAULT_AXES = {
+    "gamma": np.geomspace(0.1, 30.0, 20),
+    "eta": np.geomspace(1.0, 1e4, 11),
+    "f": np.linspace(0.3, 1.5, 7),
+    "beta": np.linspace(0.1, 0.6, 6),
+}
+DEFAULT_KH = np.logspace(-3, 3, 49)
+#: the name (without .zarr) of the default atlas; the model's fingerprint makes a changed model compute a new one
+DEFAULT_PREFIX = "default-"
+
+#: atlases whose variables are larger than this are read slice by slice from the store instead of held in memory
+MAX_IN_MEMORY = 512e6
+#: |growth| below this is drawn neutral and is no crossing of the neutral curve (as the Stability-map scene)
+MARGINAL = 1e-6
+#: how often (ms) a session shows the default atlas's progress
+POLL_MS = 300
+GROWTH_LABEL = "max Im[c/c_s]"
+NAN_COLOR = "#bdbdbd"
+LOG_TICKS = "return Math.pow(10, tick).toPrecision(3)"
+NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,99}$")
+
+
+def atlas_dir() -> Path:
+    """The one directory atlases are read from (and the default atlas is written to)."""
+    configured = os.environ.get("ASYMSLIDE_ATLAS_DIR")
+    if configured:
+        return Path(configured).expanduser()
+    cache = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return cache / "asymslide" / "atlases"
+
+
+def default_name() -> str:
+    return DEFAULT_PREFIX + engine.model_fingerprint()[:12]
+
+
+def list_atlases(directory: Path | None = None) -> list[str]:
+    """Names of the atlases in the directory (``NAME.zarr`` written by asymslide sweep), the current default first;
+    defaults of other model versions are left out."""
+    d = atlas_dir() if directory is None else directory
+    names = []
+    try:
+        entries = sorted(d.iterdir())
+    except OSError:
+        return []
+    for entry in entries:
+        name = entry.name[:-5] if entry.name.endswith(".zarr") else ""
+        if not name or not NAME.match(name) or (name.startswith(DEFAULT_PREFIX) and name != default_name()):
+            continue
+        try:
+            attrs = json.loads((entry / "zarr.json").read_text(encoding="utf-8")).get("attributes", {})
+        except (OSError, ValueError):
+            continue
+        if "plan" in attrs:
+            names.append(name)
+    return sorted(names, key=lambda n: (n != default_name(), n))
+
+
+def resolve(name: str) -> Path | None:
+    """The store of the atlas `name` if it is listed in the atlas directory (never any other path)."""
+    if not isinstance(name, str) or not NAME.match(name) or name not in list_atlases():
+        return None
+    return atlas_dir() / f"{name}.zarr"
+
+
+# ------------------------------------------------------------------------------------------------
+# the default atlas: computed once per machine, in the background
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass
+class _DefaultJob:
+    """The computation of the default atlas in this process (or the wait for another process computing it)."""
+
+    points: int = 0
+    total: int = 1
+    finished: bool = False
+    error: str = ""
+    thread: threading.Thread | None = None
+
+
+_default_lock = threading.Lock()
+_default_job: _DefaultJob | None = None
+
+
+def default_ready() -> bool:
+    path = atlas_dir() / f"{default_name()}.zarr"
+    if not (path / "zarr.json").exists():
+        return False
+    try:
+        return all(flags.all() for flags in engine.done_chunks(path).values())
+    except (OSError, ValueError, KeyError):
+        return False
+
+
+def ensure_default() -> _DefaultJob:
+    """Start (once per process) computing the default atlas if it is not complete; return the job."""
+    global _default_job
+    with _default_lock:
+        if _default_job is None or (_default_job.finished and _default_job.error):
+            _default_job = _DefaultJob(finished=default_ready())
+            if not _default_job.finished:
+                _default_job.thread = threading.Thread(target=_compute_default, args=(_default_job,), daemon=True,
+                                                       name="asymslide-default-atlas")
+                _default_job.thread.start()
+        return _default_job
+
+
+def _compute_default(job: _DefaultJob) -> None:
+    directory = atlas_dir()
+    path = directory / f"{default_name()}.zarr"
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        plan = engine.make_plan(DEFAULT_AXES, kH=DEFAULT_KH)
+        job.total = sum(engine.plan_points(plan).values())
+        with open(directory / f".{default_name()}.lock", "w") as lock:
+            try:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:  # another server process computes it: follow its progress
+                while not default_ready():
+                    job.points = _points_done(path, plan)
+                    time.sleep(POLL_MS / 1000)
+                job.points = job.total
+                return
+
+            def progress(_kind: str, n: int) -> None:
+                job.points += n
+
+            CALLS["default_sweep"] += 1
+            engine.sweep(DEFAULT_AXES, kH=DEFAULT_KH, store=path, progress=progress,
+                         command="the Atlas tab's default atlas (app/atlas.py)")
+    except Exception as exc:  # the tab shows it; the session keeps working
+        log.exception("computing the default atlas failed")
+        job.error = f"{type(exc).__name__}: {exc}"
+    finally:
+        job.finished = True
+
+
+def _points_done(path: Path, plan: engine.Plan) -> int:
+    try:
+        done = engine.done_chunks(path)
+    except (OSError, ValueError, KeyError):
+        return 0
+    blocks = {"growth": plan.growth_blocks(), "gamma_c": plan.gamma_c_blocks()}
+    return sum(math.prod(b - a for a, b in blocks[kind][i]) for kind, flags in done.items()
+               for i in np.flatnonzero(flags))
+
+
+# ------------------------------------------------------------------------------------------------
+# an atlas in memory
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class Atlas:
+    """A loaded atlas: axes, display coordinates, the growth cube and gamma_c (numpy, or lazily read from a large
+    store), and its provenance."""
+
+    name: str
+    path: Path
+    axes: dict[str, np.ndarray]
+    log: dict[str, bool]
+    fixed: dict[str, float]
+    growth: object  # numpy array or a lazy xarray.DataArray (dims in the order of axes)
+    gamma_c: object | None  # over the axes without gamma
+    gamma_c_reason: object | None
+    attrs: dict
+    clim: float  # symmetric colour range of the growth over the whole atlas
+
+    @property
+    def names(self) -> list[str]:
+        return list(self.axes)
+
+    def display(self, name: str) -> np.ndarray:
+        """Plotted coordinates of an axis: log10 of its values on a log axis."""
+        v = self.axes[name]
+        return np.log10(v) if self.log[name] else v
+
+    def label(self, name: str) -> str:
+        return SpectrumParams.symbol(name) if name in SpectrumParams.MODEL_ARGS else name
+
+
+def _is_log(values: np.ndarray, attrs: dict) -> bool:
+    if attrs.get("scale") in ("log", "linear"):
+        return attrs["scale"] == "log"
+    return bool(values.size > 2 and values[0] > 0 and np.allclose(np.diff(np.log(values)),
+                                                                    math.log(values[1] / values[0])))
+
+
+@functools.lru_cache(maxsize=4)
+def _load(name: str, path: Path, stamp: str) -> Atlas:
+    """Read an atlas (cached by its name, path and the state of its done flags)."""
+    import xarray as xr
+
+    CALLS["load"] += 1
+    ds = xr.open_zarr(path, consolidated=False)
+    plan = json.loads(ds.attrs["plan"])
+    axes = {n: np.asarray(ds[n].values, dtype=float) for n in plan["axes"]}
+    log_axes = {n: _is_log(axes[n], dict(ds[n].attrs)) for n in axes}
+    fixed = {k: (math.inf if v == "inf" else float(v)) for k, v in plan["fixed"].items()}
+    if "growth" not in ds:
+        raise ValueError(f"atlas {name} has no growth variable (computed with --no-growth)")
+    growth = ds["growth"]
+    small = growth.nbytes <= MAX_IN_MEMORY
+    g = growth.values if small else growth
+    finite = np.abs(growth.values[np.isfinite(growth.values)]) if small else np.abs(growth.max().values)
+    clim = float(np.max(finite)) if np.size(finite) else 1e-3
+    gc = reason = None
+    if "gamma_c" in ds:
+        gc, reason = ds["gamma_c"].values, ds["gamma_c_reason"].values
+    return Atlas(name, path, axes, log_axes, fixed, g, gc, reason, dict(ds.attrs), max(clim, 1e-12))
+
+
+def load(name: str) -> Atlas:
+    path = resolve(name)
+    if path is None:
+        raise ValueError(f"no atlas named {name!r} in {atlas_dir()}")
+    stamp = json.dumps({k: int(v.sum()) for k, v in engine.done_chunks(path).items()})
+    return _load(name, path, stamp)
+
+
+def zero_contour(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> list[np.ndarray]:
+    """The line(s) z = 0 of z[y, x] on the plotted coordinates (|z| <= MARGINAL counts as stable; NaN masked)."""
+    zz = np.where(np.abs(z) <= MARGINAL, -MARGINAL, z)
+    if not np.isfinite(zz).any() or x.size < 2 or y.size < 2:
+        return []
+    gen = contourpy.contour_generator(x, y, np.ma.masked_invalid(zz), line_type="Separate")
+    return [s for s in gen.lines(0.0) if len(s) > 1]
+
+
+# ------------------------------------------------------------------------------------------------
+# the scene
+# ------------------------------------------------------------------------------------------------
+
+
+class AtlasScene(pn.viewable.Viewer):
+    """Heat map of a slice of an atlas, sliders over the other axes, the 3-D neutral surface, and the readout."""
+
+    params = param.ClassSelector(class_=SpectrumParams, doc="the shared parameters a click sets")
+    atlas = param.Selector(default=None, objects=[], allow_None=True, label="Atlas")
+    x_axis = param.Selector(default=None, objects=[], allow_None=True, label="x axis")
+    y_axis = param.Selector(default=None, objects=[], allow_None=True, label="y axis")
+    surface_axes = param.ListSelector(default=[], objects=[], label="3-D axes (three)")
+    #: grid index of every axis (those of the image are ignored); the sliders set it
+    indices = param.Dict(default={}, precedence=-1)
+    #: the loaded atlas (None until one is ready)
+    data = param.ClassSelector(class_=Atlas, allow_None=True, precedence=-1)
+    message = param.String(default="", precedence=-1)
+
+    def __init__(self, **kwargs):
+        requested = kwargs.pop("requested", None)
+        if "params" not in kwargs:
+            kwargs["params"] = SpectrumParams()
+        super().__init__(**kwargs)
+        self.progress = pn.indicators.Progress(value=0, max=100, bar_color="primary", sizing_mode="stretch_width",
+                                               height=18, visible=False)
+        self.status = pn.pane.Markdown("", sizing_mode="stretch_width")
+        self.alert = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
+        self.sliders = pn.Column(sizing_mode="stretch_width")
+        self._poller: pn.io.PeriodicCallback | None = None
+        self._requested = requested
+        self.image_dmap = hv.DynamicMap(self.image, streams=[hv.streams.Params(
+            self, ["data", "x_axis", "y_axis", "indices"])])
+        self.tap = hv.streams.Tap(source=self.image_dmap, x=None, y=None)
+        self.tap.add_subscriber(self._on_tap)
+        self.surface_pane = pn.pane.Plotly(None, sizing_mode="stretch_width", height=460)
+        self.param.watch(self._atlas_changed, "atlas")
+        self.param.watch(self._axes_changed, ["x_axis", "y_axis"])
+        self.param.watch(self._update_surface, ["data", "surface_axes", "indices"])
+        self.param.watch(lambda e: self._show(e.new), "message")
+        self.refresh()
+
+    # -- which atlas --------------------------------------------------------------------------
+
+    def refresh(self) -> None:
+        """Re-list the atlas directory; open the requested atlas, else keep the current one, else the default."""
+        names = list_atlases()
+        self.param.atlas.objects = names
+        want = self._requested or self.atlas
+        if want is not None and want not in names:
+            self.message = (f"atlas '{want}' is not in {atlas_dir()} (available: {', '.join(names) or 'none'}): "
+                            "showing the default atlas")
+            want = None
+        self._requested = None
+        if want is None and default_ready():
+            want = default_name()
+        if want is not None and want in names:
+            if self.atlas == want and self.data is None:
+                self._atlas_changed()
+            self.atlas = want
+
+    def start_default(self) -> None:
+        """Compute the default atlas if needed (called when the tab is shown), with visible progress."""
+        if self.data is not None or (self.atlas is not None and self.atlas != default_name()):
+            return
+        job = ensure_default()
+        if job.finished and not job.error:
+            self.refresh()
+            return
+        self.progress.visible = True
+        self._poll()
+        doc = pn.state.curdoc
+        if doc is not None and doc.session_context is not None:
+            if self._poller is None or not self._poller.running:
+                self._poller = pn.state.add_periodic_callback(self._poll, period=POLL_MS)
+        elif job.thread is not None:  # no server (tests, scripts): wait here
+            job.thread.join()
+            self._poll()
+
+    def _poll(self) -> None:
+        job = ensure_default()
+        self.progress.value = int(100 * min(job.points, job.total) / max(job.total, 1))
+        if job.error:
+            self.status.object = f"**Default atlas failed**: {job.error}"
+        elif not job.finished:
+            self.status.object = (f"**Computing the default atlas** (once; stored in {atlas_dir()}): "
+                                  f"{job.points} of {job.total} grid points")
+            return
+        if self._poller is not None:
+            self._poller.stop()
+        self.progress.visible = False
+        if not job.error:
+            self.status.object = ""
+            self.refresh()
+
+    def _atlas_changed(self, *_events) -> None:
+        if self.atlas is None:
+            return
+        try:
+            data = load(self.atlas)
+        except (OSError, ValueError, KeyError) as exc:
+            self.message = f"atlas '{self.atlas}' could not be read: {exc}"
+            return
+        names = data.names
+        x, y = (names + names)[:2] if len(names) > 1 else (names[0], None)
+        with param.parameterized.batch_call_watchers(self):
+            self.param.x_axis.objects = names
+            self.param.y_axis.objects = [None, *names] if len(names) == 1 else names
+            self.param.surface_axes.objects = names
+            self.param.update(data=data, x_axis=x, y_axis=y, surface_axes=names[:3] if len(names) >= 3 else [],
+                              indices={n: len(v) // 2 for n, v in data.axes.items()})
+        self._rebuild_sliders()
+
+    def _axes_changed(self, *events: param.parameterized.Event) -> None:
+        event = events[-1]
+        if self.x_axis == self.y_axis and self.data is not None:  # keep two different axes: swap
+            other = event.old if event.old is not None else next(n for n in self.data.names if n != event.new)
+            setattr(self, "y_axis" if event.name == "x_axis" else "x_axis", other)
+        self._rebuild_sliders()
+
+    def _rebuild_sliders(self) -> None:
+        """A slider per axis off the image, snapping to the grid (DiscreteSlider over the grid values)."""
+        d = self.data
+        widgets = []
+        if d is not None:
+            for name in d.names:
+                if name in (self.x_axis, self.y_axis):
+                    continue
+                values = d.axes[name]
+                options = {f"{v:.4g}": i for i, v in enumerate(values)}
+                slider = pn.widgets.DiscreteSlider(label=d.label(name), options=options,
+                                                   value=self.indices.get(name, 0), sizing_mode="stretch_width")
+                slider.param.watch(lambda e, n=name: self._set_index(n, e.new), "value_throttled")
+                widgets.append(slider)
+        self.sliders.objects = widgets
+
+    def _set_index(self, name: str, index: int) -> None:
+        with frozen_document():
+            self.indices = {**self.indices, name: int(index)}
+
+    # -- the slice ----------------------------------------------------------------------------
+
+    def slice2d(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(x, y, growth[y, x]) of the current slice, in display coordinates; read from the cube only."""
+        CALLS["slice"] += 1
+        d = self.data
+        assert d is not None and self.x_axis is not None
+        names = d.names
+        index = tuple(slice(None) if n in (self.x_axis, self.y_axis) else self.indices.get(n, 0) for n in names)
+        cube = d.growth[index]
+        values = np.asarray(getattr(cube, "values", cube), dtype=float)
+        kept = [n for n in names if n in (self.x_axis, self.y_axis)]
+        if self.y_axis is None:
+            return d.display(self.x_axis), np.array([0.0]), values[None, :]
+        if kept != [self.y_axis, self.x_axis]:
+            values = values.T
+        return d.display(self.x_axis), d.display(self.y_axis), values
+
+    def gamma_c_line(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """(x, y) of the gamma_c surface's slice in display coordinates, where γ is one of the image axes."""
+        d = self.data
+        if d is None or d.gamma_c is None or "gamma" not in (self.x_axis, self.y_axis) or self.y_axis is None:
+            return None
+        other = self.y_axis if self.x_axis == "gamma" else self.x_axis
+        gnames = [n for n in d.names if n != "gamma"]
+        index = tuple(slice(None) if n == other else self.indices.get(n, 0) for n in gnames)
+        gc = np.asarray(d.gamma_c[index], dtype=float)
+        gc_disp = np.log10(gc) if d.log["gamma"] else gc
+        along = d.display(other)
+        return (gc_disp, along) if self.x_axis == "gamma" else (along, gc_disp)
+
+    def _dims(self) -> tuple[hv.Dimension, hv.Dimension]:
+        d = self.data
+        out = []
+        for name in (self.x_axis, self.y_axis):
+            if name is None:
+                out.append(hv.Dimension("none", label=" "))
+            else:
+                out.append(hv.Dimension(name, label=d.label(name) + (" (log scale)" if d.log[name] else "")))
+        return out[0], out[1]
+
+    def image(self, **_stream_values) -> hv.Overlay:
+        """Heat map of the slice with the neutral curve and the γ_c slice (or an empty frame)."""
+        xd, yd = (hv.Dimension("x"), hv.Dimension("y")) if self.data is None else self._dims()
+        vdim = hv.Dimension("growth", label=GROWTH_LABEL)
+        if self.data is None or self.x_axis is None:
+            return hv.Overlay([hv.Image(np.full((2, 2), np.nan), bounds=(0, 0, 1, 1), kdims=[xd, yd], vdims=[vdim]),
+                               hv.Path([], kdims=[xd, yd]), hv.Curve([], xd, yd)])
+        x, y, g = self.slice2d()
+        d = self.data
+        dx = (x[-1] - x[0]) / max(x.size - 1, 1) if x.size > 1 else 1.0
+        dy = (y[-1] - y[0]) / max(y.size - 1, 1) if y.size > 1 else 1.0
+        bounds = (x[0] - dx / 2, y[0] - dy / 2, x[-1] + dx / 2, y[-1] + dy / 2)
+        regular = (x.size < 3 or np.allclose(np.diff(x), dx, rtol=1e-6)) and \
+            (y.size < 3 or np.allclose(np.diff(y), dy, rtol=1e-6))
+        style = dict(cmap="RdBu_r", clim=(-d.clim, d.clim), colorbar=True, clabel=GROWTH_LABEL, tools=["hover", "tap"],
+                     clipping_colors={"NaN": NAN_COLOR}, responsive=True, height=460, framewise=True)
+        for axis, name in (("x", self.x_axis), ("y", self.y_axis)):
+            if name is not None and d.log[name]:
+                style[f"{axis}formatter"] = CustomJSTickFormatter(code=LOG_TICKS)
+        if regular:
+            heat = hv.Image(np.flipud(g), bounds=bounds, kdims=[xd, yd], vdims=[vdim]).opts(**style)
+        else:
+            heat = hv.QuadMesh((x, y, g), kdims=[xd, yd], vdims=[vdim]).opts(**style)
+        neutral = hv.Path(zero_contour(x, y, g), kdims=[xd, yd], label="neutral curve (growth = 0)").opts(
+            color="black", line_width=2)
+        line = self.gamma_c_line()
+        gc = hv.Curve(line if line is not None else ([], []), xd, yd, label="γ_c (exact threshold)").opts(
+            color="#2ca25f", line_width=3, line_dash="dashed")
+        return hv.Overlay([heat, neutral, gc]).opts(
+            hv.opts.Overlay(title=self._title(), show_legend=True, legend_position="top_left", responsive=True,
+                            height=460))
+
+    def _title(self) -> str:
+        d = self.data
+        others = ", ".join(f"{d.label(n)} = {fmt(d.axes[n][self.indices.get(n, 0)])}" for n in d.names
+                           if n not in (self.x_axis, self.y_axis))
+        fixed = ", ".join(f"{d.label(k)} = {'∞' if math.isinf(v) else fmt(v)}" for k, v in d.fixed.items())
+        return f"{d.name}: max growth rate; {others}{'; ' if others else ''}{fixed}"
+
+    # -- a click sets the shared parameters ----------------------------------------------------
+
+    def cell_parameters(self, x: float, y: float) -> dict[str, float]:
+        """All six model parameters at the grid cell nearest the display coordinates (x, y)."""
+        d = self.data
+        assert d is not None
+        values = dict(d.fixed)
+        for name in d.names:
+            if name == self.x_axis:
+                i = int(np.argmin(np.abs(d.display(name) - x)))
+            elif name == self.y_axis:
+                i = int(np.argmin(np.abs(d.display(name) - y)))
+            else:
+                i = self.indices.get(name, 0)
+            values[name] = float(d.axes[name][i])
+        return values
+
+    def _on_tap(self, x: float | None = None, y: float | None = None) -> None:
+        if self.data is None or x is None or (y is None and self.y_axis is not None):
+            return
+        values = self.cell_parameters(x, 0.0 if y is None else y)
+        updates: dict[str, float | bool] = {}
+        notes = []
+        for name, v in values.items():
+            if name == "eta":
+                if math.isinf(v):
+                    updates["eta_infinite"] = True
+                    continue
+                decl, key, target = SpectrumParams.param.log10_eta, "log10_eta", math.log10(v)
+                updates["eta_infinite"] = False
+            else:
+                decl, key, target = SpectrumParams.param[name], name, v
+            lo, hi = decl.bounds
+            clamped = min(max(target, lo), hi)
+            if clamped != target:
+                notes.append(f"{SpectrumParams.symbol(name)} = {v:.4g} is outside the sliders' range: set to the "
+                             "nearest end")
+            updates[key] = clamped
+        with frozen_document():
+            self.params.param.update(**updates)
+        text = ", ".join(f"{SpectrumParams.symbol(k)} = {'∞' if math.isinf(v) else f'{v:.4g}'}"
+                         for k, v in values.items())
+        self.message = f"Parameters set from the atlas cell: {text}." + (" " + "; ".join(notes) if notes else "")
+
+    def _show(self, text: str) -> None:
+        self.alert.object = text
+        self.alert.alert_type = "info" if text.startswith("Parameters set") else "warning"
+        self.alert.visible = bool(text)
+
+    # -- 3-D neutral surface ------------------------------------------------------------------
+
+    def surface_figure(self) -> dict | None:
+        """A Plotly figure (dict) of the neutral surface growth = 0 over the three chosen axes (the others at the
+        sliders' values), or None."""
+        d = self.data
+        axes = list(self.surface_axes)
+        if d is None or len(axes) != 3:
+            return None
+        names = d.names
+        index = tuple(slice(None) if n in axes else self.indices.get(n, 0) for n in names)
+        cube = np.asarray(getattr(d.growth[index], "values", d.growth[index]), dtype=float)
+        kept = [n for n in names if n in axes]
+        cube = np.transpose(cube, [kept.index(n) for n in axes])  # to the chosen order
+        grids = np.meshgrid(*(d.display(n) for n in axes), indexing="ij")
+        finite = np.isfinite(cube)
+        if not finite.any():
+            return None
+        values = np.where(finite, cube, np.nan)
+        titles = [d.label(n) + (" (log10)" if d.log[n] else "") for n in axes]
+        return {
+            "data": [{"type": "isosurface", "x": grids[0].ravel().tolist(), "y": grids[1].ravel().tolist(),
+                      "z": grids[2].ravel().tolist(), "value": [None if not np.isfinite(v) else float(v)
+                                                                for v in values.ravel()],
+                      "isomin": 0.0, "isomax": 0.0, "surface": {"count": 1}, "caps": {"x": {"show": False},
+                      "y": {"show": False}, "z": {"show": False}}, "colorscale": [[0, "#1f4e79"], [1, "#1f4e79"]],
+                      "showscale": False, "opacity": 0.75, "name": "growth = 0"}],
+            "layout": {"title": {"text": "Neutral surface (max growth = 0); drag to rotate"},
+                       "scene": {"xaxis": {"title": {"text": titles[0]}}, "yaxis": {"title": {"text": titles[1]}},
+                                 "zaxis": {"title": {"text": titles[2]}}},
+                       "margin": {"l": 0, "r": 0, "t": 40, "b": 0}, "height": 460},
+        }
+
+    def _update_surface(self, *_events) -> None:
+        self.surface_pane.object = self.surface_figure()
+
+    # -- readout and export --------------------------------------------------------------------
+
+    @param.depends("data", "x_axis", "y_axis", "indices")
+    def readout(self) -> str:
+        d = self.data
+        if d is None:
+            return "**No atlas loaded yet.**"
+        a = d.attrs
+        lines = [f"**Atlas** {d.name} ({', '.join(f'{d.label(n)}: {v.size}' for n, v in d.axes.items())} points)",
+                 "**Fixed** " + ", ".join(f"{d.label(k)} = {'∞' if math.isinf(v) else fmt(v)}"
+                                           for k, v in d.fixed.items()),
+                 f"**Computed** by asymslide {a.get('asymslide_version')} (git {a.get('git_revision')}) on "
+                 f"{a.get('created')}; kH grid {a.get('kH_grid')}; rtol {a.get('rtol')}"]
+        if self.x_axis is not None:
+            _, _, g = self.slice2d()
+            finite = np.isfinite(g)
+            n_nan = int((~finite).sum())
+            unstable = int((g[finite] > MARGINAL).sum())
+            lines.append(f"**This slice** {unstable} of {int(finite.sum())} points unstable (growth > {MARGINAL:g}); "
+                         f"largest growth {fmt(float(np.max(g[finite])) if finite.any() else math.nan)}")
+            lines.append(f"**Masked** {n_nan} point(s) (grey): the Rayleigh branch could not be followed at any kH"
+                         if n_nan else "**Masked** none")
+        if d.gamma_c_reason is not None:
+            r = np.asarray(d.gamma_c_reason)
+            jumps = int((r == 5).sum())
+            lines.append(f"**γ_c** found at {int((r == 0).sum())} of {r.size} points of the other axes"
+                         + (f"; {jumps} are jumps of the max growth where the branch's masked kH points change "
+                            "(no threshold, not drawn)" if jumps else ""))
+        return "\n\n".join(lines)
+
+    def csv(self) -> io.StringIO:
+        """The current slice as CSV: both axes (physical values) and the growth."""
+        d = self.data
+        if d is None or self.x_axis is None:
+            return csv_table("asymslide atlas slice (none loaded)", {"x": [], "y": [], "growth": []})
+        x, y, g = self.slice2d()
+        xs, ys = d.axes[self.x_axis], (d.axes[self.y_axis] if self.y_axis else np.array([math.nan]))
+        header = f"asymslide atlas {d.name}: {self._title()}"
+        return csv_table(header, {self.x_axis: np.tile(xs, ys.size), str(self.y_axis): np.repeat(ys, xs.size),
+                                  "max_growth": g.ravel()})
+
+    # -- layout -------------------------------------------------------------------------------
+
+    def __panel__(self) -> pn.viewable.Viewable:
+        choose = pn.Column(
+            pn.widgets.Select.from_param(self.param.atlas, sizing_mode="stretch_width"),
+            pn.widgets.Select.from_param(self.param.x_axis, sizing_mode="stretch_width"),
+            pn.widgets.Select.from_param(self.param.y_axis, sizing_mode="stretch_width"),
+            "### Other axes", self.sliders,
+            pn.widgets.MultiChoice.from_param(self.param.surface_axes, max_items=3, sizing_mode="stretch_width"),
+            pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
+            width=340,
+        )
+        help_text = pn.pane.Markdown(
+            "Red: unstable, blue: stable, grey: not computable; black line: neutral curve (max growth = 0); "
+            "green dashes: the exact threshold γ_c (where γ is an axis). Sliders snap to the atlas grid; click a "
+            f"cell to set the other tabs' parameters. Atlases are read from `{atlas_dir()}`; make your own with "
+            "`asymslide sweep ... --out DIR/NAME.zarr`.", sizing_mode="stretch_width")
+        plots = pn.Column(self.alert, self.progress, self.status, help_text,
+                          pn.pane.HoloViews(self.image_dmap, sizing_mode="stretch_width", linked_axes=False),
+                          pn.widgets.FileDownload(callback=self.csv, filename="atlas_slice.csv",
+                                                  label="Download slice (CSV)", color="primary", width=200),
+                          self.surface_pane, sizing_mode="stretch_width")
+        return pn.Row(choose, plots, sizing_mode="stretch_width", name="Atlas")
