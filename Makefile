@@ -14,6 +14,8 @@ ADDRESS  ?= 0.0.0.0
 ALLOWED_ORIGIN ?= localhost:$(PORT)
 # server processes (at most one per core; see README "Docker")
 NUM_PROCS ?= 1
+# where the Atlas tab reads atlases (default: ~/.cache/asymslide/atlases)
+ATLAS_DIR ?=
 LINT_DIRS ?= $(wildcard model app tests benchmarks)
 PYTEST_ARGS ?=
 
@@ -37,7 +39,7 @@ $(STAMP): pyproject.toml
 serve: venv  ## serve the app on http://localhost:5006 (Ctrl-C stops it, workers included)
 	$(VENV)/bin/asymslide serve --port $(PORT) --address $(ADDRESS) \
 	  --allow-websocket-origin $(ALLOWED_ORIGIN) --allow-websocket-origin 127.0.0.1:$(PORT) \
-	  --num-procs $(NUM_PROCS)
+	  --num-procs $(NUM_PROCS) $(if $(ATLAS_DIR),--atlas-dir $(ATLAS_DIR))
 
 test: venv  ## ruff, then every test (browser tests need /usr/bin/chromium)
 	$(VENV)/bin/ruff check $(LINT_DIRS)

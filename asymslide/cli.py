@@ -9,8 +9,10 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from . import __version__
 
@@ -21,7 +23,10 @@ def _serve(args: argparse.Namespace) -> int:
     origins = args.allow_websocket_origin or [f"localhost:{args.port}", f"127.0.0.1:{args.port}"]
     cmd = panel_command(port=args.port, address=args.address, origins=origins, num_procs=args.num_procs,
                         liveness=args.liveness, extra=args.panel_args)
-    return run(cmd)
+    env = dict(os.environ)
+    if args.atlas_dir:
+        env["ASYMSLIDE_ATLAS_DIR"] = str(Path(args.atlas_dir).expanduser().resolve())
+    return run(cmd, env=env)
 
 
 #: exit codes besides 0 (done) and 2 (bad command line, as argparse)
@@ -126,6 +131,9 @@ def build_parser() -> argparse.ArgumentParser:
                             "(default: localhost:PORT and 127.0.0.1:PORT)")
     serve.add_argument("--num-procs", type=int, default=1, help="server processes (at most one per core; default 1)")
     serve.add_argument("--liveness", action="store_true", help="answer health checks at /liveness")
+    serve.add_argument("--atlas-dir", metavar="DIR", help="the directory the Atlas tab reads atlases from (and "
+                                                          "computes the default atlas into); default "
+                                                          "$ASYMSLIDE_ATLAS_DIR or ~/.cache/asymslide/atlases")
     serve.add_argument("panel_args", nargs="*", metavar="-- PANEL_ARGS", help="passed to panel serve")
     serve.set_defaults(func=_serve)
 

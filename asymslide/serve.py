@@ -133,9 +133,10 @@ def stop_group(pgid: int, grace: float = GRACE_SECONDS) -> dict[int, int]:
     return statuses
 
 
-def run(cmd: Sequence[str], *, grace: float = GRACE_SECONDS) -> int:
+def run(cmd: Sequence[str], *, grace: float = GRACE_SECONDS, env: dict[str, str] | None = None) -> int:
     """Run `cmd` (the server) in its own process group until it exits or a stop signal arrives; then stop
-    the whole group (:func:`stop_group`). Returns the server's exit code, or 128 + the signal number."""
+    the whole group (:func:`stop_group`). Returns the server's exit code, or 128 + the signal number.
+    env: the server's environment (default: this process's)."""
     _become_subreaper()
     received: list[int] = []
 
@@ -144,7 +145,7 @@ def run(cmd: Sequence[str], *, grace: float = GRACE_SECONDS) -> int:
 
     previous = {sig: signal.signal(sig, on_signal) for sig in STOP_SIGNALS}
     try:
-        proc = subprocess.Popen(list(cmd), start_new_session=True)
+        proc = subprocess.Popen(list(cmd), start_new_session=True, env=env)
         status: int | None = None
         while status is None and not received:
             reaped = _reap()
