@@ -180,6 +180,12 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    from . import import_name_clashes
+
+    for name, others in import_name_clashes().items():
+        print(f"asymslide: warning: the import name '{name}' is also installed by {', '.join(others)}; one of them "
+              "overwrote the other's files. Install asymslide in its own environment (see README, Packaging).",
+              file=sys.stderr)
     if args.command == "serve" and args.num_procs < 1:
         parser.error(f"--num-procs must be >= 1; got {args.num_procs}")
     return args.func(args)
