@@ -115,6 +115,21 @@ def compute_lab_spectrum(gamma: float, f: float, beta: float, eta: float, Delta:
             "peak": peak, "band": band, "growth": d["growth"], "kH_min": d["kH_min"], "kH_max": d["kH_max"]}
 
 
+@pn.cache(max_items=256)
+def compute_rate_state(gamma: float, Delta: float, xi: float, eta: float, rho: float, c_s: float, sigma0: float,
+                       H1: float, v: float) -> dict:
+    """a, b, D_c [m] and H₂ [m] that give the sliders' γ, Δ, ξ, η for the lab's material, σ₀, H₁ and v
+    (:func:`model.rate_state_parameters`), or the model's message."""
+    CALLS["compute_rate_state"] += 1
+    CALLS["rate_state_parameters"] += 1
+    try:
+        r = model.rate_state_parameters(gamma=gamma, Delta=Delta, xi=xi, eta=eta, rho=rho, c_s=c_s, sigma0=sigma0,
+                                        H1=H1, v=v)
+    except ValueError as exc:
+        return {"error": str(exc)}
+    return {k: float(x) for k, x in r.items()}
+
+
 # --------------------------------------------------------------------------------------------
 # lab values -> slider values
 # --------------------------------------------------------------------------------------------
@@ -352,6 +367,36 @@ class LabScene(pn.viewable.Viewer):
         lines.append(f"**Masked** {masked} of {KH.size} kH points (gaps in the plot)" if masked else "**Masked** none")
         return "\n\n".join(lines)
 
+    @param.depends("key", "spectrum.gamma", "spectrum.f", "spectrum.beta", "spectrum.log10_eta",
+                   "spectrum.eta_infinite", "spectrum.Delta", "spectrum.xi")
+    def point_readout(self) -> str:
+        """The sliders' point in lab units while it differs from the lab values (e.g. after a click on the stability
+        map): its fastest-growing mode with the panel's H₁ and c_s, and the a, b, D_c, H₂ that give its γ, Δ, ξ, η
+        with the panel's material, σ₀, H₁ and v."""
+        st = self.state()
+        if st.error or st.matches:
+            return ""
+        gamma, f, beta, eta, Delta, xi = self.spectrum.model_args()
+        rho, c_s, _, sigma0, _, H1, _, v = self.key[:8]
+        d = compute_lab_spectrum(gamma, f, beta, eta, Delta, xi, H1, c_s)
+        pk = d["peak"]
+        lines = [f"**The sliders' point in lab units** (H₁ = {fmt(H1 * 1e3)} mm, c_s = {fmt(c_s)} m/s):"]
+        if np.isfinite(pk["growth_rate"]) and pk["growth_rate"] > 0:
+            lines.append(f"fastest-growing λ = {fmt(pk['wavelength'] * 1e3)} mm, growth rate "
+                         f"{fmt(pk['growth_rate'])} 1/s, e-folding time {fmt(pk['e_folding_time'] * 1e3)} ms, phase "
+                         f"speed {fmt(pk['phase_speed'])} m/s.")
+        else:
+            lines.append("no growing mode on the Rayleigh branch.")
+        r = compute_rate_state(gamma, Delta, xi, eta, rho, c_s, sigma0, H1, v)
+        if "error" not in r:
+            h2 = "∞" if math.isinf(r["H2"]) else f"{fmt(r['H2'] * 1e3)} mm"
+            lines.append(f"Its γ, Δ, ξ, η are a = {fmt(r['a'])}, b = {fmt(r['b'])}, D_c = {fmt(r['D_c'] * 1e6)} µm, "
+                         f"H₂ = {h2} at v = {fmt(v)} m/s, σ₀ = {fmt(sigma0 / 1e6)} MPa, ρ = {fmt(rho)} kg/m³ "
+                         "(model.rate_state_parameters)" + ("; D_c does not enter at Δ = 1." if Delta == 1 else "."))
+        if not _close(beta, st.derived["beta"]):
+            lines.append(f"Its β = {fmt(beta)} is not the material's ({fmt(st.derived['beta'])}).")
+        return " ".join(lines)
+
     @param.depends("key")
     def lab_plot(self) -> hv.Overlay:
         """Growth rate [1/s] vs wavelength [mm] of the lab setting, with the unstable band and the fastest-growing
@@ -409,6 +454,7 @@ class LabScene(pn.viewable.Viewer):
             pn.panel(self.status),
             pn.pane.Markdown(self.derived_view, sizing_mode="stretch_width"),
             pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
+            pn.pane.Markdown(self.point_readout, sizing_mode="stretch_width"),
         ]
         if with_plot:
             body += [pn.pane.HoloViews(self.plot_dmap, sizing_mode="stretch_width"),

@@ -258,6 +258,29 @@ def test_readout_and_plot_equal_the_model(lab: dict) -> None:
     np.testing.assert_array_equal(data[:, names.index("phase_speed_m_per_s")], lab_units["phase_speed"])
 
 
+def test_the_sliders_point_in_lab_units() -> None:
+    """Where the sliders differ from the lab values (a slider moved, a click on the stability map), the panel also
+    reads the sliders' point in lab units: with the lab's H₁ and c_s, and the a, b, D_c, H₂ that
+    model.rate_state_parameters gives for it."""
+    app = create_app({}).app
+    scene = app.lab
+    scene.params.link = True
+    assert scene.point_readout() == ""  # matched: the lab readout is the current point's
+    app.map._on_tap("Δ-ξ", 0.5, 2.0)  # a click on the stability map moves Δ and ξ
+    args = app.spectrum_params.model_args()
+    assert args[4:] == (0.5, 2.0)
+    gamma, f, beta, eta, Delta, xi = args
+    k, z = model.fastest_growing_mode(KH, gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
+    peak = model.spectrum_in_lab_units(kH=k, z=z, H1=0.01, c_s=PMMA.c_s)
+    r = model.rate_state_parameters(gamma=gamma, Delta=Delta, xi=xi, eta=eta, rho=PMMA.rho, c_s=PMMA.c_s,
+                                    sigma0=4.5e6, H1=0.01, v=scene.params.v)
+    text = scene.point_readout()
+    assert f"fastest-growing λ = {float(peak['wavelength']) * 1e3:.4g} mm" in text
+    assert f"e-folding time {float(peak['e_folding_time']) * 1e3:.4g} ms" in text
+    assert f"a = {float(r['a']):.4g}, b = {float(r['b']):.4g}, D_c = {float(r['D_c']) * 1e6:.4g} µm, H₂ = ∞" in text
+    assert CALLS["rate_state_parameters"] == 1
+
+
 def test_derived_values_are_shown() -> None:
     scene = LabScene()
     d = _expected(scene.params)
