@@ -163,6 +163,11 @@ def _model_args(values: dict[str, float | bool]) -> tuple[float, ...]:
     return (values["gamma"], values["f"], values["beta"], eta, values["Delta"], xi)
 
 
+def _show(x: float) -> str:
+    """A slider value for a message (η may be ∞)."""
+    return "∞" if x == math.inf else fmt(x)
+
+
 def _close(a: float, b: float) -> bool:
     return a == b or math.isclose(a, b, rel_tol=MATCH_RTOL, abs_tol=1e-12)
 
@@ -255,7 +260,7 @@ class LabScene(pn.viewable.Viewer):
         updates, notes = slider_values(d["params"])
         target = _model_args(updates)
         shown = self.spectrum.model_args()
-        mismatches = [f"{SpectrumParams.symbol(n)} = {fmt(s)} on the slider, {fmt(t)} from the lab values"
+        mismatches = [f"{SpectrumParams.symbol(n)} = {_show(s)} on the slider, {_show(t)} from the lab values"
                       for n, s, t in zip(SpectrumParams.MODEL_ARGS, shown, target, strict=True) if not _close(s, t)]
         return LabState(derived=d["params"], updates=updates, notes=notes, mismatches=mismatches)
 

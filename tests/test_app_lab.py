@@ -104,6 +104,8 @@ def test_a_slider_moved_by_hand_is_reported_and_can_be_reapplied() -> None:
     assert "no longer match" in text and "γ = 4 on the slider" in text
     assert scene.apply()
     assert scene.state().matches and scene.spectrum.gamma == pytest.approx(_expected(scene.params)["gamma"])
+    scene.spectrum.eta_infinite = False
+    assert scene.state().mismatches == ["η = 1e+08 on the slider, ∞ from the lab values"]
 
 
 def test_values_outside_a_sliders_range_are_clamped_with_a_message() -> None:
