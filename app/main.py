@@ -1,4 +1,4 @@
-"""asymslide web app: four scenes in tabs, paper-figure presets, and the state in the URL query.
+"""asymslide web app: five scenes in tabs, a Lab-units panel, paper-figure presets, and the state in the URL query.
 
 Serve it with ``make serve`` (``panel serve app/main.py ...``) and open http://localhost:5006.
 Tests build the same page through :func:`create_app`.
@@ -7,11 +7,14 @@ Tests build the same page through :func:`create_app`.
 from __future__ import annotations
 
 import panel as pn
+import param
 
 from app.all_branches import AllBranchesScene
-from app.params import SpectrumParams, frozen_document
+from app.lab import LabScene
+from app.params import LabParams, RuptureParams, SpectrumParams, frozen_document, set_with_material
 from app.paths import CSS, FAVICON, LOGO
 from app.presets import Preset, load_presets, preset_args
+from app.rupture import RuptureScene
 from app.server_gc import configure_gc, track_session
 from app.session_resources import use_server_stylesheets
 from app.spectrum import SpectrumScene
@@ -20,10 +23,10 @@ from app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
 from app.urlstate import TABS, Updates, parse_query, query_string
 
 #: tabs whose scene is built when first shown (see App.__init__)
-LAZY_TABS = ("map", "thin", "branches")
+LAZY_TABS = ("map", "thin", "rupture", "branches")
 
 #: the tab titles, in the order of urlstate.TABS
-TAB_TITLES = ("Spectrum", "Stability map", "Thin-on-thick", "All branches")
+TAB_TITLES = ("Spectrum", "Stability map", "Thin-on-thick", "Rupture fronts", "All branches")
 
 TITLE = "asymslide — frictional sliding without reflection symmetry"
 
@@ -40,7 +43,11 @@ this feedback can make small perturbations grow.
 **Stability map**: where sliding is unstable in a parameter plane, and the threshold χ_c(β) (Fig. 4c).
 **Thin-on-thick**: effective moduli, effective bimaterial coupling G_y and the slip-induced
 normal-stress change of a thin block on a thick one (Sect. III, Fig. 3).
+**Rupture fronts**: the slip velocity behind a steady rupture front with a cohesive zone, its peak v_m, and the
+normal-stress change it causes (supplement S-V C, Figs. 2-3).
 **All branches**: every unstable root in the complex plane, beyond the Rayleigh branch.
+**Lab units** (a panel in the Spectrum and Stability-map tabs): a lab setting (material, block heights, normal
+stress, rate-and-state friction) that sets the sliders and reads the spectrum back in mm, 1/s and ms.
 The parameters are kept in the page's URL: copy it to share what you see.
 
 > E. Aldam, Y. Bar-Sinai, I. Svetlizky, E. A. Brener, J. Fineberg and E. Bouchbinder,
@@ -63,17 +70,24 @@ class App:
     def __init__(self, args: dict[str, list[bytes]] | None = None) -> None:
         self.spectrum_params = SpectrumParams()  # shared by Spectrum, Stability map and All branches
         self.thin_params = ThinOnThickParams()
+        self.lab_params = LabParams()
+        self.rupture_params = RuptureParams()
         self.messages = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
         updates, tab, messages = parse_query(request_args() if args is None else args)
+        # set before the scenes watch them: a shared link shows the sliders it holds, also when its lab values
+        # differ from them (the Lab-units panel then says so), and a material named alone brings its values
         self._apply(updates)
-        self.spectrum = SpectrumScene(params=self.spectrum_params)
-        self.map = StabilityMapScene(params=self.spectrum_params)
+        self.lab = LabScene(params=self.lab_params, spectrum=self.spectrum_params)  # in Spectrum and Stability map
+        self.spectrum = SpectrumScene(params=self.spectrum_params, lab=self.lab)
+        self.map = StabilityMapScene(params=self.spectrum_params, lab=self.lab)
         self.thin = ThinOnThickScene(params=self.thin_params)
+        self.rupture = RuptureScene(params=self.rupture_params)
         self.branches = AllBranchesScene(params=self.spectrum_params)
         # the Stability-map, Thin-on-thick and All-branches scenes are built when their tab is first shown: a new
         # session pays only for what it opens on (create_app ~70 ms instead of ~150 ms), and parameter changes
         # update only the widgets that exist (StabilityMapScene.ensure_map defers its pane updates for this)
-        self._scenes = {"spectrum": self.spectrum, "map": self.map, "thin": self.thin, "branches": self.branches}
+        self._scenes = {"spectrum": self.spectrum, "map": self.map, "thin": self.thin, "rupture": self.rupture,
+                        "branches": self.branches}
         self._tab_content = {key: pn.Column(sizing_mode="stretch_width") for key in TABS}
         self.tabs = pn.Tabs(
             *((title, self._tab_content[key]) for title, key in zip(TAB_TITLES, TABS, strict=True)),
@@ -89,6 +103,8 @@ class App:
         self.show_messages(messages, "Some values in the URL were not used as given")
         self.spectrum_params.param.watch(self.write_url, list(self.spectrum_params.param))
         self.thin_params.param.watch(self.write_url, list(self.thin_params.param))
+        self.lab_params.param.watch(self.write_url, list(self.lab_params.param))
+        self.rupture_params.param.watch(self.write_url, list(self.rupture_params.param))
         self.tabs.param.watch(self.write_url, "active")
         # a hidden All-branches tab defers its (up to ~1.5 s) recomputation until it is shown again
         branches_tab = TABS.index("branches")
@@ -104,6 +120,13 @@ class App:
     def _apply(self, updates: Updates) -> None:
         self.spectrum_params.param.update(**updates["spectrum"])
         self.thin_params.param.update(**updates["thin"])
+        set_with_material(self.lab_params, updates["lab"])
+        set_with_material(self.rupture_params, updates["rupture"])
+
+    def param_objects(self) -> dict[str, param.Parameterized]:
+        """The parameter objects by URL target (app.urlstate.TARGETS)."""
+        return {"spectrum": self.spectrum_params, "thin": self.thin_params, "lab": self.lab_params,
+                "rupture": self.rupture_params}
 
     def show_messages(self, messages: list[str], title: str) -> None:
         self.messages.object = f"**{title}:**\n\n" + "\n".join(f"- {m}" for m in messages) if messages else ""
@@ -113,7 +136,7 @@ class App:
         """Current parameters -> the browser's URL (replaces the query; the page is not reloaded)."""
         location = pn.state.location
         if location is not None:
-            location.search = query_string(self.spectrum_params, self.thin_params, TABS[self.tabs.active])
+            location.search = query_string(self.param_objects(), TABS[self.tabs.active])
 
     def apply_preset(self, preset: Preset) -> None:
         """Reset to the defaults, set the preset's values and family of curves, and show its tab."""
@@ -125,6 +148,12 @@ class App:
         defaults = {name: p.default for name, p in self.spectrum_params.param.objects().items() if name != "name"}
         self.spectrum_params.param.update(**{**defaults, **updates["spectrum"]})  # one change event
         self.thin_params.param.update(**updates["thin"])
+        set_with_material(self.lab_params, updates["lab"])
+        rupture = updates["rupture"]
+        if preset.tab == "rupture":  # the rupture inputs start from the paper's, like the sliders from Fig. 4's
+            rupture = {**{n: p.default for n, p in self.rupture_params.param.objects().items() if n != "name"},
+                       **rupture}
+        set_with_material(self.rupture_params, rupture)
         if preset.compare_key == "kW":
             self.thin.compare_kW = list(preset.compare_values)
             self.spectrum.param.update(compare_key="", compare_values=[])

@@ -20,6 +20,8 @@ import param
 from bokeh.models import CustomJSTickFormatter, Span
 from param.parameterized import Undefined
 
+import model
+
 hv.extension("bokeh", logo=False)
 # Canvas, not WebGL: the plots hold at most a few thousand points, and copying the WebGL layer onto
 # the canvas (blit_webgl -> drawImage) took ~58 ms of every ~100 ms browser update in Chromium's
@@ -140,19 +142,23 @@ class Physical(param.Number):
     - ``log10``: the parameter holds log10 of the physical value (URL values, slider ticks and map axes are in
       the physical value);
     - ``axis``: ``(lo, hi, log)`` of its stability-map axis, in the physical value (None: never a map axis);
-    - ``widget``: "slider" or "input" (a number field, for values typed rather than dragged).
+    - ``widget``: "slider" or "input" (a number field, for values typed rather than dragged);
+    - ``infinite``: the name of the Boolean parameter that, when True, makes the value ∞ (η = ∞, H₂ = ∞; "inf" in
+      the URL).
     """
 
-    __slots__ = ["url", "log10", "axis", "widget"]
-    _slot_defaults = dict(param.Number._slot_defaults, url=None, log10=False, axis=None, widget="slider")
+    __slots__ = ["url", "log10", "axis", "widget", "infinite"]
+    _slot_defaults = dict(param.Number._slot_defaults, url=None, log10=False, axis=None, widget="slider",
+                          infinite=None)
 
     def __init__(self, default: Any = Undefined, *, url: Any = Undefined, log10: Any = Undefined,
-                 axis: Any = Undefined, widget: Any = Undefined, **params: Any) -> None:
+                 axis: Any = Undefined, widget: Any = Undefined, infinite: Any = Undefined, **params: Any) -> None:
         super().__init__(default=default, **params)
         self.url = url
         self.log10 = log10
         self.axis = axis
         self.widget = widget
+        self.infinite = infinite
 
     def physical_bounds(self) -> tuple[float, float]:
         """The valid range of the physical value (10**bounds for a log10 parameter)."""
@@ -160,9 +166,39 @@ class Physical(param.Number):
         return (10.0**lo, 10.0**hi) if self.log10 else (lo, hi)
 
 
+class Choice(param.Selector):
+    """A choice from a fixed list (a material preset, plane strain or stress), declared once like :class:`Physical`:
+    ``label`` is shown, ``url`` is its key in the URL query, where only the listed ``objects`` are accepted."""
+
+    __slots__ = ["url"]
+    _slot_defaults = dict(param.Selector._slot_defaults, url=None)
+
+    def __init__(self, default: Any = Undefined, *, objects: Any = Undefined, url: Any = Undefined,
+                 **params: Any) -> None:
+        super().__init__(default=default, objects=objects, **params)
+        self.url = url
+
+
+class Switch(param.Boolean):
+    """An on/off setting with a URL key (``url``; written 1 or 0), declared once like :class:`Physical`."""
+
+    __slots__ = ["url"]
+    _slot_defaults = dict(param.Boolean._slot_defaults, url=None)
+
+    def __init__(self, default: Any = Undefined, *, url: Any = Undefined, **params: Any) -> None:
+        super().__init__(default=default, **params)
+        self.url = url
+
+
 def physical_parameters(cls: type[param.Parameterized]) -> dict[str, Physical]:
     """Name -> declaration of every :class:`Physical` parameter of `cls`, in declaration order."""
     return {name: p for name, p in cls.param.objects("existing").items() if isinstance(p, Physical)}
+
+
+def declared_parameters(cls: type[param.Parameterized]) -> dict[str, Physical | Choice | Switch]:
+    """Name -> declaration of every :class:`Physical`, :class:`Choice` and :class:`Switch` parameter of `cls`, in
+    declaration order (what the URL query can hold)."""
+    return {name: p for name, p in cls.param.objects("existing").items() if isinstance(p, Physical | Choice | Switch)}
 
 
 class SpectrumParams(param.Parameterized):
@@ -177,7 +213,7 @@ class SpectrumParams(param.Parameterized):
     beta = Physical(0.3, bounds=(0.01, 0.7071), step=0.001, label="β", url="beta", axis=(0.01, 0.7071, False),
                     doc="β = c_s/c_d: shear over dilatational wave speed (β² = (1 − 2ν)/(2 − 2ν))")
     log10_eta = Physical(8.0, bounds=(-2.0, 12.0), step=0.1, label="η", url="eta", log10=True,
-                         axis=(1.0, 1e8, True),
+                         axis=(1.0, 1e8, True), infinite="eta_infinite",
                          doc="η = H₂/H₁: the lower block's height over the upper block's (slider: log10 η)")
     eta_infinite = param.Boolean(True, label="η = ∞", doc="the lower block is a half-space (η = ∞)")
     Delta = Physical(1.0, bounds=(0.01, 1.0), step=0.01, label="Δ", url="Delta", axis=(0.01, 1.0, False),
@@ -244,6 +280,154 @@ class ThinOnThickParams(param.Parameterized):
         return make_widgets(self)
 
 
+#: the material choice that keeps the typed values (a preset's values edited by hand)
+CUSTOM = "custom"
+
+# The lab and rupture quantities are typed, and the model decides whether they are physical (positive heights and
+# speeds, b < a, a Poisson ratio in (-1, 0.5), c < c_R; docs/physics.md §12.8, §13): their declared bounds only cap
+# the magnitude, so that, e.g., a negative height reaches the model and its message is shown instead of the field
+# silently refusing it.
+
+
+class LabParams(param.Parameterized):
+    """A laboratory setting in lab units (docs/physics.md §12), mapped onto γ, f, β, η, Δ, ξ by
+    :func:`model.dimensionless_parameters` (the Lab-units panel of the Spectrum and Stability-map scenes).
+
+    Defaults: the PMMA preset (ρ = 1180 kg/m³, an assumption; c_s = 1345 m/s, c_d = 2700 m/s), plane strain (the
+    paper's Sect. IV), H₁ = 10 mm on a half-space (η = ∞), σ₀ = 4.5 MPa, f = 0.9, and rate-and-state a = 0.01,
+    b = 0 (Δ = 1), D_c = 1 µm at v = 0.08506 m/s: γ = 3.000, f, η and Δ are the paper's Fig. 4 values; β = 0.498
+    is PMMA's (no preset has the paper's β = 0.3, ν = 0.45); ξ = 1.58 does not enter at Δ = 1.
+    """
+
+    material = Choice("PMMA", objects=[*model.material_names(), CUSTOM], label="Material", url="material",
+                      doc="material preset: fills in ρ, c_s, c_d (model/materials.json); editing them makes it custom")
+    rho = Physical(1180.0, bounds=(-1e6, 1e6), step=10.0, label="ρ [kg/m³]", url="lab_rho", widget="input",
+                   doc="density ρ [kg/m³]; μ = ρ c_s²")
+    c_s = Physical(1345.0, bounds=(-1e6, 1e6), step=1.0, label="c_s [m/s]", url="lab_cs", widget="input",
+                   doc="shear wave speed c_s [m/s]")
+    c_d = Physical(2700.0, bounds=(-1e6, 1e6), step=1.0, label="c_d [m/s] (bulk)", url="lab_cd", widget="input",
+                   doc="dilatational wave speed c_d [m/s], the bulk (3-D) value that ultrasound measures")
+    plane = Choice("strain", objects=["strain", "stress"], label="Plane", url="plane",
+                   doc="plane strain (thick blocks, the paper's Sect. IV) or plane stress (thin plates): sets β")
+    H1_mm = Physical(10.0, bounds=(-1e6, 1e6), step=1.0, label="H₁ [mm]", url="H1", widget="input",
+                     doc="height H₁ = H of the upper block [mm] (the H of kH)")
+    H2_mm = Physical(30.0, bounds=(-1e6, 1e6), step=1.0, label="H₂ [mm]", url="H2", widget="input",
+                     infinite="H2_infinite", doc="height H₂ of the lower block [mm]; η = H₂/H₁")
+    H2_infinite = param.Boolean(True, label="H₂ = ∞ (half-space)", doc="the lower block is a half-space (η = ∞)")
+    sigma0_MPa = Physical(4.5, bounds=(-1e6, 1e6), step=0.1, label="σ₀ [MPa]", url="lab_sigma0", widget="input",
+                          doc="normal stress σ₀ [MPa]")
+    f = Physical(0.9, bounds=(-100.0, 100.0), step=0.01, label="f (friction coefficient)", url="lab_f",
+                 widget="input", doc="steady-state friction coefficient f at the sliding velocity v")
+    a = Physical(0.01, bounds=(-100.0, 100.0), step=0.001, label="a (direct effect)", url="a", widget="input",
+                 doc="rate-and-state a: ∂_v f = a/v (Dieterich-Ruina, an assumption: docs/physics.md §12.3)")
+    b = Physical(0.0, bounds=(-100.0, 100.0), step=0.001, label="b (state effect)", url="b", widget="input",
+                 doc="rate-and-state b, 0 ≤ b < a: Δ = 1 − b/a")
+    D_c_um = Physical(1.0, bounds=(-1e9, 1e9), step=0.1, label="D_c [µm]", url="Dc", widget="input",
+                      doc="rate-and-state memory length D_c [µm]: ξ = D_c c_s/(H₁ v)")
+    v = Physical(0.08506, bounds=(-1e6, 1e6), step=0.001, label="v [m/s]", url="v", widget="input",
+                 doc="steady sliding velocity v [m/s]: γ = ρ c_s v/(σ₀ a)")
+    link = Switch(False, label="Sliders follow the lab values", url="lab",
+                  doc="while on, every change of a lab value sets the sliders γ, f, β, η, Δ, ξ")
+
+    #: which lab values a material preset fills in (model.Material attributes)
+    MATERIAL_FIELDS = ("rho", "c_s", "c_d")
+    #: the URL holds only the values that differ from the defaults
+    URL_CHANGED_ONLY = True
+
+    @staticmethod
+    def material_values(name: str) -> dict[str, float]:
+        """ρ, c_s, c_d of the material preset `name` (model/materials.json)."""
+        m = model.material(name)
+        return {"rho": m.rho, "c_s": m.c_s, "c_d": m.c_d}
+
+    def make_widgets(self) -> dict[str, pn.widgets.Widget]:
+        """Fresh widgets bound to this object (:func:`make_widgets`); H₂ is disabled while H₂ = ∞ is ticked."""
+        w = make_widgets(self)
+        w["H2_mm"].disabled = self.H2_infinite
+        self.param.watch(lambda e: setattr(w["H2_mm"], "disabled", e.new), "H2_infinite")
+        return w
+
+
+class RuptureParams(param.Parameterized):
+    """The inputs of the steady mode-II cohesive-zone model of a rupture front (supplement S-V C; docs/physics.md
+    §13) and of Eq. dsigma at its peak slip velocity. Defaults: the paper's (model.PAPER_DEFAULTS: Γ = 1.1 J/m²,
+    X_c0 = 2.5 mm, σ₀ = 4.5 MPa, PMMA c_s = 1345 m/s, ν = 0.33, assumed ρ = 1180 kg/m³; kW = 3, 4, 5), at c = 0.9 c_R.
+    """
+
+    c_over_cR = Physical(0.9, bounds=(0.0, 2.0), softbounds=(0.01, 0.999), step=0.001, label="c/c_R", url="c_cR",
+                         doc="rupture speed c over the Rayleigh speed c_R (plane stress); the model needs 0 < c < c_R")
+    Gamma = Physical(model.PAPER_DEFAULTS.Gamma, bounds=(-1e6, 1e6), step=0.1, label="Γ [J/m²]", url="Gamma",
+                     widget="input", doc="fracture energy Γ [J/m²], constant in c")
+    X_c0_mm = Physical(model.PAPER_DEFAULTS.X_c0 * 1e3, bounds=(-1e6, 1e6), step=0.1, label="X_c0 [mm]", url="Xc0",
+                       widget="input", doc="cohesive zone size X_c0 = X_c(c → 0) [mm]")
+    sigma0_MPa = Physical(model.PAPER_DEFAULTS.sigma0 / 1e6, bounds=(-1e6, 1e6), step=0.1, label="σ₀ [MPa]",
+                          url="rup_sigma0", widget="input", doc="normal stress σ₀ [MPa]")
+    material = Choice("PMMA", objects=[*model.material_names(), CUSTOM], label="Material", url="rup_material",
+                      doc="material preset: fills in ρ, c_s and ν (the source's ν where it reports one: PMMA 0.33 "
+                          "as in the paper; else from the bulk speeds); editing them makes it custom")
+    rho = Physical(model.PAPER_DEFAULTS.rho, bounds=(-1e6, 1e6), step=10.0, label="ρ [kg/m³]", url="rup_rho",
+                   widget="input", doc="density ρ [kg/m³] (PMMA: an assumption, the paper gives none); μ = ρ c_s²")
+    c_s = Physical(model.PAPER_DEFAULTS.c_s, bounds=(-1e6, 1e6), step=1.0, label="c_s [m/s]", url="rup_cs",
+                   widget="input", doc="shear wave speed c_s [m/s]")
+    nu = Physical(model.PAPER_DEFAULTS.nu, bounds=(-100.0, 100.0), step=0.01, label="ν", url="rup_nu",
+                  widget="input", doc="Poisson ratio ν (3-D); the plates are in plane stress")
+    kW1 = Physical(model.PAPER_DEFAULTS.kW[0], bounds=(-1e6, 1e6), step=0.5, label="kW₁", url="kW1", widget="input",
+                   doc="first kW of the Δσ_yy/σ₀ curves (wavenumber times the thin block's width)")
+    kW2 = Physical(model.PAPER_DEFAULTS.kW[1], bounds=(-1e6, 1e6), step=0.5, label="kW₂", url="kW2", widget="input",
+                   doc="second kW of the Δσ_yy/σ₀ curves")
+    kW3 = Physical(model.PAPER_DEFAULTS.kW[2], bounds=(-1e6, 1e6), step=0.5, label="kW₃", url="kW3", widget="input",
+                   doc="third kW of the Δσ_yy/σ₀ curves")
+
+    MATERIAL_FIELDS = ("rho", "c_s", "nu")
+    URL_CHANGED_ONLY = True
+
+    @staticmethod
+    def material_values(name: str) -> dict[str, float]:
+        """ρ, c_s and ν of the material preset `name`: ν as the source reports it where it does, else from the
+        bulk speeds (model.Material.nu)."""
+        m = model.material(name)
+        return {"rho": m.rho, "c_s": m.c_s, "nu": m.reported.get("nu", m.nu)}
+
+    def make_widgets(self) -> dict[str, pn.widgets.Widget]:
+        """Fresh widgets bound to this object (:func:`make_widgets`)."""
+        return make_widgets(self)
+
+
+def set_with_material(obj: LabParams | RuptureParams, updates: dict[str, Any]) -> None:
+    """Set `updates` on `obj`; a material named there brings its preset's values, except those `updates` sets
+    itself (a URL or a preset naming only the material gets its values; values given with it win, and the material
+    then reads custom if they differ from the preset's)."""
+    updates = dict(updates)
+    name = updates.pop("material", None)
+    if name is None:
+        obj.param.update(**updates)
+        return
+    if name != CUSTOM:
+        updates = {**obj.material_values(name), **updates}
+    obj.material = name
+    obj.param.update(**updates)
+    if name != CUSTOM and any(getattr(obj, k) != v for k, v in obj.material_values(name).items()):
+        obj.material = CUSTOM
+
+
+def follow_material(obj: LabParams | RuptureParams) -> None:
+    """Keep `obj`'s material choice and its values consistent: picking a preset fills in its values (those not set
+    in the same update), and values that differ from the preset make the choice custom."""
+    fields = set(obj.MATERIAL_FIELDS)
+
+    def changed(*events: param.parameterized.Event) -> None:
+        names = {e.name for e in events}
+        if "material" in names and obj.material != CUSTOM:
+            fill = {k: v for k, v in obj.material_values(obj.material).items() if k not in names}
+            if any(getattr(obj, k) != v for k, v in fill.items()):
+                obj.param.update(**fill)
+        if obj.material != CUSTOM and any(getattr(obj, k) != v for k, v in obj.material_values(obj.material).items()):
+            obj.material = CUSTOM
+
+    obj.param.watch(changed, ["material", *sorted(fields)])
+    changed()
+
+
 #: tick labels of a log10 slider show the physical value
 LOG10_TICKS = "return Math.pow(10, tick).toPrecision(3)"
 
@@ -253,6 +437,8 @@ def make_widget(p: param.Parameter, value: Any) -> pn.widgets.Widget:
     URL or a preset may put outside), a number field, or a checkbox."""
     if isinstance(p, param.Boolean):
         return pn.widgets.Checkbox(label=p.label, value=value)
+    if isinstance(p, param.Selector):
+        return pn.widgets.Select(label=p.label, options=list(p.objects), value=value, sizing_mode="stretch_width")
     if getattr(p, "widget", "slider") == "input":
         lo, hi = p.bounds if p.bounds is not None else (None, None)
         return pn.widgets.FloatInput(label=p.label, start=lo, end=hi, step=p.step, value=value,
@@ -264,24 +450,35 @@ def make_widget(p: param.Parameter, value: Any) -> pn.widgets.Widget:
 
 
 def make_widgets(obj: param.Parameterized) -> dict[str, pn.widgets.Widget]:
-    """Widgets for every user-facing parameter of `obj` (:class:`Physical` ones and Booleans with a
+    """Widgets for every user-facing parameter of `obj` (:class:`Physical`, :class:`Choice` and Boolean ones with a
     non-negative precedence), in declaration order, built from the declarations and bound both ways
     (:func:`bind_two_way`)."""
     widgets = {}
     for name, p in obj.param.objects("existing").items():
         if name == "name" or (p.precedence is not None and p.precedence < 0):
             continue
-        if isinstance(p, Physical | param.Boolean):
+        if isinstance(p, Physical | Choice | param.Boolean):
             widgets[name] = make_widget(p, getattr(obj, name))
     bind_two_way(obj, widgets)
     return widgets
 
 
 def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]) -> None:
-    """Widget -> parameter (sliders on release, `value_throttled`; other widgets on `value`) and back."""
+    """Widget -> parameter (sliders on release, `value_throttled`; other widgets on `value`) and back.
+
+    A value the parameter refuses (an emptied number field, a number beyond the declared bounds) puts the
+    parameter's value back into the widget: the session never sees an invalid parameter.
+    """
+
+    def to_param(event: param.parameterized.Event, name: str) -> None:
+        try:
+            set_frozen(obj, name, event.new)
+        except ValueError:
+            event.obj.value = getattr(obj, name)
+
     for name, widget in widgets.items():
         event = "value_throttled" if isinstance(widget, pn.widgets.FloatSlider) else "value"
-        widget.param.watch(lambda e, n=name: set_frozen(obj, n, e.new), event)
+        widget.param.watch(lambda e, n=name: to_param(e, n), event)
 
     def to_widget(*events: param.parameterized.Event) -> None:
         for event in events:

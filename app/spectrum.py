@@ -147,6 +147,8 @@ class SpectrumScene(pn.viewable.Viewer):
     #: a family of curves drawn behind the current one (set by the paper-figure presets)
     compare_key = param.Selector(default="", objects=["", *FAMILY])
     compare_values = param.List(default=[], item_type=float)
+    #: the Lab-units panel (an app.lab.LabScene, shared with the Stability-map scene) shown above the plots; None: none
+    lab = param.ClassSelector(class_=pn.viewable.Viewer, default=None, allow_None=True)
 
     def __init__(self, **kwargs):
         if "params" not in kwargs:
@@ -270,6 +272,7 @@ class SpectrumScene(pn.viewable.Viewer):
             for index, slot in enumerate(slots):
                 slot.objects = [self.plot_pane(index)]
         plots = pn.Column(
+            *([self.lab.panel(with_plot=True)] if self.lab is not None else []),
             pn.pane.LaTeX(EQUATION, renderer="katex", styles={"font-size": "1.15em"}),
             *slots,
             csv_download(self.csv, "spectrum.csv", "Download CSV"),

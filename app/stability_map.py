@@ -303,6 +303,8 @@ class StabilityMapScene(pn.viewable.Viewer):
     result = param.ClassSelector(class_=MapResult, allow_None=True, precedence=-1)
     #: "idle", "computing", "done", "error: ..."
     status = param.String("idle", precedence=-1)
+    #: the Lab-units panel (an app.lab.LabScene, shared with the Spectrum scene) shown above the map; None: none
+    lab = param.ClassSelector(class_=pn.viewable.Viewer, default=None, allow_None=True, precedence=-1)
 
     def __init__(self, **kwargs):
         if "params" not in kwargs:
@@ -689,6 +691,7 @@ class StabilityMapScene(pn.viewable.Viewer):
         map_pane = pn.pane.HoloViews(self.view(), sizing_mode="stretch_width")
         self.param.watch(lambda e: setattr(map_pane, "object", self.view(e.new)), "plane")
         plots = pn.Column(
+            *([self.lab.panel(with_plot=False)] if self.lab is not None else []),
             pn.Row(plane, resolution),
             self.progress,
             pn.pane.Markdown("Click the map to move the sliders there. Red: unstable, blue: stable, grey: not "

@@ -48,7 +48,8 @@ Lab units (§12): the dimensionless groups from lab quantities and back
     :func:`dimensionless_parameters`, :func:`rate_state_parameters`; results in lab units:
     :func:`wavelength`, :func:`kH_from_wavelength`, :func:`growth_rate`, :func:`im_z_from_growth_rate`,
     :func:`e_folding_time`, :func:`im_z_from_e_folding_time`, :func:`phase_speed`, :func:`re_z_from_phase_speed`,
-    :func:`spectrum_in_lab_units`; material presets: :func:`material_names`, :func:`material` returning
+    :func:`spectrum_in_lab_units`, :func:`fastest_growing_mode` (the maximum of the growth rate k Im c);
+    material presets: :func:`material_names`, :func:`material` returning
     :class:`Material`.
 
 Rupture fronts: the steady mode-II cohesive-zone model of the supplement (§13)
@@ -80,6 +81,7 @@ from .lab_units import (
     direct_effect_from_rate_state,
     e_folding_time,
     eta_from_heights,
+    fastest_growing_mode,
     gamma_from_lab,
     growth_rate,
     im_z_from_e_folding_time,
@@ -213,6 +215,7 @@ __all__ = [
     "direct_effect_from_gamma",
     "direct_effect_from_rate_state",
     "e_folding_time",
+    "fastest_growing_mode",
     "eta_from_heights",
     "gamma_from_lab",
     "growth_rate",

@@ -24,9 +24,11 @@ from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
+from scipy.optimize import minimize_scalar
 
 from ._validate import BETA_MAX, check
 from .elastic import PLANES, poisson_ratio, shear_modulus, wave_speed_ratio
+from .spectrum import spectrum
 
 MATERIALS_FILE = Path(__file__).resolve().parent / "materials.json"
 
@@ -309,6 +311,46 @@ def spectrum_in_lab_units(*, kH, z, H1, c_s) -> dict[str, np.ndarray]:
         "e_folding_time": e_folding_time(kH=kH, z=z, H1=H1, c_s=c_s),
         "phase_speed": phase_speed(z=z, c_s=c_s),
     }
+
+
+def fastest_growing_mode(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0) -> tuple[float, complex]:
+    """(kH*, z*): the Rayleigh-branch mode whose amplitude grows fastest in time (docs/physics.md §12.5).
+
+    The growth rate of a mode is k Im c = (kH Im z) c_s / H (:func:`growth_rate`), so for every H and c_s it
+    peaks where kH Im z does: this is that maximum, which lies at a larger kH than the maximum of Im z alone
+    (:func:`model.growth_analysis`). kH is an increasing grid of at least 3 points (> 0); the largest
+    kH Im z on it is refined between its two neighbours (bounded Brent in ln kH, single-kH
+    :func:`model.spectrum` calls, to ~1e-10 in ln kH). Where the maximum is at an end of the grid, or a
+    neighbour is masked, the grid point is returned unrefined (the true maximum may lie beyond the grid). A
+    stable setting gives the least-damped point (kH* Im z* <= 0); (nan, nan) if the branch is masked on the
+    whole grid. The physical parameters are scalars, with the domains of :func:`model.spectrum`.
+    """
+    q = check("kH", kH)
+    if q.ndim != 1 or q.size < 3 or np.any(np.diff(q) <= 0.0):
+        raise ValueError(f"kH must be an increasing 1-D grid of at least 3 points; got shape {q.shape}")
+    p = {"gamma": gamma, "f": f, "beta": beta, "eta": eta, "Delta": Delta, "xi": xi}
+    for name, value in p.items():
+        if np.ndim(value) != 0:
+            raise ValueError(f"{name} must be a scalar for fastest_growing_mode; got shape {np.shape(value)}")
+    z = spectrum(q, **p)
+    rate = q * z.imag
+    if not np.isfinite(rate).any():
+        return math.nan, complex(math.nan, math.nan)
+    i = int(np.nanargmax(rate))
+    best_k, best_z = float(q[i]), complex(z[i])
+    if 0 < i < q.size - 1 and np.isfinite(rate[i - 1]) and np.isfinite(rate[i + 1]):
+
+        def minus_rate(t: float) -> float:
+            k = math.exp(t)
+            r = k * float(spectrum(np.array([k]), **p)[0].imag)
+            return -r if math.isfinite(r) else math.inf
+
+        res = minimize_scalar(minus_rate, bounds=(math.log(q[i - 1]), math.log(q[i + 1])), method="bounded",
+                              options={"xatol": 1e-10})
+        if math.isfinite(res.fun) and -res.fun >= rate[i]:
+            best_k = math.exp(res.x)
+            best_z = complex(spectrum(np.array([best_k]), **p)[0])
+    return best_k, best_z
 
 
 # --- a whole lab setting <-> the model's keyword arguments ---------------------------------------------------

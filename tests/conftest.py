@@ -198,14 +198,14 @@ def fresh_caches() -> Iterator[None]:
     around a test."""
     import panel as pn
 
-    from app import all_branches, spectrum, stability_map, thin_on_thick
+    from app import all_branches, lab, rupture, spectrum, stability_map, thin_on_thick
 
     def clear() -> None:
         pn.state.clear_caches()
         stability_map.CHUNKS.clear()
 
     clear()
-    for scene in (all_branches, spectrum, stability_map, thin_on_thick):
+    for scene in (all_branches, lab, rupture, spectrum, stability_map, thin_on_thick):
         scene.CALLS.clear()
     yield
     clear()

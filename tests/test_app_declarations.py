@@ -5,20 +5,37 @@ from __future__ import annotations
 
 import pytest
 
-from app.params import Physical, SpectrumParams, ThinOnThickParams, physical_parameters
+from app.params import (
+    Choice,
+    LabParams,
+    Physical,
+    RuptureParams,
+    SpectrumParams,
+    Switch,
+    ThinOnThickParams,
+    declared_parameters,
+    physical_parameters,
+)
 from app.spectrum import FAMILY
 from app.stability_map import PLANES
-from app.urlstate import QUERY, parse_query
+from app.urlstate import QUERY, TARGETS, parse_query
 
-CLASSES = (("spectrum", SpectrumParams), ("thin", ThinOnThickParams))
+CLASSES = (("spectrum", SpectrumParams), ("thin", ThinOnThickParams), ("lab", LabParams), ("rupture", RuptureParams))
 
 
 def test_every_url_key_is_a_declared_parameter_with_its_range_and_symbol() -> None:
-    declared = [(target, name, p) for target, cls in CLASSES for name, p in physical_parameters(cls).items() if p.url]
+    assert tuple(TARGETS.items()) == CLASSES
+    declared = [(target, name, p) for target, cls in CLASSES for name, p in declared_parameters(cls).items() if p.url]
     assert [q.key for q in QUERY] == [p.url for _, _, p in declared]
+    assert len({q.key for q in QUERY}) == len(QUERY)
     for q, (target, name, p) in zip(QUERY, declared, strict=True):
-        assert (q.target, q.attribute, q.symbol, q.log10) == (target, name, p.label, p.log10)
-        assert (q.lo, q.hi) == p.physical_bounds()
+        assert (q.target, q.attribute, q.symbol) == (target, name, p.label)
+        if isinstance(p, Physical):
+            assert (q.kind, q.log10, q.infinite, (q.lo, q.hi)) == ("number", p.log10, p.infinite, p.physical_bounds())
+        elif isinstance(p, Choice):
+            assert (q.kind, q.choices) == ("choice", tuple(p.objects))
+        else:
+            assert isinstance(p, Switch) and q.kind == "switch"
 
 
 @pytest.mark.parametrize(("target", "cls"), CLASSES)
@@ -57,6 +74,9 @@ def test_declarations_are_complete() -> None:
         for name, p in physical_parameters(cls).items():
             assert isinstance(p, Physical) and p.label and p.doc and p.step, name
             assert p.bounds[0] < p.default < p.bounds[1] or p.default in p.bounds, name
+            assert p.infinite is None or isinstance(cls.param[p.infinite].default, bool), name
+        for name, p in declared_parameters(cls).items():
+            assert p.label and p.doc, name
     # the load test moves the sliders by these titles
     from benchmarks.load_test import PARAM_TITLES
 

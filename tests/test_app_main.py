@@ -18,7 +18,7 @@ from app import thin_on_thick as tt
 from app.main import create_app
 from app.params import ZERO_LINE
 from app.presets import load_presets
-from app.urlstate import QUERY, TABS, parse_query, query_string
+from app.urlstate import BY_KEY, QUERY, TABS, parse_query, query_string
 from tests.conftest import open_app, set_slider
 
 #: the bad queries of issue 5, and what must come out of each (unknown/invalid values keep defaults)
@@ -75,18 +75,19 @@ def test_good_query_sets_every_parameter_and_tab() -> None:
 
 def test_query_string_round_trip() -> None:
     app = create_app(_args("gamma=2.5&eta=300&Delta=0.4&xi=7&kW=12&tab=map")).app
-    query = query_string(app.spectrum_params, app.thin_params, TABS[app.tabs.active])
+    query = query_string(app.param_objects(), TABS[app.tabs.active])
     again = create_app(_args(query[1:])).app
     assert not again.messages.visible
     assert again.spectrum_params.model_args() == pytest.approx(app.spectrum_params.model_args(), rel=1e-5)
     assert again.thin_params.kW == pytest.approx(12.0, rel=1e-5)
     assert again.tabs.active == TABS.index("map")
-    assert {q.key for q in QUERY} - {"xi"} <= set(_args(query[1:]))  # everything is written
+    # every key of the spectrum and thin-on-thick parameters is written; lab and rupture keys only when changed
+    assert {q.key for q in QUERY if q.target in ("spectrum", "thin")} - {"xi"} <= set(_args(query[1:]))
 
 
 def test_eta_infinite_is_written_as_inf_and_xi_omitted_at_delta_one() -> None:
     app = create_app({}).app
-    q = _args(query_string(app.spectrum_params, app.thin_params, "spectrum")[1:])
+    q = _args(query_string(app.param_objects(), "spectrum")[1:])
     assert q["eta"] == ["inf"] and "xi" not in q
 
 
@@ -97,7 +98,7 @@ def test_eta_infinite_is_written_as_inf_and_xi_omitted_at_delta_one() -> None:
 
 def test_every_figure_has_a_preset() -> None:
     labels = [p.label for p in load_presets()]
-    assert labels == ["Fig. 3", "Fig. 4a-b", "Fig. 4c", "Fig. 5a", "Fig. 5b", "Fig. 5c"]
+    assert labels == ["Fig. 3", "Fig. 4a-b", "Fig. 4c", "Fig. 5a", "Fig. 5b", "Fig. 5c", "Fronts (S-V)"]
 
 
 @pytest.mark.parametrize("preset", load_presets(), ids=lambda p: p.id)
@@ -105,18 +106,22 @@ def test_preset_sets_values_family_and_tab(preset) -> None:
     app = create_app({"gamma": ["7"], "f": ["0.2"]}).app  # non-default start: the preset must reset it
     app.apply_preset(preset)
     assert app.tabs.active == TABS.index(preset.tab)
+    objects = app.param_objects()
     for key, raw in preset.values.items():
+        q = BY_KEY[key]
         if key == "eta":
             assert app.spectrum_params.eta == (math.inf if raw == "inf" else pytest.approx(float(raw)))
-        elif key in {"kW", "nu", "c_s", "rho", "sigma0"}:
-            attr = {"sigma0": "sigma0_MPa"}.get(key, key)
-            assert getattr(app.thin_params, attr) == pytest.approx(float(raw), rel=1e-12)
+        elif q.kind == "choice":
+            assert getattr(objects[q.target], q.attribute) == raw
         else:
-            assert getattr(app.spectrum_params, key) == pytest.approx(float(raw))
+            value = getattr(objects[q.target], q.attribute)
+            assert (10.0**value if q.log10 else value) == pytest.approx(float(raw), rel=1e-12)
     if "gamma" not in preset.values:
         assert app.spectrum_params.gamma == 3.0  # reset to the paper's default
     if preset.compare_key == "kW":
         assert app.thin.compare_kW == list(preset.compare_values)
+    elif preset.tab == "rupture":
+        assert app.rupture_params.material == "PMMA"  # the paper's values are the PMMA preset's
     else:
         assert app.spectrum.compare_values == list(preset.compare_values)
     assert preset.label in app.preset_info.object

@@ -206,12 +206,12 @@ def test_widget_labels_and_throttling() -> None:
     assert w["nu"].value == 0.2
 
 
-def test_app_builds_with_four_tabs() -> None:
+def test_app_builds_with_five_tabs() -> None:
     from app.main import create_app
 
     template = create_app()
     (tabs,) = [obj for obj in template.main.objects if isinstance(obj, pn.Tabs)]
-    assert tabs._names == ["Spectrum", "Stability map", "Thin-on-thick", "All branches"]
+    assert tabs._names == ["Spectrum", "Stability map", "Thin-on-thick", "Rupture fronts", "All branches"]
 
 
 # --------------------------------------------------------------------------------------------

@@ -1,0 +1,484 @@
+"""The "Lab units" panel of the Spectrum and Stability-map scenes (docs/physics.md §12): a laboratory setting
+(:class:`~app.params.LabParams`) mapped onto the sliders γ, f, β, η, Δ, ξ, and the spectrum read back in lab units.
+
+One :class:`LabScene` per session is shared by both scenes (each shows its own widgets, bound to the same
+parameters). While its link is on, every change of a lab value sets the shared :class:`~app.params.SpectrumParams`
+in one update, with the values the model returns (:func:`model.dimensionless_parameters`) clamped to the sliders'
+ranges; bad input leaves the sliders as they are and the panel shows the model's message. Moving a slider by hand
+afterwards is allowed: the panel then says the sliders no longer match the lab values and offers to re-apply them.
+
+The readouts describe the lab setting (its own γ, β, … unclamped; the same cached spectrum as the Spectrum scene's
+while the sliders match): the fastest-growing mode, i.e. the largest growth rate k Im c
+(:func:`model.fastest_growing_mode`), as wavelength, growth rate, e-folding time and phase speed
+(:func:`model.spectrum_in_lab_units`), and the unstable band as a wavelength range (:func:`model.wavelength`).
+
+The app computes no physics: every number comes from a ``pn.cache``'d call into the public :mod:`model` API; the
+app only converts mm, µm and MPa to SI units and back.
+"""
+
+from __future__ import annotations
+
+import collections
+import html
+import io
+import math
+from dataclasses import dataclass, field
+
+import holoviews as hv
+import numpy as np
+import panel as pn
+import param
+from bokeh.models import CustomJSTickFormatter, LinearAxis
+
+import model
+
+from . import spectrum as sp
+from .params import (
+    LabParams,
+    SpectrumParams,
+    csv_download,
+    csv_table,
+    declared_parameters,
+    fmt,
+    follow_material,
+    frozen_document,
+    zero_line_hook,
+)
+
+#: kH grid of the lab spectrum: the Spectrum scene's, so that matched sliders share one cached computation
+KH = sp.KH
+
+#: number of calls (keys: the cached ``compute_*`` functions and the model functions), for tests
+CALLS: collections.Counter[str] = collections.Counter()
+
+#: relative difference below which a slider counts as showing the lab value (the URL keeps 6 digits)
+MATCH_RTOL = 1e-5
+
+#: the e-folding-time axis of the lab plot: the growth-rate axis's own range, each tick labelled with the time
+#: 1/rate in ms (the definition of model.e_folding_time; "∞" at rate 0, "—" where the mode decays)
+E_FOLDING_AXIS = "e-folding time"
+E_FOLDING_TICKS = ("if (tick > 0) { const t = 1000 / tick; return t >= 100 ? t.toFixed(0) : t.toPrecision(3); }"
+                   " return tick == 0 ? '∞' : '—';")
+
+RATE_LABEL = "growth rate k Im c [1/s]"
+WAVELENGTH_LABEL = "λ [mm]"
+
+ASSUMPTION = """\
+**Assumption: rate-and-state friction** (docs/physics.md §12.3). The paper fixes no friction law; to start from
+a, b, D_c the panel takes Dieterich–Ruina friction f = f₀ + a ln(v/v*) + b ln(v*θ/D_c) with the aging or the slip
+law (both give the same linear stability): ∂_v f = a/v, Δ = 1 − b/a (needs 0 ≤ b < a), D = D_c, so
+γ = ρ c_s v/(σ₀ a), ξ = D_c c_s/(H₁ v), η = H₂/H₁. c_d is the bulk (ultrasound) speed; β = c_s/c_d in plane
+strain, √((1 − ν)/2) in plane stress. PMMA's density is an assumption (the paper gives none)."""
+
+
+# --------------------------------------------------------------------------------------------
+# cached model calls
+# --------------------------------------------------------------------------------------------
+
+
+@pn.cache(max_items=256)
+def compute_lab(rho: float, c_s: float, c_d: float, sigma0: float, f: float, H1: float, H2: float, v: float,
+                a: float, b: float, D_c: float, plane: str) -> dict:
+    """γ, f, β, η, Δ, ξ of a lab setting in SI units (:func:`model.dimensionless_parameters`), or the model's
+    message for bad input (``{"error": ...}``)."""
+    CALLS["compute_lab"] += 1
+    CALLS["dimensionless_parameters"] += 1
+    try:
+        p = model.dimensionless_parameters(rho=rho, c_s=c_s, c_d=c_d, sigma0=sigma0, f=f, H1=H1, H2=H2, v=v, a=a,
+                                           b=b, D_c=D_c, plane=plane)
+    except ValueError as exc:
+        return {"error": str(exc)}
+    return {"params": {k: float(p[k]) for k in SpectrumParams.MODEL_ARGS}}
+
+
+@pn.cache(max_items=64)
+def compute_lab_spectrum(gamma: float, f: float, beta: float, eta: float, Delta: float, xi: float, H1: float,
+                         c_s: float) -> dict:
+    """The spectrum of a lab setting on :data:`KH` in lab units (SI), its fastest-growing mode and unstable band."""
+    CALLS["compute_lab_spectrum"] += 1
+    d = sp.compute_spectrum(gamma, f, beta, eta, Delta, xi)
+    CALLS["spectrum_in_lab_units"] += 1
+    with np.errstate(invalid="ignore"):
+        lab = model.spectrum_in_lab_units(kH=d["kH"], z=d["z"], H1=H1, c_s=c_s)
+    CALLS["fastest_growing_mode"] += 1
+    k_star, z_star = model.fastest_growing_mode(d["kH"], gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
+    if np.isfinite(k_star):
+        CALLS["spectrum_in_lab_units"] += 1
+        peak = {k: float(v) for k, v in model.spectrum_in_lab_units(kH=k_star, z=z_star, H1=H1, c_s=c_s).items()}
+    else:
+        peak = dict.fromkeys(("wavelength", "growth_rate", "e_folding_time", "phase_speed"), math.nan)
+    band = (math.nan, math.nan)
+    if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]):
+        CALLS["wavelength"] += 1
+        band = tuple(float(w) for w in model.wavelength(kH=np.array([d["kH_max"], d["kH_min"]]), H1=H1))
+    return {"kH": d["kH"], "z": d["z"], "status": d["status"], **lab, "kH_star": float(k_star), "z_star": z_star,
+            "peak": peak, "band": band, "growth": d["growth"], "kH_min": d["kH_min"], "kH_max": d["kH_max"]}
+
+
+@pn.cache(max_items=256)
+def compute_rate_state(gamma: float, Delta: float, xi: float, eta: float, rho: float, c_s: float, sigma0: float,
+                       H1: float, v: float) -> dict:
+    """a, b, D_c [m] and H₂ [m] that give the sliders' γ, Δ, ξ, η for the lab's material, σ₀, H₁ and v
+    (:func:`model.rate_state_parameters`), or the model's message."""
+    CALLS["compute_rate_state"] += 1
+    CALLS["rate_state_parameters"] += 1
+    try:
+        r = model.rate_state_parameters(gamma=gamma, Delta=Delta, xi=xi, eta=eta, rho=rho, c_s=c_s, sigma0=sigma0,
+                                        H1=H1, v=v)
+    except ValueError as exc:
+        return {"error": str(exc)}
+    return {k: float(x) for k, x in r.items()}
+
+
+# --------------------------------------------------------------------------------------------
+# lab values -> slider values
+# --------------------------------------------------------------------------------------------
+
+
+def slider_values(derived: dict[str, float]) -> tuple[dict[str, float | bool], list[str]]:
+    """The SpectrumParams values for the model arguments `derived` (γ, f, β, η, Δ, ξ), each clamped to its declared
+    range, and a message for every clamped value."""
+    updates: dict[str, float | bool] = {}
+    notes: list[str] = []
+    for arg in SpectrumParams.MODEL_ARGS:
+        x = derived[arg]
+        decl = SpectrumParams.declaration(arg)
+        if arg == "eta":
+            updates["eta_infinite"] = math.isinf(x)
+            if math.isinf(x):
+                continue
+        lo, hi = decl.physical_bounds()
+        shown = min(max(x, lo), hi)
+        if shown != x:
+            notes.append(f"{decl.label} = {fmt(x)} is outside the slider's range {lo:g} … {hi:g}: set to {shown:g}")
+        name = "log10_eta" if arg == "eta" else arg
+        updates[name] = math.log10(shown) if decl.log10 else shown
+    return updates, notes
+
+
+def _model_args(values: dict[str, float | bool]) -> tuple[float, ...]:
+    """(γ, f, β, η, Δ, ξ) of SpectrumParams values, normalised as :meth:`SpectrumParams.model_args` (ξ = 0 at Δ = 1)."""
+    eta = math.inf if values["eta_infinite"] else 10.0 ** values["log10_eta"]
+    xi = 0.0 if values["Delta"] == 1 else values["xi"]
+    return (values["gamma"], values["f"], values["beta"], eta, values["Delta"], xi)
+
+
+def _show(x: float) -> str:
+    """A slider value for a message (η may be ∞)."""
+    return "∞" if x == math.inf else fmt(x)
+
+
+def _close(a: float, b: float) -> bool:
+    return a == b or math.isclose(a, b, rel_tol=MATCH_RTOL, abs_tol=1e-12)
+
+
+@dataclass
+class LabState:
+    """Where the lab values and the sliders stand: the model's message for bad input, or the lab's γ, f, β, η, Δ, ξ,
+    the slider values they give, the clamping notes and the sliders that show something else."""
+
+    error: str = ""
+    derived: dict[str, float] = field(default_factory=dict)
+    updates: dict[str, float | bool] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    mismatches: list[str] = field(default_factory=list)
+
+    @property
+    def matches(self) -> bool:
+        return not self.error and not self.mismatches
+
+
+# --------------------------------------------------------------------------------------------
+# the plot
+# --------------------------------------------------------------------------------------------
+
+
+def e_folding_axis_hook(plot, _element) -> None:
+    """HoloViews plot hook: a right-hand axis on the plot's own y range (the growth rate), labelled with the
+    e-folding time in ms; added once to the Bokeh figure."""
+    fig = plot.state
+    if not any(getattr(a, "name", None) == E_FOLDING_AXIS for a in fig.right):
+        fig.add_layout(LinearAxis(name=E_FOLDING_AXIS, axis_label="e-folding time 1/(k Im c) [ms]",
+                                  formatter=CustomJSTickFormatter(code=E_FOLDING_TICKS)), "right")
+
+
+PLOT_OPTIONS = dict(logx=True, responsive=True, height=320, framewise=True, xlabel=WAVELENGTH_LABEL,
+                    ylabel=RATE_LABEL, legend_position="top_right", title="Growth rate vs wavelength (lab values)",
+                    hooks=[zero_line_hook, e_folding_axis_hook])
+
+
+class LabScene(pn.viewable.Viewer):
+    """The Lab-units panel for one :class:`LabParams`, linked to one :class:`SpectrumParams`."""
+
+    params = param.ClassSelector(class_=LabParams)
+    spectrum = param.ClassSelector(class_=SpectrumParams)
+    #: the lab setting in SI units, the arguments of :func:`compute_lab`
+    key = param.Tuple(default=None, length=12, allow_None=True, precedence=-1)
+    #: the panel's title, which says whether the sliders show the lab values
+    title = param.String("Lab units", precedence=-1)
+
+    def __init__(self, **kwargs) -> None:
+        kwargs.setdefault("params", LabParams())
+        kwargs.setdefault("spectrum", SpectrumParams())
+        super().__init__(**kwargs)
+        follow_material(self.params)
+        self._update_key()
+        lab_names = [n for n in declared_parameters(LabParams) if n != "link"] + ["H2_infinite"]
+        self.params.param.watch(self._update_key, lab_names)
+        self.param.watch(self._changed, "key")
+        self.params.param.watch(self._changed, "link")
+        self.spectrum.param.watch(self._update_title, [n for n in self.spectrum.param if n != "name"])
+        self._update_title()
+        self.plot_dmap = hv.DynamicMap(self.lab_plot)
+
+    # ----------------------------------------------------------------------------------------
+    # state
+    # ----------------------------------------------------------------------------------------
+
+    def _update_key(self, *_events) -> None:
+        p = self.params
+        h2 = math.inf if p.H2_infinite else p.H2_mm * 1e-3
+        key = (float(p.rho), float(p.c_s), float(p.c_d), p.sigma0_MPa * 1e6, float(p.f), p.H1_mm * 1e-3, h2,
+               float(p.v), float(p.a), float(p.b), p.D_c_um * 1e-6, p.plane)
+        if key != self.key:
+            self.key = key
+
+    def _changed(self, *_events) -> None:
+        """A lab value changed or the link was switched on: with the link on, set the sliders."""
+        if self.params.link:
+            self.apply()
+        self._update_title()
+
+    def lab(self) -> dict:
+        return compute_lab(*self.key)
+
+    def state(self) -> LabState:
+        """The lab values against the sliders (cheap: the dimensionless parameters are cached)."""
+        d = self.lab()
+        if "error" in d:
+            return LabState(error=d["error"])
+        updates, notes = slider_values(d["params"])
+        target = _model_args(updates)
+        shown = self.spectrum.model_args()
+        mismatches = [f"{SpectrumParams.symbol(n)} = {_show(s)} on the slider, {_show(t)} from the lab values"
+                      for n, s, t in zip(SpectrumParams.MODEL_ARGS, shown, target, strict=True) if not _close(s, t)]
+        return LabState(derived=d["params"], updates=updates, notes=notes, mismatches=mismatches)
+
+    def apply(self, *_events) -> bool:
+        """Set the sliders to the lab values (clamped to their ranges) in one update; False (sliders unchanged) for
+        bad input."""
+        st = self.state()
+        if st.error:
+            return False
+        with frozen_document():
+            self.spectrum.param.update(**st.updates)
+        return True
+
+    def _update_title(self, *_events) -> None:
+        st, link = self.state(), self.params.link
+        if st.error:
+            text = "Lab units: the lab values are not valid (sliders unchanged)"
+        elif not link:
+            text = ("Lab units (link off): the sliders match the lab values" if st.matches else
+                    "Lab units: set the sliders from a lab setting (material, heights, σ₀, friction; link off)")
+        elif st.mismatches:
+            text = "Lab units: the sliders no longer match the lab values"
+        else:
+            text = "Lab units: the sliders follow the lab values"
+        if text != self.title:
+            self.title = text
+
+    def lab_args(self) -> tuple[float, ...] | None:
+        """The lab setting's (γ, f, β, η, Δ, ξ) for the model (unclamped; ξ = 0 at Δ = 1), None for bad input."""
+        d = self.lab()
+        if "error" in d:
+            return None
+        p = d["params"]
+        return (p["gamma"], p["f"], p["beta"], p["eta"], p["Delta"], 0.0 if p["Delta"] == 1 else p["xi"])
+
+    def data(self) -> dict | None:
+        """The lab spectrum (None for bad input)."""
+        args = self.lab_args()
+        if args is None:
+            return None
+        return compute_lab_spectrum(*args, self.key[5], self.key[1])
+
+    # ----------------------------------------------------------------------------------------
+    # views
+    # ----------------------------------------------------------------------------------------
+
+    @param.depends("key", "params.link", "spectrum.gamma", "spectrum.f", "spectrum.beta", "spectrum.log10_eta",
+                   "spectrum.eta_infinite", "spectrum.Delta", "spectrum.xi")
+    def status(self) -> pn.viewable.Viewable:
+        """The visible message: bad input (the model's words), clamped values, and whether the sliders match."""
+        st = self.state()
+        if st.error:
+            return pn.pane.Alert("**The lab values are not valid; the sliders are unchanged.** "
+                                 + html.escape(st.error, quote=False),
+                                 alert_type="danger", sizing_mode="stretch_width")
+        lines = []
+        if st.mismatches and self.params.link:
+            lines.append("**The sliders no longer match the lab values** (" + "; ".join(st.mismatches)
+                         + "). *Apply the lab values* sets them again.")
+        elif st.mismatches:
+            lines.append("**The sliders differ from the lab values** (" + "; ".join(st.mismatches)
+                         + "). Tick *Sliders follow the lab values*, or *Apply the lab values* once, to set them.")
+        elif self.params.link:
+            lines.append("**The sliders follow the lab values.**")
+        else:
+            lines.append("**The sliders match the lab values.** The link is off: lab changes do not move them.")
+        if st.notes:
+            lines.append("**Clamped to the sliders' ranges:** " + "; ".join(st.notes) + ".")
+        kind = "warning" if st.mismatches or st.notes else "success"
+        return pn.pane.Alert("\n\n".join(lines), alert_type=kind, sizing_mode="stretch_width")
+
+    @param.depends("key")
+    def derived_view(self) -> str:
+        """The lab setting's dimensionless parameters."""
+        d = self.lab()
+        if "error" in d:
+            return ""
+        p = d["params"]
+        eta = "∞" if math.isinf(p["eta"]) else fmt(p["eta"])
+        xi = fmt(p["xi"]) + (" (does not enter at Δ = 1)" if p["Delta"] == 1 else "")
+        return (f"**Lab values as the model's parameters:** γ = {fmt(p['gamma'])}, f = {fmt(p['f'])}, "
+                f"β = {fmt(p['beta'])}, η = {eta}, Δ = {fmt(p['Delta'])}, ξ = {xi}")
+
+    @param.depends("key")
+    def readout(self) -> str:
+        """The lab setting's fastest-growing mode and unstable band in lab units."""
+        d = self.data()
+        if d is None:
+            return "**Lab units:** — (the lab values are not valid)"
+        pk = d["peak"]
+        lines = []
+        if np.isfinite(pk["growth_rate"]) and pk["growth_rate"] > 0:
+            lines += [
+                f"**Fastest-growing mode** (largest k Im c, at kH = {fmt(d['kH_star'])}): wavelength "
+                f"λ = {fmt(pk['wavelength'] * 1e3)} mm",
+                f"**Growth rate** {fmt(pk['growth_rate'])} 1/s, "
+                f"**e-folding time** {fmt(pk['e_folding_time'] * 1e3)} ms",
+                f"**Phase speed** {fmt(pk['phase_speed'])} m/s",
+            ]
+        else:
+            lines.append("**No growing mode**: steady sliding is stable on the Rayleigh branch over the computed "
+                         f"kH = {KH[0]:g} … {KH[-1]:g}")
+        lo, hi = d["band"]
+        if np.isfinite(lo) and np.isfinite(hi):
+            lines.append(f"**Unstable band** {fmt(lo * 1e3)} mm < λ < {fmt(hi * 1e3)} mm")
+        elif np.isfinite(d["growth"]) and d["growth"] > 0:
+            lines.append("**Unstable band** extends beyond the computed kH range")
+        masked = int(np.count_nonzero(~np.isfinite(d["z"])))
+        lines.append(f"**Masked** {masked} of {KH.size} kH points (gaps in the plot)" if masked else "**Masked** none")
+        return "\n\n".join(lines)
+
+    @param.depends("key", "spectrum.gamma", "spectrum.f", "spectrum.beta", "spectrum.log10_eta",
+                   "spectrum.eta_infinite", "spectrum.Delta", "spectrum.xi")
+    def point_readout(self) -> str:
+        """The sliders' point in lab units while it differs from the lab values (e.g. after a click on the stability
+        map): its fastest-growing mode with the panel's H₁ and c_s, and the a, b, D_c, H₂ that give its γ, Δ, ξ, η
+        with the panel's material, σ₀, H₁ and v."""
+        st = self.state()
+        if st.error or st.matches:
+            return ""
+        gamma, f, beta, eta, Delta, xi = self.spectrum.model_args()
+        rho, c_s, _, sigma0, _, H1, _, v = self.key[:8]
+        d = compute_lab_spectrum(gamma, f, beta, eta, Delta, xi, H1, c_s)
+        pk = d["peak"]
+        lines = [f"**The sliders' point in lab units** (H₁ = {fmt(H1 * 1e3)} mm, c_s = {fmt(c_s)} m/s):"]
+        if np.isfinite(pk["growth_rate"]) and pk["growth_rate"] > 0:
+            lines.append(f"fastest-growing λ = {fmt(pk['wavelength'] * 1e3)} mm, growth rate "
+                         f"{fmt(pk['growth_rate'])} 1/s, e-folding time {fmt(pk['e_folding_time'] * 1e3)} ms, phase "
+                         f"speed {fmt(pk['phase_speed'])} m/s.")
+        else:
+            lines.append("no growing mode on the Rayleigh branch.")
+        r = compute_rate_state(gamma, Delta, xi, eta, rho, c_s, sigma0, H1, v)
+        if "error" not in r:
+            h2 = "∞" if math.isinf(r["H2"]) else f"{fmt(r['H2'] * 1e3)} mm"
+            lines.append(f"Its γ, Δ, ξ, η are a = {fmt(r['a'])}, b = {fmt(r['b'])}, D_c = {fmt(r['D_c'] * 1e6)} µm, "
+                         f"H₂ = {h2} at v = {fmt(v)} m/s, σ₀ = {fmt(sigma0 / 1e6)} MPa, ρ = {fmt(rho)} kg/m³ "
+                         "(model.rate_state_parameters)" + ("; D_c does not enter at Δ = 1." if Delta == 1 else "."))
+        if not _close(beta, st.derived["beta"]):
+            lines.append(f"Its β = {fmt(beta)} is not the material's ({fmt(st.derived['beta'])}).")
+        return " ".join(lines)
+
+    @param.depends("key")
+    def lab_plot(self) -> hv.Overlay:
+        """Growth rate [1/s] vs wavelength [mm] of the lab setting, with the unstable band and the fastest-growing
+        mode; the right axis reads the same rates as e-folding times [ms]."""
+        d = self.data()
+        layers: list[hv.Element] = []
+        opts = dict(PLOT_OPTIONS)
+        if d is None:
+            layers.append(hv.Curve(([], []), WAVELENGTH_LABEL, RATE_LABEL, label="growth rate"))
+        else:
+            lam, rate = d["wavelength"][::-1] * 1e3, d["growth_rate"][::-1]
+            lo, hi = d["band"]
+            if np.isfinite(lo) and np.isfinite(hi):
+                layers.append(hv.VSpans([(lo * 1e3, hi * 1e3)], label="unstable band").opts(color="#f4a582",
+                                                                                          alpha=0.35))
+            layers.append(hv.Curve((lam, rate), WAVELENGTH_LABEL, RATE_LABEL, label="growth rate").opts(
+                color="#1f4e79", line_width=2))
+            pk = d["peak"]
+            if np.isfinite(pk["growth_rate"]) and pk["growth_rate"] > 0:
+                layers.append(hv.Scatter(([pk["wavelength"] * 1e3], [pk["growth_rate"]]), WAVELENGTH_LABEL,
+                                         RATE_LABEL, label="fastest-growing mode").opts(color="#b2182b", size=9))
+                # the decay at short wavelengths reaches millions per second, and the grid spans six decades of
+                # wavelength: show the growing part (the toolbar zooms out)
+                opts["ylim"] = (-pk["growth_rate"], 1.25 * pk["growth_rate"])
+                if np.isfinite(lo) and np.isfinite(hi):
+                    opts["xlim"] = (max(lo * 1e2, lam[0]), min(hi * 1e4, lam[-1]))
+        return hv.Overlay(layers).opts(hv.opts.Overlay(**opts))
+
+    def csv(self) -> io.StringIO:
+        """What the lab plot shows, with the phase speed: λ [mm], kH, growth rate [1/s], e-folding time [ms], phase
+        speed [m/s] (NaN where the model masked the point; e-folding time inf where the mode does not grow)."""
+        d = self.data()
+        p = self.params
+        header = (f"asymslide lab spectrum; material = {p.material}, rho = {p.rho!r} kg/m^3, c_s = {p.c_s!r} m/s, "
+                  f"c_d = {p.c_d!r} m/s, plane = {p.plane}, H1 = {p.H1_mm!r} mm, "
+                  f"H2 = {'inf' if p.H2_infinite else repr(p.H2_mm)} mm, sigma0 = {p.sigma0_MPa!r} MPa, f = {p.f!r}, "
+                  f"a = {p.a!r}, b = {p.b!r}, D_c = {p.D_c_um!r} um, v = {p.v!r} m/s")
+        if d is None:
+            return csv_table(header + " (not valid)", {"wavelength_mm": [], "kH": [], "growth_rate_per_s": [],
+                                                       "e_folding_time_ms": [], "phase_speed_m_per_s": []})
+        return csv_table(header, {"wavelength_mm": d["wavelength"] * 1e3, "kH": d["kH"],
+                                  "growth_rate_per_s": d["growth_rate"], "e_folding_time_ms": d["e_folding_time"] * 1e3,
+                                  "phase_speed_m_per_s": d["phase_speed"]})
+
+    def _body(self, with_plot: bool) -> list[pn.viewable.Viewable]:
+        w = self.params.make_widgets()
+        link = w.pop("link")
+        apply = pn.widgets.Button(label="Apply the lab values to the sliders", color="primary", width=280)
+        apply.on_click(self.apply)
+        fields = pn.GridBox(*w.values(), ncols=3, sizing_mode="stretch_width")
+        body: list[pn.viewable.Viewable] = [
+            pn.pane.Markdown(ASSUMPTION, sizing_mode="stretch_width"),
+            fields,
+            pn.Row(link, apply, sizing_mode="stretch_width"),
+            pn.panel(self.status),
+            pn.pane.Markdown(self.derived_view, sizing_mode="stretch_width"),
+            pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
+            pn.pane.Markdown(self.point_readout, sizing_mode="stretch_width"),
+        ]
+        if with_plot:
+            body += [pn.pane.HoloViews(self.plot_dmap, sizing_mode="stretch_width"),
+                     csv_download(self.csv, "lab_spectrum.csv", "Download CSV (lab units)")]
+        return body
+
+    def panel(self, with_plot: bool = True) -> pn.Card:
+        """The panel: a card, collapsed unless the link is on, whose content is built when it is first opened (a new
+        session pays for it only if it is used)."""
+        card = pn.Card(title=self.param.title, collapsed=not self.params.link, sizing_mode="stretch_width",
+                       header_color="#1f4e79")
+
+        def fill(*_events) -> None:
+            if not card.collapsed and not card.objects:
+                card.objects = self._body(with_plot)
+
+        card.param.watch(fill, "collapsed")
+        fill()
+        return card
+
+    def __panel__(self) -> pn.viewable.Viewable:
+        return self.panel(with_plot=True)

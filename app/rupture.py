@@ -1,0 +1,402 @@
+"""Scene "Rupture fronts" (supplement S-V C; docs/physics.md §13): the slip velocity behind a steady mode-II rupture
+front with an exponential cohesive zone, its peak v_m against the front speed c/c_R, and the normal-stress change
+Δσ_yy/σ₀ that Eq. dsigma predicts at v_m for a thin block of width W (kW = 3, 4, 5 as Fig. 3c).
+
+The app computes no physics: the cached ``compute_*`` functions only call the public API of :mod:`model`, one
+function per dependency group, so that moving c/c_R recomputes the profile and the point values but none of the
+curves over c/c_R, changing σ₀ recomputes only the Δσ_yy/σ₀ curves, and changing one kW only its curve. Bad input
+(c ≥ c_R, a Poisson ratio outside (−1, 0.5), a non-positive Γ, …) empties the views it affects and shows the
+model's message; the session keeps working.
+"""
+
+from __future__ import annotations
+
+import collections
+import html
+import io
+
+import holoviews as hv
+import numpy as np
+import panel as pn
+import param
+
+import model
+
+from .params import PALETTE, RuptureParams, controls_column, csv_download, csv_table, fmt, follow_material
+
+#: the plates of the experiment are thin: plane stress (model.PAPER_DEFAULTS.plane; Eq. dsigma's thin block is too)
+PLANE = model.PAPER_DEFAULTS.plane
+
+#: c/c_R grid of the curves (b)-(d); v_m diverges at c_R
+C_RATIO = np.linspace(0.01, 0.995, 200)
+#: positions of the slip-velocity profile in units of X_c0: behind the tip to -4 X_c0, points crowded towards the
+#: tip (where X_c(c) = X_c0/f_II shrinks as c -> c_R), and a little ahead of it, where v = 0
+PROFILE_GRID = np.concatenate([-4.0 * np.linspace(1.0, 0.0, 600) ** 2, np.linspace(0.0, 0.5, 41)[1:]])
+
+X_LABEL = "x [mm] (from the tip; x < 0 behind it)"
+V_LABEL = "v [m/s]"
+C_LABEL = "c/c_R"
+VM_LABEL = "v_m [m/s]"
+DS_LABEL = "Δσ_yy/σ₀ at v_m"
+
+#: number of calls (keys: the cached ``compute_*`` functions and the model functions), for tests
+CALLS: collections.Counter[str] = collections.Counter()
+
+ASSUMPTIONS = """\
+**Assumptions** (docs/physics.md §13.1; model.rupture):
+1. *Thin-on-thin*: a steady 2-D mode-II shear crack moving at constant c between two identical blocks of infinite
+   height; the geometric asymmetry enters only afterwards, through Eq. dsigma (thin block of width W on a thick one).
+2. *Plane stress* (the thin PMMA plates): ν₂D = ν/(1 + ν), c_R the plane-stress Rayleigh speed.
+3. *Exponential cohesive law with its tail to −∞*: τ − τ_r = τ_p e^{x/X_c} for all x < 0 behind the tip
+   (weakening is never complete).
+4. *Small-scale yielding*: X_c ≪ crack length; the far field is the K_II field.
+5. *Constant Γ and c-independent τ_p*, hence X_c(c) = X_c0/f_II(c) (the contraction the supplement reports).
+6. *Sub-Rayleigh*: 0 < c < c_R.
+7. *Density*: ρ enters only through μ = ρ c_s²; PMMA's ρ = 1180 kg/m³ is an assumption (the paper gives none).
+"""
+
+
+def _sources() -> str:
+    rows = "\n".join(f"- **{k}**: {v}" for k, v in model.RuptureParameters.SOURCES.items())
+    return "**The paper's inputs (the defaults) and their sources** (model.PAPER_DEFAULTS):\n\n" + rows
+
+
+# --------------------------------------------------------------------------------------------
+# cached model calls, one per dependency group
+# --------------------------------------------------------------------------------------------
+
+
+@pn.cache(max_items=64)
+def compute_speeds(rho: float, c_s: float, nu: float) -> dict:
+    """c_R (plane stress) and μ = ρ c_s² of the material, or the model's message."""
+    CALLS["compute_speeds"] += 1
+    try:
+        CALLS["rayleigh_wave_speed"] += 1
+        c_R = float(model.rayleigh_wave_speed(c_s=c_s, nu=nu, plane=PLANE))
+        CALLS["shear_modulus"] += 1
+        mu = float(model.shear_modulus(rho, c_s))
+    except ValueError as exc:
+        return {"error": str(exc)}
+    return {"c_R": c_R, "mu": mu}
+
+
+@pn.cache(max_items=256)
+def compute_front(c_ratio: float, Gamma: float, X_c0: float, rho: float, c_s: float, nu: float) -> dict:
+    """The front at c = c_ratio c_R: c, f_II, X_c, τ_p, K_II, v_m and its position x_m, E′ (SI units)."""
+    CALLS["compute_front"] += 1
+    sp = compute_speeds(rho, c_s, nu)
+    if "error" in sp:
+        return sp
+    c, mu = c_ratio * sp["c_R"], sp["mu"]
+    kw = dict(Gamma=Gamma, X_c0=X_c0, mu=mu, c_s=c_s, nu=nu, plane=PLANE)
+    try:
+        CALLS["peak_cohesive_stress"] += 1
+        tau_p = float(model.peak_cohesive_stress(Gamma=Gamma, X_c0=X_c0, mu=mu, nu=nu, plane=PLANE))
+    except ValueError as exc:
+        return {"error": str(exc)}
+    try:
+        CALLS["mode_ii_universal_function"] += 1
+        f_ii = float(model.mode_ii_universal_function(c, c_s=c_s, nu=nu, plane=PLANE))
+        CALLS["cohesive_zone_size"] += 1
+        x_c = float(model.cohesive_zone_size(c, X_c0=X_c0, c_s=c_s, nu=nu, plane=PLANE))
+        CALLS["stress_intensity_factor"] += 1
+        k_ii = float(model.stress_intensity_factor(c, **kw))
+        CALLS["peak_slip_velocity"] += 1
+        v_m = float(model.peak_slip_velocity(c, **kw))
+        CALLS["peak_slip_location"] += 1
+        x_m = float(model.peak_slip_location(c, X_c0=X_c0, c_s=c_s, nu=nu, plane=PLANE))
+        CALLS["plane_modulus"] += 1
+        e_prime = float(model.plane_modulus(mu=mu, nu=nu, plane=PLANE))
+    except ValueError as exc:  # the rupture speed: say which c/c_R the model refused
+        return {"error": f"c/c_R = {c_ratio:g}: {exc}"}
+    return {"c": c, "c_R": sp["c_R"], "mu": mu, "f_II": f_ii, "X_c": x_c, "tau_p": tau_p, "K_II": k_ii, "v_m": v_m,
+            "x_m": x_m, "E_prime": e_prime}
+
+
+@pn.cache(max_items=64)
+def compute_profile(c_ratio: float, Gamma: float, X_c0: float, rho: float, c_s: float, nu: float) -> dict:
+    """The slip velocity v(x) [m/s] on x = :data:`PROFILE_GRID` X_c0 [m]."""
+    CALLS["compute_profile"] += 1
+    front = compute_front(c_ratio, Gamma, X_c0, rho, c_s, nu)
+    if "error" in front:
+        return front
+    x = PROFILE_GRID * X_c0
+    CALLS["slip_velocity_profile"] += 1
+    v = model.slip_velocity_profile(x, c=front["c"], Gamma=Gamma, X_c0=X_c0, mu=front["mu"], c_s=c_s, nu=nu,
+                                    plane=PLANE)
+    return {"x": x, "v": np.asarray(v, float)}
+
+
+@pn.cache(max_items=64)
+def compute_vm_curve(Gamma: float, X_c0: float, rho: float, c_s: float, nu: float) -> dict:
+    """v_m [m/s] on c = :data:`C_RATIO` c_R."""
+    CALLS["compute_vm_curve"] += 1
+    sp = compute_speeds(rho, c_s, nu)
+    if "error" in sp:
+        return sp
+    c = C_RATIO * sp["c_R"]
+    try:
+        CALLS["peak_slip_velocity"] += 1
+        v_m = model.peak_slip_velocity(c, Gamma=Gamma, X_c0=X_c0, mu=sp["mu"], c_s=c_s, nu=nu, plane=PLANE)
+    except ValueError as exc:
+        return {"error": str(exc)}
+    return {"c_ratio": C_RATIO, "c": c, "v_m": np.asarray(v_m, float)}
+
+
+@pn.cache(max_items=128)
+def compute_stress_curve(kW: float, sigma0: float, Gamma: float, X_c0: float, rho: float, c_s: float,
+                         nu: float) -> dict:
+    """Δσ_yy/σ₀ at v_m (Eq. dsigma) on c = :data:`C_RATIO` c_R for one kW."""
+    CALLS["compute_stress_curve"] += 1
+    sp = compute_speeds(rho, c_s, nu)
+    if "error" in sp:
+        return sp
+    try:
+        CALLS["relative_normal_stress_change_at_peak_slip"] += 1
+        ds = model.relative_normal_stress_change_at_peak_slip(C_RATIO * sp["c_R"], kW=kW, sigma0=sigma0, Gamma=Gamma,
+                                                               X_c0=X_c0, mu=sp["mu"], c_s=c_s, nu=nu)
+    except ValueError as exc:  # Eq. dsigma's thin-on-thick part has a narrower domain (nu >= 0)
+        return {"error": f"Eq. dsigma (thin-on-thick): {exc}"}
+    return {"c_ratio": C_RATIO, "ds": np.asarray(ds, float)}
+
+
+@pn.cache(max_items=256)
+def compute_stress_point(c_ratio: float, kW: float, sigma0: float, Gamma: float, X_c0: float, rho: float,
+                         c_s: float, nu: float) -> dict:
+    """Δσ_yy/σ₀ at v_m at the current c for one kW."""
+    CALLS["compute_stress_point"] += 1
+    front = compute_front(c_ratio, Gamma, X_c0, rho, c_s, nu)
+    if "error" in front:
+        return front
+    try:
+        CALLS["relative_normal_stress_change_at_peak_slip"] += 1
+        ds = model.relative_normal_stress_change_at_peak_slip(front["c"], kW=kW, sigma0=sigma0, Gamma=Gamma,
+                                                               X_c0=X_c0, mu=front["mu"], c_s=c_s, nu=nu)
+    except ValueError as exc:
+        return {"error": str(exc)}
+    return {"ds": float(ds)}
+
+
+# --------------------------------------------------------------------------------------------
+# the scene
+# --------------------------------------------------------------------------------------------
+
+
+def _overlay(layers: list[hv.Element], **options: object) -> hv.Overlay:
+    return hv.Overlay(layers).opts(hv.opts.Overlay(responsive=True, framewise=True, **options))
+
+
+class RuptureScene(pn.viewable.Viewer):
+    """Widgets, plots (a)-(d), readout and messages for one :class:`RuptureParams`."""
+
+    params = param.ClassSelector(class_=RuptureParams)
+    #: the model arguments per dependency group, SI units; a view depends only on the keys it uses
+    front_key = param.Tuple(default=None, length=6, allow_None=True, precedence=-1)  # (c/c_R, Γ, X_c0, ρ, c_s, ν)
+    curve_key = param.Tuple(default=None, length=5, allow_None=True, precedence=-1)  # (Γ, X_c0, ρ, c_s, ν)
+    stress_key = param.Tuple(default=None, length=4, allow_None=True, precedence=-1)  # (σ₀, kW₁, kW₂, kW₃)
+
+    def __init__(self, **kwargs) -> None:
+        kwargs.setdefault("params", RuptureParams())
+        super().__init__(**kwargs)
+        follow_material(self.params)
+        self._update_keys()
+        self.params.param.watch(self._update_keys, [n for n in self.params.param if n != "name"])
+        self.profile_dmap = hv.DynamicMap(self.profile_plot)
+        self.vm_dmap = hv.DynamicMap(self.vm_plot)
+        self.stress_dmap = hv.DynamicMap(self.stress_plot)
+        self.stress_vm_dmap = hv.DynamicMap(self.stress_vm_plot)
+
+    def _update_keys(self, *_events) -> None:
+        p = self.params
+        curve = (float(p.Gamma), p.X_c0_mm * 1e-3, float(p.rho), float(p.c_s), float(p.nu))
+        front = (float(p.c_over_cR), *curve)
+        stress = (p.sigma0_MPa * 1e6, float(p.kW1), float(p.kW2), float(p.kW3))
+        with param.parameterized.batch_call_watchers(self):
+            for name, value in (("front_key", front), ("curve_key", curve), ("stress_key", stress)):
+                if value != getattr(self, name):
+                    setattr(self, name, value)
+
+    # ----------------------------------------------------------------------------------------
+    # data
+    # ----------------------------------------------------------------------------------------
+
+    def front(self) -> dict:
+        return compute_front(*self.front_key)
+
+    def profile(self) -> dict:
+        return compute_profile(*self.front_key)
+
+    def vm_curve(self) -> dict:
+        return compute_vm_curve(*self.curve_key)
+
+    def kWs(self) -> tuple[float, ...]:
+        return self.stress_key[1:]
+
+    def stress_curves(self) -> list[tuple[float, dict]]:
+        sigma0 = self.stress_key[0]
+        return [(kw, compute_stress_curve(kw, sigma0, *self.curve_key)) for kw in self.kWs()]
+
+    def stress_points(self) -> list[tuple[float, dict]]:
+        sigma0 = self.stress_key[0]
+        return [(kw, compute_stress_point(self.front_key[0], kw, sigma0, *self.curve_key)) for kw in self.kWs()]
+
+    # ----------------------------------------------------------------------------------------
+    # plots
+    # ----------------------------------------------------------------------------------------
+
+    @param.depends("front_key")
+    def profile_plot(self) -> hv.Overlay:
+        """(a) v(x) behind the tip at the current c, with the peak v_m and the cohesive zone size X_c."""
+        d, front = self.profile(), self.front()
+        layers: list[hv.Element] = []
+        if "error" in d:
+            layers.append(hv.Curve(([], []), X_LABEL, V_LABEL, label="v(x)"))
+        else:
+            layers += [
+                hv.VSpans([(-front["X_c"] * 1e3, 0.0)], label="cohesive zone size X_c").opts(color="#f4a582",
+                                                                                            alpha=0.35),
+                hv.Curve((d["x"] * 1e3, d["v"]), X_LABEL, V_LABEL, label="v(x)").opts(color="#1f4e79", line_width=2),
+                hv.Scatter(([front["x_m"] * 1e3], [front["v_m"]]), X_LABEL, V_LABEL, label="peak v_m").opts(
+                    color="#b2182b", size=9),
+            ]
+        title = f"(a) Slip velocity behind the tip at c = {fmt(self.front_key[0])} c_R"
+        return _overlay(layers, height=320, title=title, legend_position="top_left", xlabel=X_LABEL, ylabel=V_LABEL)
+
+    @param.depends("curve_key", "front_key")
+    def vm_plot(self) -> hv.Overlay:
+        """(b) v_m vs c/c_R, with the current c."""
+        d, front = self.vm_curve(), self.front()
+        layers: list[hv.Element] = [hv.Curve(([], []), C_LABEL, VM_LABEL, label="v_m")]
+        if "error" not in d:
+            layers = [hv.Curve((d["c_ratio"], d["v_m"]), C_LABEL, VM_LABEL, label="v_m").opts(color="#1f4e79",
+                                                                                             line_width=2)]
+        if "error" not in front:
+            layers.append(hv.Scatter(([self.front_key[0]], [front["v_m"]]), C_LABEL, VM_LABEL, label="current c").opts(
+                color="#b2182b", size=9))
+        return _overlay(layers, height=300, title="(b) Peak slip velocity v_m vs c/c_R", legend_position="top_left",
+                        xlabel=C_LABEL, ylabel=VM_LABEL)
+
+    def _stress_layers(self, against_vm: bool) -> list[hv.Element]:
+        xlabel = VM_LABEL if against_vm else C_LABEL
+        vm = self.vm_curve()
+        front = self.front()
+        points = dict(self.stress_points())
+        layers: list[hv.Element] = []
+        for i, (kw, d) in enumerate(self.stress_curves()):
+            color = PALETTE[i % len(PALETTE)]
+            label = f"kW = {fmt(kw)}"
+            if "error" in d or (against_vm and "error" in vm):
+                layers.append(hv.Curve(([], []), xlabel, DS_LABEL, label=label))
+                continue
+            x = vm["v_m"] if against_vm else d["c_ratio"]
+            layers.append(hv.Curve((x, d["ds"]), xlabel, DS_LABEL, label=label).opts(color=color, line_width=2))
+            pt = points[kw]
+            if "error" not in pt and "error" not in front:
+                x0 = front["v_m"] if against_vm else self.front_key[0]
+                marker_label = "current c" if i == 0 else ""  # one legend entry for the three markers
+                layers.append(hv.Scatter(([x0], [pt["ds"]]), xlabel, DS_LABEL, label=marker_label).opts(
+                    color=color, size=8, line_color="black"))
+        return layers
+
+    @param.depends("curve_key", "stress_key", "front_key")
+    def stress_plot(self) -> hv.Overlay:
+        """(c) Δσ_yy/σ₀ at v_m vs c/c_R for the three kW."""
+        return _overlay(self._stress_layers(against_vm=False), height=300, legend_position="top_left",
+                        title="(c) Δσ_yy/σ₀ at v_m (Eq. dsigma) vs c/c_R",
+                        xlabel=C_LABEL, ylabel=DS_LABEL)
+
+    @param.depends("curve_key", "stress_key", "front_key")
+    def stress_vm_plot(self) -> hv.Overlay:
+        """(d) the same against v_m (as Figs. 2c and 3c of the paper)."""
+        return _overlay(self._stress_layers(against_vm=True), height=300, legend_position="top_left",
+                        title="(d) Normal-stress change at v_m vs the peak slip velocity v_m (cf. Figs. 2c, 3c)",
+                        xlabel=VM_LABEL, ylabel=DS_LABEL)
+
+    # ----------------------------------------------------------------------------------------
+    # messages, readout, export
+    # ----------------------------------------------------------------------------------------
+
+    def errors(self) -> dict[str, list[str]]:
+        """The model's message for each bad input -> the views it empties."""
+        out: dict[str, list[str]] = {}
+
+        def add(d: dict, where: str) -> None:
+            if "error" in d:
+                out.setdefault(d["error"], []).append(where)
+
+        add(self.front(), "(a), the current point and the readout")
+        add(self.vm_curve(), "(b) and (d)")
+        for kw, d in self.stress_curves():
+            add(d, f"(c) and (d) at kW = {fmt(kw)}")
+        return out
+
+    @param.depends("front_key", "curve_key", "stress_key")
+    def messages(self) -> pn.viewable.Viewable:
+        """A visible message for bad input (the model's words), or nothing."""
+        errors = self.errors()
+        if not errors:
+            return pn.pane.Markdown("", margin=0)
+        text = "\n".join(f"- {html.escape(msg, quote=False)} — empty: {', '.join(where)}"
+                         for msg, where in errors.items())
+        return pn.pane.Alert(f"**Some values are outside the model's range:**\n\n{text}", alert_type="danger",
+                             sizing_mode="stretch_width")
+
+    @param.depends("front_key", "stress_key")
+    def readout(self) -> str:
+        f = self.front()
+        if "error" in f:
+            return "**Front** — (see the message above)"
+        lines = [
+            f"**c** = {fmt(f['c'], 5)} m/s = {fmt(self.front_key[0])} c_R, **c_R** = {fmt(f['c_R'], 5)} m/s "
+            "(plane stress)",
+            f"**f_II(c)** = {fmt(f['f_II'])}",
+            f"**X_c** = X_c0/f_II = {fmt(f['X_c'] * 1e3)} mm",
+            f"**τ_p** = {fmt(f['tau_p'] / 1e6)} MPa (E′ = {fmt(f['E_prime'] / 1e9)} GPa, μ = ρc_s² = "
+            f"{fmt(f['mu'] / 1e9)} GPa)",
+            f"**K_II** = {fmt(f['K_II'] / 1e3)} kPa·m^½",
+            f"**v_m** = {fmt(f['v_m'])} m/s at x_m = {fmt(f['x_m'] * 1e3)} mm",
+        ]
+        for kw, pt in self.stress_points():
+            value = fmt(pt["ds"]) if "error" not in pt else "—"
+            lines.append(f"**Δσ_yy/σ₀ at v_m**, kW = {fmt(kw)}: {value}")
+        return "\n\n".join(lines)
+
+    def csv_profile(self) -> io.StringIO:
+        d = self.profile()
+        header = "asymslide rupture front (a): slip velocity; " + self._header(front=True)
+        if "error" in d:
+            return csv_table(header + " (not valid)", {"x_mm": [], "v_m_per_s": []})
+        return csv_table(header, {"x_mm": d["x"] * 1e3, "v_m_per_s": d["v"]})
+
+    def csv_curves(self) -> io.StringIO:
+        """(b)-(d): c/c_R, v_m and Δσ_yy/σ₀ at v_m for each kW (NaN where the model refused the input)."""
+        vm = self.vm_curve()
+        nan = np.full(C_RATIO.shape, np.nan)
+        cols = {"c_over_c_R": C_RATIO, "v_m_m_per_s": nan if "error" in vm else vm["v_m"]}
+        for kw, d in self.stress_curves():
+            cols[f"dsigma_yy_over_sigma0(kW={kw!r})"] = nan if "error" in d else d["ds"]
+        return csv_table("asymslide rupture fronts (b)-(d); " + self._header(front=False)
+                         + f", sigma0 = {self.stress_key[0]!r} Pa", cols)
+
+    def _header(self, front: bool) -> str:
+        c, gamma, x_c0, rho, c_s, nu = self.front_key
+        text = (f"Gamma = {gamma!r} J/m^2, X_c0 = {x_c0!r} m, rho = {rho!r} kg/m^3, c_s = {c_s!r} m/s, nu = {nu!r}, "
+                f"plane {PLANE}")
+        return (f"c/c_R = {c!r}, " + text) if front else text
+
+    def __panel__(self) -> pn.viewable.Viewable:
+        controls = controls_column(self.params.make_widgets(), self.readout)
+        plots = pn.Column(
+            pn.panel(self.messages),
+            pn.pane.HoloViews(self.profile_dmap, sizing_mode="stretch_width"),
+            pn.Row(pn.pane.HoloViews(self.vm_dmap, sizing_mode="stretch_width"),
+                   pn.pane.HoloViews(self.stress_dmap, sizing_mode="stretch_width"), sizing_mode="stretch_width"),
+            pn.pane.HoloViews(self.stress_vm_dmap, sizing_mode="stretch_width"),
+            pn.Row(csv_download(self.csv_profile, "rupture_profile.csv", "CSV (a)"),
+                   csv_download(self.csv_curves, "rupture_curves.csv", "CSV (b)-(d)")),
+            pn.pane.Markdown(ASSUMPTIONS, sizing_mode="stretch_width"),
+            pn.Card(pn.pane.Markdown(_sources(), sizing_mode="stretch_width"), title="Defaults and sources",
+                    collapsed=True, sizing_mode="stretch_width"),
+            sizing_mode="stretch_width",
+        )
+        return pn.Row(controls, plots, sizing_mode="stretch_width", name="Rupture fronts")

@@ -1,0 +1,332 @@
+"""The "Rupture fronts" scene (app/rupture.py; supplement S-V C, docs/physics.md §13), headless: which change calls
+which model function, the plotted data and the readout equal to the model's values, bad input (c >= c_R, a Poisson
+ratio outside (-1, 0.5), ...) as a visible message with the session still working, the URL keys and the preset; and
+a browser test that renders the tab."""
+
+from __future__ import annotations
+
+import html
+import io
+import math
+import urllib.parse
+from pathlib import Path
+
+import holoviews as hv
+import numpy as np
+import panel as pn
+import pytest
+
+import model
+from app.main import create_app
+from app.params import CUSTOM, RuptureParams
+from app.rupture import C_RATIO, CALLS, PROFILE_GRID, RuptureScene
+from app.urlstate import TABS, query_string
+from tests.conftest import open_app
+
+pytestmark = pytest.mark.usefixtures("fresh_caches")
+
+SCREENSHOT = Path(__file__).resolve().parent.parent / "docs" / "screenshot_rupture.png"
+
+P = model.PAPER_DEFAULTS
+#: the paper's inputs as the model's keyword arguments (plane stress)
+KW = P.model_kwargs()
+
+
+def _render_all(scene: RuptureScene) -> None:
+    for dmap in (scene.profile_dmap, scene.vm_dmap, scene.stress_dmap, scene.stress_vm_dmap):
+        dmap[()]
+    scene.readout()
+    scene.messages()
+
+
+def _el(overlay: hv.Overlay, kind: type, label: str) -> hv.Element:
+    (el,) = [e for e in overlay if isinstance(e, kind) and e.label == label]
+    return el
+
+
+def _c_R(nu: float = P.nu, c_s: float = P.c_s) -> float:
+    return float(model.rayleigh_wave_speed(c_s=c_s, nu=nu, plane="stress"))
+
+
+# --------------------------------------------------------------------------------------------
+# the param graph: one cached function per dependency group
+# --------------------------------------------------------------------------------------------
+
+
+def _counts() -> dict[str, int]:
+    return {k: CALLS[k] for k in ("compute_speeds", "compute_front", "compute_profile", "compute_vm_curve",
+                                  "compute_stress_curve", "compute_stress_point")}
+
+
+def test_first_render_computes_each_group_once_and_rerender_is_free() -> None:
+    scene = RuptureScene()
+    _render_all(scene)
+    first = _counts()
+    assert first == {"compute_speeds": 1, "compute_front": 1, "compute_profile": 1, "compute_vm_curve": 1,
+                     "compute_stress_curve": 3, "compute_stress_point": 3}
+    assert CALLS["slip_velocity_profile"] == 1 and CALLS["rayleigh_wave_speed"] == 1
+    _render_all(scene)
+    assert _counts() == first
+
+
+@pytest.mark.parametrize(("change", "delta"), [
+    ({"c_over_cR": 0.95}, {"compute_front": 1, "compute_profile": 1, "compute_stress_point": 3}),
+    ({"sigma0_MPa": 3.0}, {"compute_stress_curve": 3, "compute_stress_point": 3}),
+    ({"kW1": 2.0}, {"compute_stress_curve": 1, "compute_stress_point": 1}),
+    ({"Gamma": 2.0}, {"compute_front": 1, "compute_profile": 1, "compute_vm_curve": 1, "compute_stress_curve": 3,
+                      "compute_stress_point": 3}),
+    ({"rho": 1200.0}, {"compute_speeds": 1, "compute_front": 1, "compute_profile": 1, "compute_vm_curve": 1,
+                       "compute_stress_curve": 3, "compute_stress_point": 3}),
+])
+def test_a_change_recomputes_only_what_depends_on_it(change: dict, delta: dict) -> None:
+    scene = RuptureScene()
+    _render_all(scene)
+    before = _counts()
+    scene.params.param.update(**change)
+    _render_all(scene)
+    after = _counts()
+    assert {k: after[k] - before[k] for k in after if after[k] != before[k]} == delta
+
+
+def test_the_paper_inputs_are_the_defaults() -> None:
+    p = RuptureParams()
+    assert (p.Gamma, p.X_c0_mm * 1e-3, p.sigma0_MPa * 1e6, p.rho, p.c_s, p.nu) == pytest.approx(
+        (P.Gamma, P.X_c0, P.sigma0, P.rho, P.c_s, P.nu), rel=1e-15)
+    assert (p.kW1, p.kW2, p.kW3) == P.kW and p.material == "PMMA"
+    assert RuptureScene().params.material == "PMMA"  # PMMA's preset gives the paper's nu = 0.33
+
+
+# --------------------------------------------------------------------------------------------
+# the plotted data and the readout are the model's
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("c_ratio", [0.5, 0.9, 0.99])
+def test_profile_plot_equals_the_model(c_ratio: float) -> None:
+    scene = RuptureScene(params=RuptureParams(c_over_cR=c_ratio))
+    c = c_ratio * _c_R()
+    overlay = scene.profile_dmap[()]
+    curve = _el(overlay, hv.Curve, "v(x)")
+    x_mm = curve.dimension_values(0)
+    np.testing.assert_array_equal(x_mm, PROFILE_GRID * P.X_c0 * 1e3)
+    assert x_mm.min() < 0 < x_mm.max()  # behind the tip, and a little ahead where v = 0
+    np.testing.assert_array_equal(curve.dimension_values(1), model.slip_velocity_profile(PROFILE_GRID * P.X_c0, c=c,
+                                                                                          **KW))
+    peak = _el(overlay, hv.Scatter, "peak v_m")
+    assert peak.dimension_values(0)[0] == float(model.peak_slip_location(c, X_c0=P.X_c0, c_s=P.c_s, nu=P.nu)) * 1e3
+    assert peak.dimension_values(1)[0] == float(model.peak_slip_velocity(c, **KW))
+    zone = _el(overlay, hv.VSpans, "cohesive zone size X_c")
+    x_c = float(model.cohesive_zone_size(c, X_c0=P.X_c0, c_s=P.c_s, nu=P.nu))
+    np.testing.assert_array_equal(zone.array()[0], [-x_c * 1e3, 0.0])
+
+
+def test_curves_equal_the_model() -> None:
+    scene = RuptureScene()
+    c = C_RATIO * _c_R()
+    v_m = model.peak_slip_velocity(c, **KW)
+    vm = _el(scene.vm_dmap[()], hv.Curve, "v_m")
+    assert [d.name for d in vm.dimensions()] == ["c/c_R", "v_m [m/s]"]
+    np.testing.assert_array_equal(vm.dimension_values(0), C_RATIO)
+    np.testing.assert_array_equal(vm.dimension_values(1), v_m)
+    current = _el(scene.vm_dmap[()], hv.Scatter, "current c")
+    assert current.dimension_values(1)[0] == float(model.peak_slip_velocity(0.9 * _c_R(), **KW))
+    for kw in P.kW:
+        ds = model.relative_normal_stress_change_at_peak_slip(c, kW=kw, sigma0=P.sigma0, Gamma=P.Gamma, X_c0=P.X_c0,
+                                                              mu=P.mu, c_s=P.c_s, nu=P.nu)
+        label = f"kW = {kw:g}"
+        curve = _el(scene.stress_dmap[()], hv.Curve, label)
+        assert [d.name for d in curve.dimensions()] == ["c/c_R", "Δσ_yy/σ₀ at v_m"]
+        np.testing.assert_array_equal(curve.dimension_values(1), ds)
+        against_vm = _el(scene.stress_vm_dmap[()], hv.Curve, label)  # as Figs. 2c and 3c: against v_m
+        np.testing.assert_array_equal(against_vm.dimension_values(0), v_m)
+        np.testing.assert_array_equal(against_vm.dimension_values(1), ds)
+    # kW = 3 > 4 > 5 (docs/physics.md §13.6)
+    curves = [_el(scene.stress_dmap[()], hv.Curve, f"kW = {kw:g}").dimension_values(1) for kw in P.kW]
+    assert np.all(curves[0] > curves[1]) and np.all(curves[1] > curves[2]) and np.all(curves[2] > 0)
+
+
+def test_readout_shows_the_models_values() -> None:
+    scene = RuptureScene(params=RuptureParams(c_over_cR=0.95))
+    c = 0.95 * _c_R()
+    text = scene.readout()
+    tau_p = float(model.peak_cohesive_stress(Gamma=P.Gamma, X_c0=P.X_c0, mu=P.mu, nu=P.nu))
+    assert f"**τ_p** = {tau_p / 1e6:.4g} MPa" in text
+    assert f"**K_II** = {float(model.stress_intensity_factor(c, **KW)) / 1e3:.4g} kPa·m^½" in text
+    x_c = float(model.cohesive_zone_size(c, X_c0=P.X_c0, c_s=P.c_s, nu=P.nu))
+    assert f"**X_c** = X_c0/f_II = {x_c * 1e3:.4g} mm" in text
+    assert f"**f_II(c)** = {float(model.mode_ii_universal_function(c, c_s=P.c_s, nu=P.nu)):.4g}" in text
+    assert f"**v_m** = {float(model.peak_slip_velocity(c, **KW)):.4g} m/s" in text
+    ds = model.relative_normal_stress_change_at_peak_slip(c, kW=5.0, sigma0=P.sigma0, Gamma=P.Gamma, X_c0=P.X_c0,
+                                                          mu=P.mu, c_s=P.c_s, nu=P.nu)
+    assert f"**Δσ_yy/σ₀ at v_m**, kW = 5: {float(ds):.4g}" in text
+    assert "τ_p** = 1.118 MPa" in text  # the supplement's ~1.1 MPa (docs/physics.md §13.7)
+
+
+def test_every_assumption_is_stated() -> None:
+    panel = RuptureScene().__panel__()
+    text = " ".join(str(getattr(o, "object", "")) for o in panel.select(pn.pane.Markdown))
+    for needle in ("Thin-on-thin", "Plane stress", "tail to −∞", "Constant Γ", "X_c(c) = X_c0/f_II(c)",
+                   "Sub-Rayleigh", "Density", "ASSUMPTION (not stated in the paper)"):
+        assert needle in text, needle
+
+
+def test_csv_equals_the_plots() -> None:
+    scene = RuptureScene()
+    lines = scene.csv_profile().getvalue().splitlines()
+    data = np.loadtxt(io.StringIO("\n".join(lines[2:])), delimiter=",")
+    curve = _el(scene.profile_dmap[()], hv.Curve, "v(x)")
+    np.testing.assert_array_equal(data[:, 0], curve.dimension_values(0))
+    np.testing.assert_array_equal(data[:, 1], curve.dimension_values(1))
+    lines = scene.csv_curves().getvalue().splitlines()
+    names = lines[1].split(",")
+    data = np.loadtxt(io.StringIO("\n".join(lines[2:])), delimiter=",")
+    assert names == ["c_over_c_R", "v_m_m_per_s", "dsigma_yy_over_sigma0(kW=3.0)", "dsigma_yy_over_sigma0(kW=4.0)",
+                     "dsigma_yy_over_sigma0(kW=5.0)"]
+    np.testing.assert_array_equal(data[:, 1], _el(scene.vm_dmap[()], hv.Curve, "v_m").dimension_values(1))
+    np.testing.assert_array_equal(data[:, 4], _el(scene.stress_dmap[()], hv.Curve, "kW = 5").dimension_values(1))
+
+
+def test_bokeh_axes() -> None:
+    scene = RuptureScene()
+    fig = hv.render(scene.profile_dmap, backend="bokeh")
+    assert (fig.xaxis[0].axis_label, fig.yaxis[0].axis_label) == ("x [mm] (from the tip; x < 0 behind it)", "v [m/s]")
+    fig = hv.render(scene.stress_vm_dmap, backend="bokeh")
+    assert (fig.xaxis[0].axis_label, fig.yaxis[0].axis_label) == ("v_m [m/s]", "Δσ_yy/σ₀ at v_m")
+
+
+# --------------------------------------------------------------------------------------------
+# bad input: a visible message, the views it affects empty, the session keeps working
+# --------------------------------------------------------------------------------------------
+
+
+def _message(scene: RuptureScene) -> str:
+    pane = scene.messages()
+    assert isinstance(pane, pn.pane.Alert) and pane.alert_type == "danger"
+    return html.unescape(pane.object)
+
+
+@pytest.mark.parametrize(("change", "needles", "empty"), [
+    ({"c_over_cR": 1.0}, ["c/c_R = 1: c must be in (0, c_R)"], ["profile"]),
+    ({"c_over_cR": 1.2}, ["c/c_R = 1.2: c must be in (0, c_R)", "c_R = 1236.1"], ["profile"]),
+    ({"c_over_cR": 0.0}, ["c must be in (0, inf)"], ["profile"]),
+    ({"nu": 0.7}, ["nu must be in (-1, 0.5); got 0.7"], ["profile", "vm", "stress"]),
+    ({"nu": -1.5}, ["nu must be in (-1, 0.5); got -1.5"], ["profile", "vm", "stress"]),
+    ({"nu": -0.2}, ["Eq. dsigma (thin-on-thick): nu must be in [0, 0.5)"], ["stress"]),  # the slip model is fine
+    ({"Gamma": -1.1}, ["Gamma must be in (0, inf)"], ["profile", "vm", "stress"]),
+    ({"X_c0_mm": 0.0}, ["X_c0 must be in (0, inf)"], ["profile", "vm", "stress"]),
+    ({"rho": -5.0}, ["rho must be in (0, inf)"], ["profile", "vm", "stress"]),
+    ({"kW2": -4.0}, ["kW must be in (0, inf)"], []),
+])
+def test_bad_input_is_a_message_and_the_session_keeps_working(change: dict, needles: list[str],
+                                                               empty: list[str]) -> None:
+    scene = RuptureScene()
+    _render_all(scene)
+    scene.params.param.update(**change)
+    _render_all(scene)  # no exception
+    text = _message(scene)
+    for needle in needles:
+        assert needle in text
+    curves = {"profile": [e for e in scene.profile_dmap[()] if isinstance(e, hv.Curve)],
+              "vm": [e for e in scene.vm_dmap[()] if isinstance(e, hv.Curve)],
+              "stress": [e for e in scene.stress_dmap[()] if isinstance(e, hv.Curve)]}
+    for name, elements in curves.items():
+        lengths = [len(e) for e in elements]
+        assert (all(n == 0 for n in lengths) if name in empty else any(n > 0 for n in lengths)), name
+    if "profile" in empty:
+        assert "see the message above" in scene.readout()
+    # back to good values: everything is drawn again and the message is gone
+    scene.params.param.update(**{k: RuptureParams.param[k].default for k in change})
+    assert scene.errors() == {}
+    assert not isinstance(scene.messages(), pn.pane.Alert)
+    assert len(_el(scene.profile_dmap[()], hv.Curve, "v(x)")) == PROFILE_GRID.size
+
+
+def test_bad_input_in_the_app_keeps_the_session_working() -> None:
+    app = create_app({"c_cR": ["1.5"], "rup_nu": ["0.9"], "rup_material": ["unobtainium"], "tab": ["rupture"]}).app
+    assert app.tabs.active == TABS.index("rupture")
+    assert "Material = 'unobtainium' is not one of PMMA" in app.messages.object  # the URL message
+    text = _message(app.rupture)
+    assert "nu must be in (-1, 0.5); got 0.9" in text
+    app.rupture_params.nu = 0.33
+    assert "c/c_R = 1.5: c must be in (0, c_R)" in _message(app.rupture)
+    app.rupture_params.c_over_cR = 0.9
+    assert app.rupture.errors() == {}
+    assert "**v_m** = 1.129 m/s" in app.rupture.readout()
+
+
+def test_material_preset_fills_rho_cs_nu() -> None:
+    scene = RuptureScene()
+    scene.params.material = "Homalite-100"
+    assert (scene.params.rho, scene.params.c_s, scene.params.nu) == (1230.0, 1200.0, 0.35)  # the source's nu
+    scene.params.material = "fused silica"
+    silica = model.material("fused silica")
+    assert scene.params.nu == pytest.approx(silica.nu, rel=1e-15)  # none reported: from the speeds
+    scene.params.nu = 0.2
+    assert scene.params.material == CUSTOM
+
+
+# --------------------------------------------------------------------------------------------
+# URL and preset
+# --------------------------------------------------------------------------------------------
+
+
+def test_url_round_trip_of_the_rupture_keys() -> None:
+    query = "c_cR=0.97&Gamma=2&Xc0=1.5&rup_sigma0=3&rup_material=Homalite-100&kW1=2&kW3=8&tab=rupture"
+    app = create_app(urllib.parse.parse_qs(query)).app
+    p = app.rupture_params
+    assert not app.messages.visible
+    assert (p.c_over_cR, p.Gamma, p.X_c0_mm, p.sigma0_MPa, p.material, p.rho, p.nu, p.kW1, p.kW2, p.kW3) == (
+        0.97, 2.0, 1.5, 3.0, "Homalite-100", 1230.0, 0.35, 2.0, 4.0, 8.0)
+    written = query_string(app.param_objects(), "rupture")
+    assert "kW2" not in written  # unchanged values are not written
+    again = create_app(urllib.parse.parse_qs(written[1:])).app
+    for name in RuptureParams.param:
+        if name != "name":
+            assert getattr(again.rupture_params, name) == getattr(p, name), name
+
+
+def test_preset_restores_the_papers_inputs() -> None:
+    app = create_app({"Gamma": ["3"], "rup_nu": ["0.2"], "c_cR": ["0.5"]}).app
+    (preset,) = [p for p in app.presets if p.id == "rupture"]
+    app.apply_preset(preset)
+    p = app.rupture_params
+    assert app.tabs.active == TABS.index("rupture")
+    assert (p.Gamma, p.nu, p.c_over_cR, p.material) == (1.1, 0.33, 0.9, "PMMA")
+    assert not math.isnan(app.rupture.front()["v_m"])
+
+
+# --------------------------------------------------------------------------------------------
+# browser
+# --------------------------------------------------------------------------------------------
+
+_FIGURES_JS = ("() => Array.from(Bokeh.documents[0].all_models)"
+               ".filter(m => m.title && m.title.text && m.x_range).map(m => m.title.text)")
+
+_VM_SOURCE_JS = """() => {
+  for (const m of Bokeh.documents[0].all_models) {
+    if (m.data != null && m.data['v_m [m/s]'] !== undefined && m.data['c/c_R'] !== undefined) {
+      const y = Array.from(m.data['v_m [m/s]']);
+      if (y.length > 10) return y;
+    }
+  }
+  return null;
+}"""
+
+
+@pytest.mark.ui
+def test_rupture_tab_renders(served_app: str, browser_page) -> None:
+    page = browser_page
+    page.set_viewport_size({"width": 1280, "height": 1700})
+    open_app(page, served_app, "Rupture fronts")
+    page.wait_for_function(f"() => ({_FIGURES_JS})().filter(t => /^\\(([abcd])\\)/.test(t)).length >= 4",
+                           timeout=60_000)
+    page.get_by_text("Exponential cohesive law").first.wait_for(state="visible", timeout=30_000)
+    page.wait_for_function(_VM_SOURCE_JS, timeout=30_000)
+    v_m = np.array(page.evaluate(_VM_SOURCE_JS), dtype=float)
+    np.testing.assert_allclose(v_m, model.peak_slip_velocity(C_RATIO * _c_R(), **KW), rtol=1e-12, atol=0)
+    page.wait_for_function("() => window.location.search.includes('tab=rupture')", timeout=30_000)
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    page.wait_for_timeout(500)  # the last plot's paint
+    page.screenshot(path=str(SCREENSHOT), full_page=True)
+    assert SCREENSHOT.stat().st_size > 0
+    assert page.console_errors == []
