@@ -316,12 +316,14 @@ class AtlasScene(pn.viewable.Viewer):
         self.param.watch(self._axes_changed, ["x_axis", "y_axis"])
         self.param.watch(self._update_surface, ["data", "surface_axes", "indices"])
         self.param.watch(lambda e: self._show(e.new), "message")
-        self.refresh()
 
     # -- which atlas --------------------------------------------------------------------------
 
     def refresh(self) -> None:
-        """Re-list the atlas directory; open the requested atlas, else keep the current one, else the default."""
+        """Re-list the atlas directory; open the requested atlas, else keep the current one, else the default.
+
+        Not done when the scene is created (a page pays for this tab only when it is shown): :meth:`__panel__`
+        does it, and tests call it."""
         names = list_atlases()
         self.param.atlas.objects = names
         want = self._requested or self.atlas
@@ -625,6 +627,10 @@ class AtlasScene(pn.viewable.Viewer):
     # -- layout -------------------------------------------------------------------------------
 
     def __panel__(self) -> pn.viewable.Viewable:
+        """The tab (built when first shown): opens the requested or default atlas, computing the default atlas
+        in the background if it is not there yet."""
+        self.refresh()
+        self.start_default()
         choose = pn.Column(
             pn.widgets.Select.from_param(self.param.atlas, sizing_mode="stretch_width"),
             pn.widgets.Select.from_param(self.param.x_axis, sizing_mode="stretch_width"),

@@ -10,6 +10,7 @@ import panel as pn
 import param
 
 from app.all_branches import AllBranchesScene
+from app.atlas import AtlasScene
 from app.lab import LabScene
 from app.params import LabParams, RuptureParams, SpectrumParams, frozen_document, set_with_material
 from app.paths import CSS, FAVICON, LOGO
@@ -23,10 +24,10 @@ from app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
 from app.urlstate import TABS, Updates, parse_query, query_string
 
 #: tabs whose scene is built when first shown (see App.__init__)
-LAZY_TABS = ("map", "thin", "rupture", "branches")
+LAZY_TABS = ("map", "thin", "rupture", "branches", "atlas")
 
 #: the tab titles, in the order of urlstate.TABS
-TAB_TITLES = ("Spectrum", "Stability map", "Thin-on-thick", "Rupture fronts", "All branches")
+TAB_TITLES = ("Spectrum", "Stability map", "Thin-on-thick", "Rupture fronts", "All branches", "Atlas")
 
 TITLE = "asymslide — frictional sliding without reflection symmetry"
 
@@ -46,6 +47,8 @@ normal-stress change of a thin block on a thick one (Sect. III, Fig. 3).
 **Rupture fronts**: the slip velocity behind a steady rupture front with a cohesive zone, its peak v_m, and the
 normal-stress change it causes (supplement S-V C, Figs. 2-3).
 **All branches**: every unstable root in the complex plane, beyond the Rayleigh branch.
+**Atlas**: a precomputed N-D stability atlas (`asymslide sweep`), explored slice by slice, with the exact
+threshold γ_c and the neutral surface in 3-D.
 **Lab units** (a panel in the Spectrum and Stability-map tabs): a lab setting (material, block heights, normal
 stress, rate-and-state friction) that sets the sliders and reads the spectrum back in mm, 1/s and ms.
 The parameters are kept in the page's URL: copy it to share what you see.
@@ -83,11 +86,12 @@ class App:
         self.thin = ThinOnThickScene(params=self.thin_params)
         self.rupture = RuptureScene(params=self.rupture_params)
         self.branches = AllBranchesScene(params=self.spectrum_params)
+        self.atlas = AtlasScene(params=self.spectrum_params, requested=updates["atlas"].get("name"))
         # the Stability-map, Thin-on-thick and All-branches scenes are built when their tab is first shown: a new
         # session pays only for what it opens on (create_app ~70 ms instead of ~150 ms), and parameter changes
         # update only the widgets that exist (StabilityMapScene.ensure_map defers its pane updates for this)
         self._scenes = {"spectrum": self.spectrum, "map": self.map, "thin": self.thin, "rupture": self.rupture,
-                        "branches": self.branches}
+                        "branches": self.branches, "atlas": self.atlas}
         self._tab_content = {key: pn.Column(sizing_mode="stretch_width") for key in TABS}
         self.tabs = pn.Tabs(
             *((title, self._tab_content[key]) for title, key in zip(TAB_TITLES, TABS, strict=True)),
@@ -106,6 +110,7 @@ class App:
         self.lab_params.param.watch(self.write_url, list(self.lab_params.param))
         self.rupture_params.param.watch(self.write_url, list(self.rupture_params.param))
         self.tabs.param.watch(self.write_url, "active")
+        self.atlas.param.watch(self.write_url, "atlas")
         # a hidden All-branches tab defers its (up to ~1.5 s) recomputation until it is shown again
         branches_tab = TABS.index("branches")
         self.branches.active = self.tabs.active == branches_tab
@@ -136,7 +141,8 @@ class App:
         """Current parameters -> the browser's URL (replaces the query; the page is not reloaded)."""
         location = pn.state.location
         if location is not None:
-            location.search = query_string(self.param_objects(), TABS[self.tabs.active])
+            tab = TABS[self.tabs.active]
+            location.search = query_string(self.param_objects(), tab, self.atlas.atlas if tab == "atlas" else None)
 
     def apply_preset(self, preset: Preset) -> None:
         """Reset to the defaults, set the preset's values and family of curves, and show its tab."""

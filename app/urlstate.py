@@ -33,7 +33,7 @@ from .params import (
 MAX_QUOTE = 24
 
 #: query value of each tab, in tab order
-TABS = ("spectrum", "map", "thin", "rupture", "branches")
+TABS = ("spectrum", "map", "thin", "rupture", "branches", "atlas")
 
 #: the parameter classes whose declarations have URL keys, by target name (the keys of :data:`Updates`)
 TARGETS: dict[str, type[param.Parameterized]] = {
@@ -148,6 +148,7 @@ def parse_query(args: Mapping[str, Iterable[bytes | str]]) -> tuple[Updates, str
     ``messages`` explains every value that was clamped or ignored.
     """
     updates: Updates = {target: {} for target in TARGETS}
+    updates["atlas"] = {}
     tab: str | None = None
     messages: list[str] = []
     for key, values in args.items():
@@ -160,6 +161,16 @@ def parse_query(args: Mapping[str, Iterable[bytes | str]]) -> tuple[Updates, str
                 tab = raw
             else:
                 messages.append(f"tab = '{_quote(raw)}' is not one of {', '.join(TABS)}: ignored.")
+            continue
+        if key == "atlas":  # a name from the listing of the one atlas directory, never a path
+            from .atlas import list_atlases
+
+            names = list_atlases()
+            if raw in names:
+                updates["atlas"]["name"] = raw
+            else:
+                messages.append(f"atlas = '{_quote(raw)}' is not one of the atlases ({', '.join(names) or 'none'}): "
+                                "ignored.")
             continue
         q = BY_KEY.get(key)
         if q is None:
@@ -185,10 +196,10 @@ def _is_default(q: QueryParam, obj: param.Parameterized) -> bool:
     return all(getattr(obj, n) == obj.param[n].default for n in names)
 
 
-def query_string(objects: Mapping[str, param.Parameterized], tab: str) -> str:
+def query_string(objects: Mapping[str, param.Parameterized], tab: str, atlas: str | None = None) -> str:
     """The URL search string (``?...``) for the current parameter values; `objects` maps targets (keys of
     :data:`TARGETS`) to the parameter objects (a target left out is not written). A class with
-    ``URL_CHANGED_ONLY`` writes only the values that differ from its defaults."""
+    ``URL_CHANGED_ONLY`` writes only the values that differ from its defaults. `atlas`: the Atlas tab's atlas."""
     values: dict[str, str] = {}
     for q in QUERY:
         obj = objects.get(q.target)
@@ -200,4 +211,6 @@ def query_string(objects: Mapping[str, param.Parameterized], tab: str) -> str:
             continue
         values[q.key] = _url_value(q, obj)
     values["tab"] = tab
+    if atlas:
+        values["atlas"] = atlas
     return "?" + urllib.parse.urlencode(values)

@@ -46,12 +46,15 @@ def test_only_atlases_of_the_directory_are_listed_and_opened(atlas_dir: Path) ->
     for bad in ("../small", "/etc/passwd", "small/../small", "", ".hidden", "missing", "small.zarr", "a" * 300):
         assert A.resolve(bad) is None, bad
     scene = A.AtlasScene(requested="../../etc")
+    scene.refresh()
+    scene.refresh()
     assert scene.data is None and "is not in" in scene.message
 
 
 def test_slice_is_the_stored_cube_and_a_slice_change_calls_no_model_function(atlas_dir: Path,
                                                                             monkeypatch: pytest.MonkeyPatch) -> None:
     scene = A.AtlasScene(requested="small")
+    scene.refresh()
     stored = xr.open_zarr(atlas_dir / "small.zarr", consolidated=False)
     assert (scene.x_axis, scene.y_axis) == ("gamma", "beta") and A.CALLS["load"] == 1
 
@@ -80,6 +83,7 @@ def test_slice_is_the_stored_cube_and_a_slice_change_calls_no_model_function(atl
 
 def test_neutral_curve_separates_the_signs(atlas_dir: Path) -> None:
     scene = A.AtlasScene(requested="small")
+    scene.refresh()
     heat, neutral, _ = _heat(scene)
     x, y, g = scene.slice2d()
     assert (g > 0).any() and (g < 0).any()
@@ -93,18 +97,21 @@ def test_neutral_curve_separates_the_signs(atlas_dir: Path) -> None:
 def test_click_sets_all_six_shared_parameters(atlas_dir: Path) -> None:
     params = SpectrumParams(gamma=1.0, f=0.2, beta=0.5, eta_infinite=False, log10_eta=2.0, Delta=0.5, xi=3.0)
     scene = A.AtlasScene(requested="small", params=params)
+    scene.refresh()
     scene._set_index("f", 1)
     scene._on_tap(x=math.log10(AXES["gamma"][5]) + 0.01, y=AXES["beta"][3] - 0.01)
     assert params.gamma == AXES["gamma"][5] and params.beta == AXES["beta"][3] and params.f == AXES["f"][1]
     assert params.eta_infinite and params.Delta == 1.0 and params.xi == 0.0  # the atlas's fixed values
     assert "Parameters set from the atlas cell" in scene.message
     other = A.AtlasScene(requested="eta-gamma", params=params)
+    other.refresh()
     other._on_tap(x=math.log10(1e3), y=math.log10(0.5))
     assert not params.eta_infinite and params.log10_eta == pytest.approx(3.0) and params.gamma == pytest.approx(0.5)
 
 
 def test_surface_figure_is_the_neutral_isosurface(atlas_dir: Path) -> None:
     scene = A.AtlasScene(requested="small")
+    scene.refresh()
     fig = scene.surface_figure()
     iso = fig["data"][0]
     assert iso["type"] == "isosurface" and iso["isomin"] == iso["isomax"] == 0.0
@@ -124,6 +131,7 @@ def test_default_atlas_is_computed_on_first_use(tmp_path: Path, monkeypatch: pyt
     monkeypatch.setattr(A, "_default_job", None)
     A.CALLS.clear()
     scene = A.AtlasScene()
+    scene.refresh()
     assert scene.data is None and not A.default_ready()
     scene.start_default()  # without a server it waits for the computation
     assert A.CALLS["default_sweep"] == 1 and A.default_ready()
@@ -132,3 +140,28 @@ def test_default_atlas_is_computed_on_first_use(tmp_path: Path, monkeypatch: pyt
     again = A.AtlasScene()  # the next session opens it at once
     again.start_default()
     assert again.data is not None and A.CALLS["default_sweep"] == 1
+
+
+def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: Path,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    import shutil
+
+    from app.main import create_app
+
+    shutil.copytree(atlas_store / "eta-gamma.zarr", tmp_path / "eta-gamma.zarr")
+    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
+
+    # a page opening on the Atlas tab without a valid atlas computes the default one: keep it tiny here
+    monkeypatch.setattr(A, "DEFAULT_AXES", {"gamma": np.geomspace(0.5, 10, 3), "f": np.array([0.5, 0.9])})
+    monkeypatch.setattr(A, "DEFAULT_KH", KH)
+    monkeypatch.setattr(A, "_default_job", None)
+    from app.urlstate import TABS, query_string
+
+    app = create_app({"tab": ["atlas"], "atlas": ["eta-gamma"]}).app
+    assert app.tabs.active == TABS.index("atlas") and not app.messages.visible
+    assert app.atlas.atlas == "eta-gamma" and app.atlas.data is not None  # built: the tab is the active one
+    assert "atlas=eta-gamma" in query_string(app.param_objects(), "atlas", app.atlas.atlas)
+    for bad in ("../eta-gamma", "/etc/passwd", "nope"):
+        other = create_app({"tab": ["atlas"], "atlas": [bad]}).app
+        assert other.messages.visible and "is not one of the atlases" in other.messages.object
+        assert other.atlas.atlas != bad

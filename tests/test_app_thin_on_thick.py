@@ -211,7 +211,7 @@ def test_app_builds_with_five_tabs() -> None:
 
     template = create_app()
     (tabs,) = [obj for obj in template.main.objects if isinstance(obj, pn.Tabs)]
-    assert tabs._names == ["Spectrum", "Stability map", "Thin-on-thick", "Rupture fronts", "All branches"]
+    assert tabs._names == ["Spectrum", "Stability map", "Thin-on-thick", "Rupture fronts", "All branches", "Atlas"]
 
 
 # --------------------------------------------------------------------------------------------
