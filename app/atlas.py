@@ -31,7 +31,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import contourpy
-import holoviews as hv
 import numpy as np
 import panel as pn
 import param
@@ -277,6 +276,99 @@ def zero_contour(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> list[np.ndarray
 
 
 # ------------------------------------------------------------------------------------------------
+# the heat map: a Bokeh figure whose sources a slice change updates in place
+# ------------------------------------------------------------------------------------------------
+
+#: height of the heat map in px
+HEIGHT = 480
+
+
+class HeatMap:
+    """The heat map of one atlas and pair of axes: the slice's growth (an image glyph, or one rectangle per cell
+    on irregular axes), the neutral curve and the γ_c slice, a colour bar over the whole atlas's range, hover and
+    click (`on_tap(x, y)` in plotted coordinates).
+
+    Why Bokeh directly and not a HoloViews DynamicMap as the other scenes: a slice change sends new data only, and
+    updating three ColumnDataSources takes ~2 ms on the server where HoloViews' update of the same overlay took
+    40-75 ms (benchmarks/results.md); the slice-to-paint target is 100 ms in the browser."""
+
+    def __init__(self, atlas: Atlas, x_axis: str, y_axis: str | None, on_tap) -> None:
+        from bokeh.events import Tap
+        from bokeh.models import ColorBar, ColumnDataSource, HoverTool, LinearColorMapper
+        from bokeh.palettes import RdBu11
+        from bokeh.plotting import figure
+
+        self.atlas, self.x_axis, self.y_axis = atlas, x_axis, y_axis
+        x = atlas.display(x_axis)
+        y = atlas.display(y_axis) if y_axis else np.array([0.0])
+        self.regular = _uniform(x) and _uniform(y)
+        xr = _edges(x)
+        yr = _edges(y)
+        fixed = ", ".join(f"{atlas.label(k)} = {'∞' if math.isinf(v) else fmt(v)}" for k, v in atlas.fixed.items())
+        title = (f"{atlas.name}: max growth rate over {atlas.label(x_axis)}-{atlas.label(y_axis) if y_axis else ''}"
+                 + (f"; {fixed}" if fixed else ""))
+        fig = figure(title=title, height=HEIGHT, sizing_mode="stretch_width", x_range=(xr[0], xr[-1]),
+                     y_range=(yr[0], yr[-1]), tools="pan,wheel_zoom,box_zoom,reset,save,tap", toolbar_location="right",
+                     x_axis_label=atlas.label(x_axis) + (" (log scale)" if atlas.log[x_axis] else ""),
+                     y_axis_label=(atlas.label(y_axis) + (" (log scale)" if atlas.log[y_axis] else "")) if y_axis
+                     else "")
+        for axis, name in ((fig.xaxis, x_axis), (fig.yaxis, y_axis)):
+            if name is not None and atlas.log[name]:
+                axis.formatter = CustomJSTickFormatter(code=LOG_TICKS)
+        self.mapper = LinearColorMapper(palette=list(reversed(RdBu11)), low=-atlas.clim, high=atlas.clim,
+                                        nan_color=NAN_COLOR)
+        if self.regular:
+            self.cells = ColumnDataSource({"image": [np.zeros((y.size, x.size))], "x": [xr[0]], "y": [yr[0]],
+                                           "dw": [xr[-1] - xr[0]], "dh": [yr[-1] - yr[0]]})
+            heat = fig.image(image="image", x="x", y="y", dw="dw", dh="dh", source=self.cells,
+                             color_mapper=self.mapper)
+            field = "@image"
+        else:
+            xc, yc = np.meshgrid((xr[:-1] + xr[1:]) / 2, (yr[:-1] + yr[1:]) / 2)
+            w, h = np.meshgrid(np.diff(xr), np.diff(yr))
+            self.cells = ColumnDataSource({"x": xc.ravel(), "y": yc.ravel(), "w": w.ravel(), "h": h.ravel(),
+                                           "growth": np.zeros(xc.size)})
+            heat = fig.rect(x="x", y="y", width="w", height="h", source=self.cells, line_alpha=0,
+                            fill_color={"field": "growth", "transform": self.mapper})
+            field = "@growth"
+        fig.add_tools(HoverTool(renderers=[heat], tooltips=[(atlas.label(x_axis), "$x"), (GROWTH_LABEL, field)]))
+        self.contour = ColumnDataSource({"xs": [], "ys": []})
+        fig.multi_line(xs="xs", ys="ys", source=self.contour, line_color="black", line_width=2,
+                       legend_label="neutral curve (growth = 0)")
+        self.gamma_c = ColumnDataSource({"x": [], "y": []})
+        fig.line(x="x", y="y", source=self.gamma_c, line_color="#2ca25f", line_width=3, line_dash="dashed",
+                 legend_label="γ_c (exact threshold)")
+        fig.legend.location = "top_left"
+        fig.legend.background_fill_alpha = 0.8
+        fig.add_layout(ColorBar(color_mapper=self.mapper, title=GROWTH_LABEL), "right")
+        fig.on_event(Tap, lambda event: on_tap(x=event.x, y=event.y))
+        self.figure = fig
+
+    def update(self, x: np.ndarray, y: np.ndarray, g: np.ndarray, gamma_c: tuple | None) -> None:
+        """Draw the slice g[y, x] (plotted coordinates) and the γ_c line (x, y) or none."""
+        if self.regular:
+            self.cells.data.update(image=[g])
+        else:
+            self.cells.data.update(growth=g.ravel())
+        lines = zero_contour(x, y, g)
+        self.contour.data = {"xs": [line[:, 0] for line in lines], "ys": [line[:, 1] for line in lines]}
+        gx, gy = gamma_c if gamma_c is not None else (np.empty(0), np.empty(0))
+        self.gamma_c.data = {"x": gx, "y": gy}
+
+
+def _uniform(t: np.ndarray) -> bool:
+    return t.size < 3 or bool(np.allclose(np.diff(t), (t[-1] - t[0]) / (t.size - 1), rtol=1e-6))
+
+
+def _edges(t: np.ndarray) -> np.ndarray:
+    """Cell edges around the grid values (midpoints; half a step beyond the ends)."""
+    if t.size == 1:
+        return np.array([t[0] - 0.5, t[0] + 0.5])
+    mid = (t[:-1] + t[1:]) / 2
+    return np.concatenate([[t[0] - (mid[0] - t[0])], mid, [t[-1] + (t[-1] - mid[-1])]])
+
+
+# ------------------------------------------------------------------------------------------------
 # the scene
 # ------------------------------------------------------------------------------------------------
 
@@ -294,6 +386,8 @@ class AtlasScene(pn.viewable.Viewer):
     #: the loaded atlas (None until one is ready)
     data = param.ClassSelector(class_=Atlas, allow_None=True, precedence=-1)
     message = param.String(default="", precedence=-1)
+    #: True while the 3-D view is shown (it is computed only then)
+    surface_shown = param.Boolean(default=False, precedence=-1)
 
     def __init__(self, **kwargs):
         requested = kwargs.pop("requested", None)
@@ -307,14 +401,15 @@ class AtlasScene(pn.viewable.Viewer):
         self.sliders = pn.Column(sizing_mode="stretch_width")
         self._poller: pn.io.PeriodicCallback | None = None
         self._requested = requested
-        self.image_dmap = hv.DynamicMap(self.image, streams=[hv.streams.Params(
-            self, ["data", "x_axis", "y_axis", "indices"])])
-        self.tap = hv.streams.Tap(source=self.image_dmap, x=None, y=None)
-        self.tap.add_subscriber(self._on_tap)
+        self._surface_key: tuple | None = None
+        self._figures: dict[tuple, HeatMap] = {}
+        self.image_pane = pn.pane.Bokeh(None, sizing_mode="stretch_width", height=HEIGHT)
+        self.param.watch(self._show_heat_map, ["data", "x_axis", "y_axis"])
+        self.param.watch(self._slice_changed, "indices")
         self.surface_pane = pn.pane.Plotly(None, sizing_mode="stretch_width", height=460)
         self.param.watch(self._atlas_changed, "atlas")
         self.param.watch(self._axes_changed, ["x_axis", "y_axis"])
-        self.param.watch(self._update_surface, ["data", "surface_axes", "indices"])
+        self.param.watch(self._update_surface, ["data", "surface_axes", "indices", "surface_shown"])
         self.param.watch(lambda e: self._show(e.new), "message")
 
     # -- which atlas --------------------------------------------------------------------------
@@ -399,17 +494,20 @@ class AtlasScene(pn.viewable.Viewer):
         self._rebuild_sliders()
 
     def _rebuild_sliders(self) -> None:
-        """A slider per axis off the image, snapping to the grid (DiscreteSlider over the grid values)."""
+        """A slider per axis off the image, snapping to the grid: an index slider whose label and ticks show the
+        grid value (a plain IntSlider: Panel's DiscreteSlider syncs an inner slider and a label on the server,
+        which cost more than the heat map's update)."""
         d = self.data
         widgets = []
         if d is not None:
             for name in d.names:
                 if name in (self.x_axis, self.y_axis):
                     continue
-                values = d.axes[name]
-                options = {f"{v:.4g}": i for i, v in enumerate(values)}
-                slider = pn.widgets.DiscreteSlider(label=d.label(name), options=options,
-                                                   value=self.indices.get(name, 0), sizing_mode="stretch_width")
+                labels = json.dumps([f"{v:.4g}" for v in d.axes[name]])
+                slider = pn.widgets.IntSlider(label=d.label(name), start=0, end=max(len(d.axes[name]) - 1, 1),
+                                              value=self.indices.get(name, 0), disabled=len(d.axes[name]) < 2,
+                                              format=CustomJSTickFormatter(code=f"return {labels}[tick] ?? ''"),
+                                              sizing_mode="stretch_width")
                 slider.param.watch(lambda e, n=name: self._set_index(n, e.new), "value_throttled")
                 widgets.append(slider)
         self.sliders.objects = widgets
@@ -449,54 +547,34 @@ class AtlasScene(pn.viewable.Viewer):
         along = d.display(other)
         return (gc_disp, along) if self.x_axis == "gamma" else (along, gc_disp)
 
-    def _dims(self) -> tuple[hv.Dimension, hv.Dimension]:
-        d = self.data
-        out = []
-        for name in (self.x_axis, self.y_axis):
-            if name is None:
-                out.append(hv.Dimension("none", label=" "))
-            else:
-                out.append(hv.Dimension(name, label=d.label(name) + (" (log scale)" if d.log[name] else "")))
-        return out[0], out[1]
-
-    def image(self, **_stream_values) -> hv.Overlay:
-        """Heat map of the slice with the neutral curve and the γ_c slice (or an empty frame)."""
-        xd, yd = (hv.Dimension("x"), hv.Dimension("y")) if self.data is None else self._dims()
-        vdim = hv.Dimension("growth", label=GROWTH_LABEL)
+    def heat_map(self) -> HeatMap | None:
+        """The figure of the current atlas and pair of axes (one per pair, kept: switching back is instant)."""
         if self.data is None or self.x_axis is None:
-            return hv.Overlay([hv.Image(np.full((2, 2), np.nan), bounds=(0, 0, 1, 1), kdims=[xd, yd], vdims=[vdim]),
-                               hv.Path([], kdims=[xd, yd]), hv.Curve([], xd, yd)])
-        x, y, g = self.slice2d()
-        d = self.data
-        dx = (x[-1] - x[0]) / max(x.size - 1, 1) if x.size > 1 else 1.0
-        dy = (y[-1] - y[0]) / max(y.size - 1, 1) if y.size > 1 else 1.0
-        bounds = (x[0] - dx / 2, y[0] - dy / 2, x[-1] + dx / 2, y[-1] + dy / 2)
-        regular = (x.size < 3 or np.allclose(np.diff(x), dx, rtol=1e-6)) and \
-            (y.size < 3 or np.allclose(np.diff(y), dy, rtol=1e-6))
-        style = dict(cmap="RdBu_r", clim=(-d.clim, d.clim), colorbar=True, clabel=GROWTH_LABEL, tools=["hover", "tap"],
-                     clipping_colors={"NaN": NAN_COLOR}, responsive=True, height=460, framewise=True)
-        for axis, name in (("x", self.x_axis), ("y", self.y_axis)):
-            if name is not None and d.log[name]:
-                style[f"{axis}formatter"] = CustomJSTickFormatter(code=LOG_TICKS)
-        if regular:
-            heat = hv.Image(np.flipud(g), bounds=bounds, kdims=[xd, yd], vdims=[vdim]).opts(**style)
-        else:
-            heat = hv.QuadMesh((x, y, g), kdims=[xd, yd], vdims=[vdim]).opts(**style)
-        neutral = hv.Path(zero_contour(x, y, g), kdims=[xd, yd], label="neutral curve (growth = 0)").opts(
-            color="black", line_width=2)
-        line = self.gamma_c_line()
-        gc = hv.Curve(line if line is not None else ([], []), xd, yd, label="γ_c (exact threshold)").opts(
-            color="#2ca25f", line_width=3, line_dash="dashed")
-        return hv.Overlay([heat, neutral, gc]).opts(
-            hv.opts.Overlay(title=self._title(), show_legend=True, legend_position="top_left", responsive=True,
-                            height=460))
+            return None
+        key = (self.data.name, self.x_axis, self.y_axis)
+        if key not in self._figures:
+            self._figures[key] = HeatMap(self.data, self.x_axis, self.y_axis, self._on_tap)
+        return self._figures[key]
 
-    def _title(self) -> str:
-        d = self.data
-        others = ", ".join(f"{d.label(n)} = {fmt(d.axes[n][self.indices.get(n, 0)])}" for n in d.names
-                           if n not in (self.x_axis, self.y_axis))
-        fixed = ", ".join(f"{d.label(k)} = {'∞' if math.isinf(v) else fmt(v)}" for k, v in d.fixed.items())
-        return f"{d.name}: max growth rate; {others}{'; ' if others else ''}{fixed}"
+    def _show_heat_map(self, *_events) -> None:
+        """Put the current figure in the pane and draw the current slice into it."""
+        heat = self.heat_map()
+        if heat is None:
+            return
+        self._draw(heat)
+        if self.image_pane.object is not heat.figure:
+            self.image_pane.object = heat.figure
+
+    def _draw(self, heat: HeatMap) -> None:
+        CALLS["image"] += 1
+        x, y, g = self.slice2d()
+        heat.update(x, y, g, self.gamma_c_line())
+
+    def _slice_changed(self, *_events) -> None:
+        heat = self.heat_map()
+        if heat is not None and self.image_pane.object is heat.figure:
+            with frozen_document():
+                self._draw(heat)
 
     # -- a click sets the shared parameters ----------------------------------------------------
 
@@ -565,12 +643,10 @@ class AtlasScene(pn.viewable.Viewer):
         finite = np.isfinite(cube)
         if not finite.any():
             return None
-        values = np.where(finite, cube, np.nan)
         titles = [d.label(n) + (" (log10)" if d.log[n] else "") for n in axes]
         return {
-            "data": [{"type": "isosurface", "x": grids[0].ravel().tolist(), "y": grids[1].ravel().tolist(),
-                      "z": grids[2].ravel().tolist(), "value": [None if not np.isfinite(v) else float(v)
-                                                                for v in values.ravel()],
+            "data": [{"type": "isosurface", "x": grids[0].ravel(), "y": grids[1].ravel(), "z": grids[2].ravel(),
+                      "value": cube.ravel(),
                       "isomin": 0.0, "isomax": 0.0, "surface": {"count": 1}, "caps": {"x": {"show": False},
                       "y": {"show": False}, "z": {"show": False}}, "colorscale": [[0, "#1f4e79"], [1, "#1f4e79"]],
                       "showscale": False, "opacity": 0.75, "name": "growth = 0"}],
@@ -580,12 +656,48 @@ class AtlasScene(pn.viewable.Viewer):
                        "margin": {"l": 0, "r": 0, "t": 40, "b": 0}, "height": 460},
         }
 
+    def surface_key(self) -> tuple | None:
+        """What the 3-D view depends on: the atlas, the three axes and the indices of the other axes."""
+        d = self.data
+        if d is None or len(self.surface_axes) != 3:
+            return None
+        return (d.name, tuple(self.surface_axes),
+                tuple((n, self.indices.get(n, 0)) for n in d.names if n not in self.surface_axes))
+
     def _update_surface(self, *_events) -> None:
-        self.surface_pane.object = self.surface_figure()
+        """Rebuild the 3-D view only when what it shows changed (a slider of one of its own axes does not), after
+        the heat map's update has been sent (the figure is the larger message)."""
+        key = self.surface_key() if self.surface_shown else self._surface_key
+        if key == self._surface_key:
+            return
+        self._surface_key = key
+        doc = pn.state.curdoc
+        if doc is not None and doc.session_context is not None:
+            doc.add_next_tick_callback(self._send_surface)
+        else:
+            self._send_surface()
+
+    def _send_surface(self) -> None:
+        fig = self.surface_figure()
+        self.surface_pane.object = None  # replaced, not compared element by element with the previous figure
+        self.surface_pane.object = fig
 
     # -- readout and export --------------------------------------------------------------------
 
     @param.depends("data", "x_axis", "y_axis", "indices")
+    def slice_readout(self) -> str:
+        """The current slice: how much of it is unstable or masked."""
+        if self.data is None or self.x_axis is None:
+            return ""
+        _, _, g = self.slice2d()
+        finite = np.isfinite(g)
+        n_nan = int((~finite).sum())
+        unstable = int((g[finite] > MARGINAL).sum())
+        largest = fmt(float(np.max(g[finite])) if finite.any() else math.nan)
+        return (f"**This slice** {unstable} of {int(finite.sum())} points unstable (growth > {MARGINAL:g}); "
+                f"largest growth {largest}; masked (grey) {n_nan}")
+
+    @param.depends("data")
     def readout(self) -> str:
         d = self.data
         if d is None:
@@ -596,15 +708,10 @@ class AtlasScene(pn.viewable.Viewer):
                                            for k, v in d.fixed.items()),
                  f"**Computed** by asymslide {a.get('asymslide_version')} (git {a.get('git_revision')}) on "
                  f"{a.get('created')}; kH grid {a.get('kH_grid')}; rtol {a.get('rtol')}"]
-        if self.x_axis is not None:
-            _, _, g = self.slice2d()
-            finite = np.isfinite(g)
-            n_nan = int((~finite).sum())
-            unstable = int((g[finite] > MARGINAL).sum())
-            lines.append(f"**This slice** {unstable} of {int(finite.sum())} points unstable (growth > {MARGINAL:g}); "
-                         f"largest growth {fmt(float(np.max(g[finite])) if finite.any() else math.nan)}")
-            lines.append(f"**Masked** {n_nan} point(s) (grey): the Rayleigh branch could not be followed at any kH"
-                         if n_nan else "**Masked** none")
+        masked = int(np.sum(~np.isfinite(np.asarray(d.growth)))) if isinstance(d.growth, np.ndarray) else None
+        if masked is not None:
+            lines.append(f"**Masked** {masked} point(s) of the atlas (grey): the Rayleigh branch could not be "
+                         "followed at any kH" if masked else "**Masked** none")
         if d.gamma_c_reason is not None:
             r = np.asarray(d.gamma_c_reason)
             jumps = int((r == 5).sum())
@@ -631,12 +738,14 @@ class AtlasScene(pn.viewable.Viewer):
         in the background if it is not there yet."""
         self.refresh()
         self.start_default()
+        # the readouts that change with a slider have a fixed size: a div that grows would make the browser lay
+        # out the page again (and resize the 3-D plot), which cost more than the heat map's own update
         choose = pn.Column(
             pn.widgets.Select.from_param(self.param.atlas, sizing_mode="stretch_width"),
             pn.widgets.Select.from_param(self.param.x_axis, sizing_mode="stretch_width"),
             pn.widgets.Select.from_param(self.param.y_axis, sizing_mode="stretch_width"),
             "### Other axes", self.sliders,
-            pn.widgets.MultiChoice.from_param(self.param.surface_axes, max_items=3, sizing_mode="stretch_width"),
+            pn.pane.Markdown(self.slice_readout, width=320, height=90),
             pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
             width=340,
         )
@@ -645,9 +754,20 @@ class AtlasScene(pn.viewable.Viewer):
             "green dashes: the exact threshold γ_c (where γ is an axis). Sliders snap to the atlas grid; click a "
             f"cell to set the other tabs' parameters. Atlases are read from `{atlas_dir()}`; make your own with "
             "`asymslide sweep ... --out DIR/NAME.zarr`.", sizing_mode="stretch_width")
-        plots = pn.Column(self.alert, self.progress, self.status, help_text,
-                          pn.pane.HoloViews(self.image_dmap, sizing_mode="stretch_width", linked_axes=False),
-                          pn.widgets.FileDownload(callback=self.csv, filename="atlas_slice.csv",
-                                                  label="Download slice (CSV)", color="primary", width=200),
-                          self.surface_pane, sizing_mode="stretch_width")
+        self._show_heat_map()
+        heat = pn.Column(self.image_pane,
+                         pn.widgets.FileDownload(callback=self.csv, filename="atlas_slice.csv",
+                                                 label="Download slice (CSV)", color="primary", width=200),
+                         sizing_mode="stretch_width")
+        surface = pn.Column(
+            pn.widgets.MultiChoice.from_param(self.param.surface_axes, max_items=3, width=400),
+            pn.pane.Markdown("The surface where the max growth is 0 over three axes of the atlas, the others at the "
+                             "sliders' values; drag to rotate, scroll to zoom.", sizing_mode="stretch_width"),
+            self.surface_pane, sizing_mode="stretch_width")
+        # the 3-D view in its own tab: rendered (and recomputed) only while shown, so a slice change repaints the
+        # heat map alone
+        views = pn.Tabs(("Heat map", heat), ("3-D neutral surface", surface), dynamic=True,
+                        sizing_mode="stretch_width")
+        views.param.watch(lambda e: setattr(self, "surface_shown", e.new == 1), "active")
+        plots = pn.Column(self.alert, self.progress, self.status, help_text, views, sizing_mode="stretch_width")
         return pn.Row(choose, plots, sizing_mode="stretch_width", name="Atlas")

@@ -23,6 +23,9 @@ from param.parameterized import Undefined
 import model
 
 hv.extension("bokeh", logo=False)
+# plotly.js with every page (served by this server from Panel's bundle): the Atlas tab's 3-D view is created after
+# the page has loaded (a lazily built tab), when it is too late to add a JavaScript library to the page
+pn.extension("plotly")
 # Canvas, not WebGL: the plots hold at most a few thousand points, and copying the WebGL layer onto
 # the canvas (blit_webgl -> drawImage) took ~58 ms of every ~100 ms browser update in Chromium's
 # profile (benchmarks/latency.py; software GL without a GPU). Image-based plots are unaffected.

@@ -35,9 +35,12 @@ def atlas_dir(atlas_store: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     return atlas_store
 
 
-def _heat(scene: A.AtlasScene):
-    overlay = scene.image_dmap[()]
-    return overlay.get(0), overlay.get(1), overlay.get(2)
+def _heat(scene: A.AtlasScene) -> A.HeatMap:
+    """The drawn heat map of the scene (its figure in the pane, its sources updated)."""
+    scene._show_heat_map()
+    heat = scene.heat_map()
+    assert scene.image_pane.object is heat.figure
+    return heat
 
 
 def test_only_atlases_of_the_directory_are_listed_and_opened(atlas_dir: Path) -> None:
@@ -64,19 +67,22 @@ def test_slice_is_the_stored_cube_and_a_slice_change_calls_no_model_function(atl
     for name in ("growth_chunk", "growth_analysis", "critical_gamma_chunk", "threshold_chunk", "spectrum",
                  "rayleigh_branch", "unstable_count"):
         monkeypatch.setattr(model, name, forbidden)
+    heat = _heat(scene)
     for i in range(len(AXES["f"])):
         scene._set_index("f", i)
-        heat, neutral, gc = _heat(scene)
         want = stored.growth.isel(f=i).transpose("beta", "gamma").values  # rows: beta, columns: gamma
-        np.testing.assert_array_equal(np.flipud(heat.data), want)  # hv.Image rows run top-down
-        np.testing.assert_allclose(heat.bounds.lbrt()[::2], [np.log10(0.3) - 1 / 7, np.log10(30) + 1 / 7])
+        np.testing.assert_array_equal(heat.cells.data["image"][0], want)  # Bokeh's image: row 0 at the bottom
+        assert heat.cells.data["x"][0] == pytest.approx(np.log10(0.3) - 1 / 7)
+        assert heat.cells.data["dw"][0] == pytest.approx(2 + 2 / 7)
         line = scene.gamma_c_line()
         np.testing.assert_allclose(10 ** line[0], stored.gamma_c.isel(f=i).values, rtol=1e-15)  # γ_c(β)
         np.testing.assert_array_equal(line[1], AXES["beta"])
+        np.testing.assert_array_equal(heat.gamma_c.data["x"], line[0])
     scene.x_axis, scene.y_axis = "f", "gamma"
-    heat, _, _ = _heat(scene)
+    heat = _heat(scene)
     want = stored.growth.isel(beta=scene.indices["beta"]).values  # rows: gamma, columns: f
-    np.testing.assert_array_equal(np.flipud(heat.data), want)
+    np.testing.assert_array_equal(heat.cells.data["image"][0], want)
+    assert heat.gamma_c.data["y"].size == len(AXES["f"])  # γ on y: the γ_c(f) line
     assert A.CALLS["load"] == 1  # read once; the slices come from memory
     assert [w.label for w in scene.sliders.objects] == ["β"]
 
@@ -84,14 +90,18 @@ def test_slice_is_the_stored_cube_and_a_slice_change_calls_no_model_function(atl
 def test_neutral_curve_separates_the_signs(atlas_dir: Path) -> None:
     scene = A.AtlasScene(requested="small")
     scene.refresh()
-    heat, neutral, _ = _heat(scene)
+    heat = _heat(scene)
     x, y, g = scene.slice2d()
     assert (g > 0).any() and (g < 0).any()
-    lines = neutral.split()
+    lines = list(zip(heat.contour.data["xs"], heat.contour.data["ys"], strict=True))
     assert lines, "no neutral curve drawn although the slice has both signs"
-    for part in lines:
-        xs, ys = part.dimension_values(0), part.dimension_values(1)
+    for xs, ys in lines:
         assert x.min() <= xs.min() and xs.max() <= x.max() and y.min() <= ys.min() and ys.max() <= y.max()
+        # on the line, the growth interpolated bilinearly in the grid cell is 0 (it separates the signs)
+        from scipy.interpolate import RegularGridInterpolator
+
+        values = RegularGridInterpolator((y, x), g)(np.column_stack([ys, xs]))
+        assert np.max(np.abs(values)) < 0.05 * np.nanmax(np.abs(g))
 
 
 def test_click_sets_all_six_shared_parameters(atlas_dir: Path) -> None:
@@ -119,6 +129,8 @@ def test_surface_figure_is_the_neutral_isosurface(atlas_dir: Path) -> None:
     stored = xr.open_zarr(atlas_dir / "small.zarr", consolidated=False).growth.values
     np.testing.assert_array_equal(np.array(iso["value"], dtype=float), stored.ravel())
     assert fig["layout"]["scene"]["xaxis"]["title"]["text"] == "γ (log10)"
+    scene.surface_shown = True
+    assert scene.surface_pane.object is not None
     scene.surface_axes = ["gamma", "beta"]
     assert scene.surface_figure() is None and scene.surface_pane.object is None
 
@@ -165,3 +177,64 @@ def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: P
         other = create_app({"tab": ["atlas"], "atlas": [bad]}).app
         assert other.messages.visible and "is not one of the atlases" in other.messages.object
         assert other.atlas.atlas != bad
+
+
+# ------------------------------------------------------------------------------------------------
+# browser
+# ------------------------------------------------------------------------------------------------
+
+SCREENSHOT = Path(__file__).resolve().parent.parent / "docs" / "screenshot_atlas.png"
+SCREENSHOT_3D = SCREENSHOT.with_name("screenshot_atlas_3d.png")
+
+#: the heat map's image data (JS): the sum of its finite values and its shape, or null before it is drawn
+_IMAGE_JS = """() => {
+  for (const m of Bokeh.documents[0].all_models) {
+    if (m.type !== 'GlyphRenderer' || m.glyph === undefined || m.glyph.type !== 'Image') continue;
+    const img = m.data_source.data['image'];
+    if (img === undefined || img.length === 0) continue;
+    const a = img[0];
+    const values = Array.from(a.length !== undefined ? a : a.array ?? []);
+    const finite = values.filter(v => Number.isFinite(v));
+    if (finite.length === 0) continue;
+    return {sum: finite.reduce((s, v) => s + v, 0), n: values.length};
+  }
+  return null;
+}"""
+
+#: move the atlas's slider of the axis off the image (an index slider: start 0, step 1)
+_MOVE_JS = """(index) => {
+  for (const m of Bokeh.documents[0].all_models) {
+    if (m.type === 'Slider' && m.start === 0 && m.step === 1 && m.title === 'f') {
+      m.value = index; m.value_throttled = index; return true;
+    }
+  }
+  return false;
+}"""
+
+
+@pytest.mark.ui
+def test_atlas_tab_in_the_browser(atlas_dir: Path, served_app: str, browser_page) -> None:
+    from tests.conftest import open_app
+
+    page = browser_page
+    page.set_viewport_size({"width": 1280, "height": 1500})
+    open_app(page, served_app + "?tab=atlas&atlas=small")
+    page.wait_for_function(f"() => ({_IMAGE_JS})() !== null", timeout=60_000)
+    first = page.evaluate(_IMAGE_JS)
+    stored = xr.open_zarr(atlas_dir / "small.zarr", consolidated=False).growth
+    want = stored.isel(f=2).values  # the slider starts mid-way (index 2 of 4)
+    assert first["n"] == want.size and first["sum"] == pytest.approx(float(np.nansum(want)), rel=1e-12)
+    assert page.evaluate(_MOVE_JS, 0)
+    page.wait_for_function(f"() => ({_IMAGE_JS})().sum !== {first['sum']!r}", timeout=30_000)
+    moved = page.evaluate(_IMAGE_JS)
+    assert moved["sum"] == pytest.approx(float(np.nansum(stored.isel(f=0).values)), rel=1e-12)
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    page.wait_for_timeout(300)
+    page.screenshot(path=str(SCREENSHOT), full_page=True)
+    assert SCREENSHOT.stat().st_size > 0
+    page.locator(".bk-tab", has_text="3-D neutral surface").first.click()
+    page.locator(".js-plotly-plot").first.wait_for(state="visible", timeout=60_000)  # rendered offline
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    page.wait_for_timeout(800)  # the 3-D plot's first paint
+    page.screenshot(path=str(SCREENSHOT_3D), full_page=True)
+    # browser_page fails the test on any console error (e.g. plotly.js not served by this server)
