@@ -115,12 +115,13 @@ def compare(old_cases, new_cases) -> list[str]:
             lines.append(f"{name}: status identical {st}, max rel diff of z {_rel(rn.z, ro.z):.1e}, "
                          f"bit-identical {np.array_equal(rn.z, ro.z, equal_nan=True)}")
         elif name.startswith("growth"):
-            diffs = [_rel(getattr(rn, k), getattr(ro, k)) for k in ("growth", "kH_at_max", "kH_min", "kH_max")]
+            diffs = [_rel(getattr(rn, k), getattr(ro, k)) for k in ("kH_at_max", "kH_min", "kH_max")]
             nan_ok = all(_same_nan(getattr(rn, k), getattr(ro, k)) for k in ("growth", "kH_at_max", "kH_min",
                                                                             "kH_max"))
+            dg = float(np.nanmax(np.abs(rn.growth - ro.growth)))  # Im z in units of c_s: |z| ~ 1, so absolute
             lines.append(f"{name}: n_masked identical {np.array_equal(rn.n_masked, ro.n_masked)}, NaN pattern "
-                         f"identical {nan_ok}, max rel diff growth {diffs[0]:.1e}, kH_at_max {diffs[1]:.1e}, "
-                         f"band ends {max(diffs[2:]):.1e}")
+                         f"identical {nan_ok}, max |diff| of growth (Im z) {dg:.1e}, max rel diff kH_at_max "
+                         f"{diffs[0]:.1e}, band ends {max(diffs[1:]):.1e}")
         elif name.startswith("critical"):
             lines.append(f"{name}: rel diff {_rel(rn[0], ro[0]):.1e}, {_rel(rn[1], ro[1]):.1e} "
                          f"(new {rn[0]:.15g}, {rn[1]:.15g})")
@@ -150,13 +151,33 @@ def oracle_errors(m_old, m_new) -> list[str]:
     return lines
 
 
+def _random_params(n: int, seed: int) -> dict:
+    rng = np.random.default_rng(seed)
+    return dict(gamma=10 ** rng.uniform(-2, 3, n), f=rng.uniform(-2, 2, n), beta=rng.uniform(0.05, 0.707, n),
+                eta=np.where(rng.random(n) < 0.3, math.inf, 10 ** rng.uniform(-2, 6, n)),
+                Delta=np.where(rng.random(n) < 0.5, 1.0, rng.uniform(0.05, 1.0, n)), xi=10 ** rng.uniform(-2, 3, n))
+
+
+def random_growth(m_old, m_new, n: int = 2000, seed: int = 2) -> str:
+    """NaN patterns, n_masked and values of growth_analysis on random parameter sets (both rtol settings)."""
+    q = np.logspace(-4, 4, 161)
+    p = _random_params(n, seed)
+    out = []
+    for rtol in (None, 1e-6):
+        ro = m_old.growth_analysis(q, **p, rtol=rtol, workers=1)
+        rn = m_new.growth_analysis(q, **p, rtol=rtol, workers=1)
+        nan_ok = all(_same_nan(getattr(rn, k), getattr(ro, k)) for k in ("growth", "kH_at_max", "kH_min", "kH_max"))
+        dg = float(np.nanmax(np.abs(rn.growth - ro.growth)))
+        out.append(f"rtol={rtol}: n_masked identical {np.array_equal(rn.n_masked, ro.n_masked)}, NaN patterns "
+                   f"identical {nan_ok} ({int(np.isnan(ro.growth).sum())} NaN growths), max |diff| of growth {dg:.1e}, "
+                   f"max rel diff of band ends {max(_rel(rn.kH_min, ro.kH_min), _rel(rn.kH_max, ro.kH_max)):.1e}")
+    return f"random growth maps ({n} parameter sets x 161 kH): " + "; ".join(out)
+
+
 def random_statuses(m_old, m_new, n: int = 200, seed: int = 1) -> str:
     """Statuses and values of rayleigh_branch on random parameter sets (both rtol settings)."""
-    rng = np.random.default_rng(seed)
     q = np.logspace(-4, 4, 200)
-    p = dict(gamma=10 ** rng.uniform(-2, 3, n), f=rng.uniform(-2, 2, n), beta=rng.uniform(0.05, 0.707, n),
-             eta=np.where(rng.random(n) < 0.3, math.inf, 10 ** rng.uniform(-2, 6, n)),
-             Delta=np.where(rng.random(n) < 0.5, 1.0, rng.uniform(0.05, 1.0, n)), xi=10 ** rng.uniform(-2, 3, n))
+    p = _random_params(n, seed)
     out = []
     for rtol in (None, 1e-6):
         ro = m_old.rayleigh_branch(q, **{k: v[:, None] for k, v in p.items()}, rtol=rtol)
@@ -189,6 +210,7 @@ def main() -> None:
     for line in compare(co, cn):
         print(line)
     print(random_statuses(m_old, new))
+    print(random_growth(m_old, new))
     if not args.no_oracle:
         for line in oracle_errors(m_old, new):
             print(line)
