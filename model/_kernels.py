@@ -1276,7 +1276,9 @@ def growth_one(s_grid: np.ndarray, z_r: float, p: Params, rtol: float) -> tuple[
 
 # ----------------------------------------------------------------------------- entry points (flat arrays)
 @njit(cache=True, nogil=True)
-def growth_many(s_grid, gamma, f, beta, eta, delta, xi, rtol, g_out, s_out, lo_out, hi_out, nm_out) -> None:
+def growth_many(s_grid: np.ndarray, gamma: np.ndarray, f: np.ndarray, beta: np.ndarray, eta: np.ndarray,
+                delta: np.ndarray, xi: np.ndarray, rtol: float, g_out: np.ndarray, s_out: np.ndarray,
+                lo_out: np.ndarray, hi_out: np.ndarray, nm_out: np.ndarray) -> None:
     """growth_one over flattened parameter sets (one chunk of a stability map)."""
     for i in range(gamma.shape[0]):
         p = Params(gamma[i], f[i], beta[i], eta[i], delta[i], xi[i])
@@ -1284,7 +1286,9 @@ def growth_many(s_grid, gamma, f, beta, eta, delta, xi, rtol, g_out, s_out, lo_o
 
 
 @njit(cache=True, nogil=True)
-def branch_many(s_req, gamma, f, beta, eta, delta, xi, rtol, z_out, status, resid, err) -> None:
+def branch_many(s_req: np.ndarray, gamma: np.ndarray, f: np.ndarray, beta: np.ndarray, eta: np.ndarray,
+                delta: np.ndarray, xi: np.ndarray, rtol: float, z_out: np.ndarray, status: np.ndarray,
+                resid: np.ndarray, err: np.ndarray) -> None:
     """branch_solve for many parameter sets (rows of the 2-D outputs)."""
     for i in range(gamma.shape[0]):
         p = Params(gamma[i], f[i], beta[i], eta[i], delta[i], xi[i])
@@ -1292,20 +1296,24 @@ def branch_many(s_req, gamma, f, beta, eta, delta, xi, rtol, z_out, status, resi
 
 
 @njit(cache=True, nogil=True)
-def branch_one(s_req, gamma, f, beta, eta, delta, xi, rtol, z_out, status, resid, err) -> None:
+def branch_one(s_req: np.ndarray, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float,
+               rtol: float, z_out: np.ndarray, status: np.ndarray, resid: np.ndarray, err: np.ndarray) -> None:
     """branch_solve for one parameter set given as scalars (1-D outputs)."""
     branch_solve(s_req, rayleigh_z(beta), Params(gamma, f, beta, eta, delta, xi), rtol, z_out, status, resid, err)
 
 
 @njit(cache=True)
-def response_many(z, q, beta, eta, gx, gy, dgx, dgy) -> None:
+def response_many(z: np.ndarray, q: np.ndarray, beta: np.ndarray, eta: np.ndarray, gx: np.ndarray,
+                  gy: np.ndarray, dgx: np.ndarray, dgy: np.ndarray) -> None:
     """Vector loop over flattened broadcast inputs."""
     for i in range(z.shape[0]):
         gx[i], gy[i], dgx[i], dgy[i], _, _, _ = response(z[i], q[i], beta[i], eta[i])
 
 
 @njit(cache=True)
-def dispersion_many(z, q, gamma, f, beta, eta, delta, xi, fo, dfo, sco) -> None:
+def dispersion_many(z: np.ndarray, q: np.ndarray, gamma: np.ndarray, f: np.ndarray, beta: np.ndarray,
+                    eta: np.ndarray, delta: np.ndarray, xi: np.ndarray, fo: np.ndarray, dfo: np.ndarray,
+                    sco: np.ndarray) -> None:
     """Vector loop over flattened broadcast inputs."""
     for i in range(z.shape[0]):
         fo[i], dfo[i], sco[i] = dispersion_eval(z[i], q[i], gamma[i], f[i], beta[i], eta[i], delta[i], xi[i])

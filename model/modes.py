@@ -281,7 +281,8 @@ def _build(kernels_sha: str):
         return out_t[:n], out_f[:n], out_l[: n - 1], 0, ta, nev
 
     @njit(cache=True)
-    def newton_cell(z0, x0, x1, y0, y1, mult, q, gamma, f, beta, eta, delta, xi):
+    def newton_cell(z0: complex, x0: float, x1: float, y0: float, y1: float, mult: float, q: float, gamma: float,
+                    f: float, beta: float, eta: float, delta: float, xi: float) -> tuple[complex, bool, float, int]:
         """The root of F(z; kH = q) in the cell [x0, x1] x [y0, y1] by the model's one Newton loop (K._newton, thin
         wrapper): the step multiplied by `mult` for a multiple root; the iterates confined to the cell enlarged by
         its own size on every side and to Im z > 0; steps allowed to shrink slowly (SHRINK_CELL: the start is a
