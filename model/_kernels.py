@@ -1115,13 +1115,13 @@ def branch_solve(s_req: np.ndarray, z_r: float, p: Params, rtol: float, z_out: n
 GOLDEN = 0.3819660112501051  # (3 - sqrt 5)/2: golden-section fraction
 S_TOL_MAX = 1e-9  # location of the maximum in ln kH
 GOLDEN_STOP = 0.1 * S_TOL_MAX  # golden-section search stops at this bracket width
-GOLDEN_ITERS = 80  # 0.618^80 < 1e-16: any bracket (<= ln 1e8 wide) is below GOLDEN_STOP before this
+GOLDEN_ITERS = 80  # 0.618^80 < 1e-16: any bracket narrower than 1e6 in ln kH gets below GOLDEN_STOP first
 MAX_SHIFT = 0.1  # largest Newton correction of the maximum's location in ln kH (the local quadratic model's reach)
 FLAT_ULPS = 4.0  # the corrected location is kept unless its Im z is lower by more than FLAT_ULPS eps |z|
 S_TOL_CROSS = 1e-13  # relative location of a band end in ln kH
 ILLINOIS = 0.5  # factor on the retained end's value in the Illinois variant of false position (superlinear)
-ILLINOIS_ITERS = 100  # false-position iterations on the interpolant (superlinear: a few dozen at most)
-CROSS_ITERS = 8  # Newton in ln kH on exact roots from the false-position estimate: quadratic, 2-3 steps
+ILLINOIS_ITERS = 100  # false-position iterations on the interpolant (superlinear: a bound, not a budget)
+CROSS_ITERS = 8  # Newton in ln kH on exact roots from the false-position estimate (quadratic: a few steps)
 
 
 @njit(cache=True, nogil=True, inline="always")
