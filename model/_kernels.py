@@ -3,8 +3,15 @@
 Everything here works on plain Python/NumPy scalars inside ``numba.njit`` functions; the public,
 validated, broadcasting API lives in the other modules of :mod:`model`.
 
-Cancellation-free forms (PHYSICS.md section 2)
--------------------------------------------
+Records
+-------
+Two NamedTuples travel through the kernels (numba passes them by value, like their fields):
+:class:`Params`, the six physical parameters of F, and :class:`Path`, a followed Rayleigh branch (its
+nodes and the interpolation table built on them). :class:`Nodes` are the buffers a continuation fills,
+:class:`Root` is what the one Newton loop (:func:`_newton`) returns, :class:`Box` confines it.
+
+Cancellation-free forms (docs/physics.md §2)
+--------------------------------------------
 Finite eta. With u_j = alpha_j^2 (u_s = 1 - z^2, u_d = 1 - beta^2 z^2) and g(u) = tanh(sqrt u)/sqrt u
 (even in sqrt u, so no branch cut), write g1(u) = q g(q^2 u), g2(u) = eta q g(eta^2 q^2 u) and
 P = g1 + g2, so that T1_j + T2_j = alpha_j P(u_j). Eq. S-G_gen becomes
@@ -28,15 +35,16 @@ Where eta q Re(alpha_j) > HALF_SPACE_ARG the lower block is a half-space to roun
 double precision) and the finite-eta kernel hands over to the eta = inf one. Every kernel also gives
 the analytic q-derivatives, for the branch slope dz/d(ln kH) = -kH F_kH / F_z.
 
-Rayleigh-branch path (PHYSICS.md section 3)
--------------------------------------------
+Rayleigh-branch path (docs/physics.md §3, §8)
+---------------------------------------------
 Adaptive predictor-corrector continuation in s = ln kH from the root at kH = 1e4 (_continue): the
 predictor is the cubic Hermite extrapolant of ln z through the last two nodes (values and analytic
 slopes), every node a certified Newton root (contraction rate <= THETA_MAX, predictor error <=
 PRED_REJECT of the distance to the singularities). Requested points are reached from the degree-7
 Hermite interpolant of the four surrounding nodes (_interp_table, accurate to ~1e-12 on the fine
-path), by one Newton step certified with the convergence constants measured at the nodes (solve_at);
-with a looser rtol the interpolant itself is returned where its truncation estimate allows.
+path) by Newton's method whose first step is certified with the convergence constants measured at
+the nodes (solve_at); with a looser rtol the interpolant itself is returned where its truncation
+estimate allows.
 """
 
 from __future__ import annotations
@@ -44,11 +52,24 @@ from __future__ import annotations
 import cmath
 import math
 from fractions import Fraction
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 EPS = 2.220446049250313e-16
+
+
+class Params(NamedTuple):
+    """The physical parameters of F (docs/physics.md §1; delta is Delta). All floats: numba types the record as
+    a homogeneous tuple of six float64, passed by value like six scalars."""
+
+    gamma: float
+    f: float
+    beta: float
+    eta: float
+    delta: float
+    xi: float
 
 
 def _tanh_over_x_coefficients(n: int) -> np.ndarray:
@@ -60,21 +81,30 @@ def _tanh_over_x_coefficients(n: int) -> np.ndarray:
     return np.array([float(c) for c in t])
 
 
-_GCOEF = _tanh_over_x_coefficients(24)
+# ----------------------------------------------------------------------------- series and magnitudes
 _SERIES_U = 0.3  # |u| below which g(u) and its divided differences use the Taylor series
 _SERIES_R = math.pi**2 / 4  # radius of convergence of that series in u
+_GCOEF = _tanh_over_x_coefficients(24)  # at |u| = _SERIES_U the last term is < 1e-21 (_nterms' bound 4e-18)
+SERIES_TRUNC = 1e-18  # truncation target of the tanh(x)/x series: well below rounding of values and derivatives
+SHC_MAX = 0.5  # |d| below which sinh(d)/d uses its Taylor series (the difference form would cancel)
+SHC_TERMS = 14  # terms of that series: the last, d^26/27!, is < 1e-36 at |d| = SHC_MAX
+DIVDIFF_FAR = 0.5  # |u2 - u1| >= DIVDIFF_FAR max(|u1|, |u2|): the plain quotient (g2 - g1)/(u2 - u1) cancels little
+PSI_MAX = 0.5  # |t| below which psi(t) = expm1(t)/t uses its Taylor series (to t^16: truncation < 1e-19)
+_PSICOEF = np.array([1.0 / math.factorial(k + 1) for k in range(17)])  # psi(t) = sum_k t^k/(k+1)!
+CABS_LO, CABS_HI = 1e-150, 1e150  # |Re|, |Im| between these: their squares neither overflow nor underflow
+ABS_FLOOR = 1e-300  # floor of |z| where it divides (z = 0 is no root for kH > 0)
 HALF_SPACE_ARG = 22.0  # eta kH Re(alpha) above which tanh(eta kH alpha) = 1 in double precision (e^-44 < 1e-19)
 
 
 @njit(cache=True, inline="always")
 def _nterms(a: float) -> int:
     """Terms of the tanh(x)/x series (in u = x^2) needed at |u| <= a < _SERIES_U: the smallest n (at most all)
-    with n^2 r^(n-2) <= 1e-18, r = a/(pi^2/4) (|a_k| ~ 0.81 (pi^2/4)^-k: truncation of the values and of the
-    divided differences' derivatives below 1e-18)."""
+    with n^2 r^(n-2) <= SERIES_TRUNC, r = a/(pi^2/4) (|a_k| ~ 0.81 (pi^2/4)^-k: truncation of the values and of
+    the divided differences' derivatives below SERIES_TRUNC)."""
     r = a / _SERIES_R
     n = 3
     rn = r  # r^(n-2)
-    while n < _GCOEF.shape[0] and n * n * rn > 1e-18:
+    while n < _GCOEF.shape[0] and n * n * rn > SERIES_TRUNC:
         n += 1
         rn *= r
     return n
@@ -117,12 +147,12 @@ def _g(u: complex) -> tuple[complex, complex]:
 
 @njit(cache=True)
 def _shc(d: complex) -> tuple[complex, complex]:
-    """sinh(d)/d and its derivative for |d| < 0.5 by Taylor series."""
+    """sinh(d)/d and its derivative for |d| < SHC_MAX by Taylor series."""
     d2 = d * d
     val = 0j
     der = 0j
     term = 1.0 + 0j  # d^(2k)/(2k+1)!
-    for k in range(14):
+    for k in range(SHC_TERMS):
         val += term
         if k > 0:
             der += 2 * k * term / d if d != 0 else 0j
@@ -136,7 +166,7 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
 
     Small arguments: Taylor series. Otherwise with w = sqrt(u) (the root of u2 nearest w1: g is even),
     D = g[u1, u2] = (w1 X/d - tanh w1) / (w1 w2 (w1 + w2)), d = w2 - w1, X = tanh w2 - tanh w1, where
-    X/d = sinh(d)/d sech w1 sech w2 for |d| < 0.5 (no cancellation) and (tanh w2 - tanh w1)/d otherwise.
+    X/d = sinh(d)/d sech w1 sech w2 for |d| < SHC_MAX (no cancellation) and (tanh w2 - tanh w1)/d otherwise.
     """
     a1 = _cabs(u1)
     a2 = _cabs(u2)
@@ -167,7 +197,7 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
             dd2 += c[m + 1] * h2
         return g1, d1, g2, d2, dd, dd1, dd2
     du = u2 - u1
-    if _cabs(du) >= 0.5 * big:
+    if _cabs(du) >= DIVDIFF_FAR * big:
         g1, d1 = _g(u1)
         g2, d2 = _g(u2)
         dd = (g2 - g1) / du
@@ -183,7 +213,7 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
     d1 = (w1 * s1 * s1 - th1) / (2.0 * w1 * u1)
     d2 = (w2 * s2 * s2 - th2) / (2.0 * w2 * u2)
     d = w2 - w1
-    if _cabs(d) < 0.5:
+    if _cabs(d) < SHC_MAX:
         sh, dsh = _shc(d)
         xd = sh * s1 * s2
         dxd2 = dsh * s1 * s2 - xd * th2
@@ -200,12 +230,9 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
     return g1, d1, g2, d2, dd, dd_dw1 / (2.0 * w1), dd_dw2 / (2.0 * w2)
 
 
-_PSICOEF = np.array([1.0 / math.factorial(k + 1) for k in range(17)])  # psi(t) = sum_k t^k/(k+1)!
-
-
 @njit(cache=True)
 def _psi(t: complex) -> tuple[complex, complex]:
-    """psi(t) = expm1(t)/t and psi'(t) for |t| < 0.5 (Taylor series to t^16: truncation < 1e-19)."""
+    """psi(t) = expm1(t)/t and psi'(t) for |t| < PSI_MAX (Taylor series to t^16: truncation < 1e-19)."""
     c = _PSICOEF
     n = c.shape[0]
     val = c[n - 1] + 0j
@@ -220,7 +247,7 @@ def _psi(t: complex) -> tuple[complex, complex]:
 def _cabs(w: complex) -> float:
     """|w| by sqrt(re^2 + im^2) (several times faster than hypot), hypot where squares could over/underflow."""
     m = max(abs(w.real), abs(w.imag))
-    if 1e-150 < m < 1e150:
+    if CABS_LO < m < CABS_HI:
         return math.sqrt(w.real * w.real + w.imag * w.imag)
     return abs(w)
 
@@ -269,7 +296,7 @@ def response_inf(
     qes = -2.0 * a_s * es
     qed = -2.0 * a_d * ed
     qt = -2.0 * (1.0 - b2) * z2 * inv_sum
-    if _abs1(t) < 0.5:
+    if _abs1(t) < PSI_MAX:
         ps, dps = _psi(t)
         qv = es * ps
         dqv = des * ps + es * dps * dt
@@ -386,13 +413,17 @@ def response(
 
 
 @njit(cache=True)
-def _weighted_dispersion(z, q, wg, wz, f, beta, eta, delta, xi):
+def _weighted_dispersion(z: complex, q: float, wg: float, wz: float, p: Params) -> tuple[complex, complex, float,
+                                                                                           complex]:
     """wg (G_x + i f G_y) + wz i z S with S = 1 + (Delta - 1)/(1 - i xi z kH): value, dF/dz, rounding scale, dF/dkH.
 
     The rounding scale is the sum of the magnitudes of the terms plus |z F'| (the change of F under a
     relative perturbation of z by one unit: no evaluation can resolve F below eps times this).
     """
-    gx, gy, dgx, dgy, qgx, qgy, sc = response(z, q, beta, eta)
+    f = p.f
+    delta = p.delta
+    xi = p.xi
+    gx, gy, dgx, dgy, qgx, qgy, sc = response(z, q, p.beta, p.eta)
     if delta == 1.0:
         sf = 1.0 + 0j
         dsf = 0j
@@ -416,7 +447,7 @@ def dispersion_eval(
     z: complex, q: float, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float
 ) -> tuple[complex, complex, float]:
     """F(z; q) of Eq. implicit_spectrum with Eq. delta f RSF, dF/dz, and the rounding scale of F."""
-    fv, dfv, sc, _ = _weighted_dispersion(z, q, gamma, 1.0, f, beta, eta, delta, xi)
+    fv, dfv, sc, _ = _weighted_dispersion(z, q, gamma, 1.0, Params(gamma, f, beta, eta, delta, xi))
     return fv, dfv, sc
 
 
@@ -425,11 +456,188 @@ def dispersion_dq(
     z: complex, q: float, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float
 ) -> complex:
     """dF/dkH of Eq. implicit_spectrum at fixed z (gives the branch slope dz/dkH = -F_kH / F_z)."""
-    return _weighted_dispersion(z, q, gamma, 1.0, f, beta, eta, delta, xi)[3]
+    return _weighted_dispersion(z, q, gamma, 1.0, Params(gamma, f, beta, eta, delta, xi))[3]
 
 
 # ---------------------------------------------------------------------------------------------
-# Rayleigh-branch continuation (PHYSICS.md section 3)
+# Newton's method: the one loop and stopping rule for every root of the model
+# ---------------------------------------------------------------------------------------------
+
+# What _eval (and so _newton) evaluates; s and q as named here.
+LN_KH = 0  # F along s = ln kH (q unused): the Rayleigh-branch path
+TAU = 1  # F/gamma along s = tau = 1/gamma at kH = q: the homotopy to the branch's starting root
+KH = 2  # F at kH = q (s unused): one root of model.modes
+CUBIC = 3  # the Rayleigh cubic in x = z^2 (docs/physics.md §5), b = beta^2 (s, q and the other parameters unused)
+
+NOISE_ULPS = 8.0  # rounding level of a Newton step: NOISE_ULPS eps scale/|F'| (scale bounds F's rounding error)
+STEP_FLOOR = 1e-14  # a step below STEP_FLOOR |z| has converged: the error it leaves (~C a^2) is far below rounding
+QUAD_TRUST = 1e-4  # C estimated from two steps (a/prev^2) is trusted for steps below QUAD_TRUST |z| ...
+QUAD_SHRINK = 0.1  # ... that shrank at least 10x (quadratic convergence seen, not a chance small step)
+C_FIRST_TRUST = 1e-6  # a C measured elsewhere (path nodes) is trusted for a first step below this x _local_scale
+SHRINK_PATH = 0.5  # a branch root fails if a step is not below half the previous one (start outside the basin)
+FULL_TOL = 0.25e-16  # relative error target of a converged root at full accuracy (rtol = None)
+LOCAL_SCALE_MIN = 1e-12  # floor of _local_scale (a root this close to a singularity is not followed anyway)
+
+
+class Root(NamedTuple):
+    """What _newton returns."""
+
+    z: complex  # the last iterate
+    ok: bool  # converged by the stopping rule of _newton
+    evals: int  # evaluations of F made
+    first: float  # |first step|
+    theta: float  # first contraction rate |step 2| / |step 1| (0 if converged at the first evaluation)
+    resid: float  # |F(z)| / scale predicted by the quadratic model (inf if not converged)
+    err: float  # estimated absolute error of z (inf if not converged)
+    dzds: complex  # branch slope dz/ds = -F_s/F_z at z (NaN if not converged)
+
+
+class Box(NamedTuple):
+    """A rectangle the iterates of _newton must stay in (a root confined to its cell in model.modes)."""
+
+    re_lo: float
+    re_hi: float
+    im_lo: float
+    im_hi: float
+
+
+NO_BOX = Box(-math.inf, math.inf, -math.inf, math.inf)
+
+
+@njit(cache=True)
+def _eval(z: complex, mode: int, s: float, q: float, p: Params) -> tuple[complex, complex, float, complex]:
+    """F, dF/dz, rounding scale and dF/ds of the function selected by mode (LN_KH, TAU, KH or CUBIC).
+
+    TAU evaluates F/gamma = G_x + i f G_y + tau i z S, which is linear in tau and finite at tau = 0 (gamma = inf),
+    where its root is the Rayleigh root of the large-kH response. CUBIC is x^3 - 8 x^2 + 8 (3 - 2b) x - 16 (1 - b)
+    at x = z (its scale: the sum of the magnitudes of its terms; dF/ds = 0).
+    """
+    if mode == LN_KH:
+        kh = math.exp(s)
+        fv, dfv, sc, fq = _weighted_dispersion(z, kh, p.gamma, 1.0, p)
+        return fv, dfv, sc, kh * fq
+    if mode == TAU:
+        fv, dfv, sc, _ = _weighted_dispersion(z, q, 1.0, s, p)
+        sf = 1.0 + (p.delta - 1.0) / (1.0 - 1j * p.xi * z * q)
+        return fv, dfv, sc, 1j * z * sf
+    if mode == KH:
+        return _weighted_dispersion(z, q, p.gamma, 1.0, p)
+    b = p.beta * p.beta
+    c1 = 8.0 * (3.0 - 2.0 * b)
+    c0 = 16.0 * (1.0 - b)
+    ax = _cabs(z)
+    return ((z - 8.0) * z + c1) * z - c0, (3.0 * z - 16.0) * z + c1, ((ax + 8.0) * ax + c1) * ax + c0, 0j
+
+
+@njit(cache=True)
+def _local_scale(z: complex) -> float:
+    """Radius on which the root can move smoothly: min(|z|, distance to the real-axis singularities |Re z| >= 1).
+
+    Poles (finite eta) and branch cuts (eta = inf) of F lie on the real axis with |z| >= 1 only
+    (docs/physics.md §2), so predictor errors are measured against this distance.
+    """
+    x = abs(z.real)
+    d = abs(z.imag) if x >= 1.0 else _cabs(complex(1.0 - x, z.imag))
+    return max(min(_cabs(z), d), LOCAL_SCALE_MIN)
+
+
+@njit(cache=True, nogil=True)
+def _newton(z0: complex, mode: int, s: float, q: float, p: Params, maxit: int, tol: float, c_first: float,
+            shrink: float, mult: float, box: Box) -> Root:
+    """Newton's method from z0 on the function selected by mode (see _eval): the one Newton loop of the model.
+
+    Each step is dz = mult F/F' (mult = n for a root of multiplicity n, else 1). After a step of size a to z:
+
+    - converged if the step is at rounding level, a <= floor, or the quadratic model puts the error left,
+      rest = C a^2, below tol |z|. Normally floor = max(STEP_FLOOR |z|, noise), noise = mult NOISE_ULPS eps
+      scale/|F'|, and the convergence constant C = a/prev^2 is estimated from the last two steps once they
+      are in the quadratic regime (a < QUAD_TRUST |z|, a < QUAD_SHRINK prev; else no quadratic test).
+      With c_first > 0 the first step is instead certified by that constant measured elsewhere (at the path
+      nodes): C = c_first, floor = STEP_FLOOR |z| (a step at noise level certifies nothing: it takes a second
+      step to show contraction), and only for a <= C_FIRST_TRUST _local_scale(z) (close to a singularity
+      the constant may not hold);
+    - failed if F or F' is not finite or F' = 0, if z leaves the box, if a step is not below shrink times
+      the previous one, or after maxit evaluations.
+
+    A small theta = |step 2| / |step 1| certifies that z0 was well inside the quadratic basin of the root
+    found: with two roots a distance d apart, theta ~ |z0 - z|/d, so theta <= THETA_MAX = 0.1 rules out
+    starting nearer the other root (the callers on the branch check it). The error estimate is
+    noise + rest (rest = a^2/|z| where no C is trusted); the residual estimate is that times |F'|/scale.
+    dz/ds = -F_s/F_z: the slopes at the last two iterates extrapolated linearly (the slope is analytic in
+    z) to the final z, so its error is O(|last two steps|^2) instead of O(|last step|).
+    """
+    z = z0
+    prev = math.inf
+    first = 0.0
+    theta = 0.0
+    nanz = complex(math.nan, math.nan)
+    z_prev = nanz  # previous iterate and the slope there
+    d_prev = nanz
+    evals = 0
+    for it in range(maxit):
+        fv, dfv, sc, fs = _eval(z, mode, s, q, p)
+        evals += 1
+        if not (cmath.isfinite(fv) and cmath.isfinite(dfv)) or dfv == 0:
+            break
+        step = fv / dfv
+        if mult != 1.0:
+            step = mult * step
+        a = _cabs(step)
+        if it == 0:
+            first = a
+        elif it == 1 and first > 0.0:
+            theta = a / first
+        adf = _cabs(dfv)
+        noise = mult * NOISE_ULPS * EPS * sc / adf
+        slope = -fs / dfv
+        z_eval = z
+        z = z - step
+        if z.real < box.re_lo or z.real > box.re_hi or z.imag < box.im_lo or z.imag > box.im_hi:
+            break
+        az = max(_cabs(z), ABS_FLOOR)
+        if it == 0 and c_first > 0.0:  # first step certified by a convergence constant measured elsewhere
+            c = c_first
+            trusted = a <= C_FIRST_TRUST * _local_scale(z)
+            floor = STEP_FLOOR * az
+        else:
+            c = a / (prev * prev) if (it >= 1 and a < QUAD_TRUST * az and a < QUAD_SHRINK * prev) else 0.0
+            trusted = True
+            floor = max(STEP_FLOOR * az, noise)
+        rest = c * a * a if c > 0.0 else a * a / az
+        if trusted and (a <= floor or (c > 0.0 and rest <= tol * az)):
+            if it >= 1 and z_eval != z_prev:
+                slope = slope + (slope - d_prev) / (z_eval - z_prev) * (z - z_eval)
+            err = noise + rest
+            return Root(z, True, evals, first, theta, err * adf / sc, err, slope)
+        if it >= 1 and a > shrink * prev:
+            break
+        prev = a
+        z_prev = z_eval
+        d_prev = slope
+    return Root(z, False, evals, first, theta, math.inf, math.inf, nanz)
+
+
+RAYLEIGH_X0 = 0.85  # start on the Rayleigh cubic: increasing and concave on (0, 1), where its root x = z_R^2 lies
+RAYLEIGH_ITERS = 40  # far more than needed: Newton converges monotonically after its first step from RAYLEIGH_X0
+
+
+@njit(cache=True, nogil=True)
+def rayleigh_z(beta: float) -> float:
+    """z_R(beta) (docs/physics.md §5): Newton on the Rayleigh cubic in x = z^2 from RAYLEIGH_X0 (NaN if it fails)."""
+    r = _newton(RAYLEIGH_X0 + 0j, CUBIC, 0.0, 0.0, Params(1.0, 0.0, beta, math.inf, 1.0, 0.0), RAYLEIGH_ITERS,
+                FULL_TOL, 0.0, SHRINK_PATH, 1.0, NO_BOX)
+    return math.sqrt(r.z.real) if r.ok else math.nan
+
+
+@njit(cache=True)
+def rayleigh_many(beta: np.ndarray, out: np.ndarray) -> None:
+    """rayleigh_z over a 1-D array."""
+    for i in range(beta.shape[0]):
+        out[i] = rayleigh_z(beta[i])
+
+
+# ---------------------------------------------------------------------------------------------
+# Rayleigh-branch continuation (docs/physics.md §3, §8)
 # ---------------------------------------------------------------------------------------------
 
 OK = 0
@@ -438,132 +646,76 @@ NOCONV = 2  # Newton did not converge at this kH although the path reached it
 START = 3  # the starting root at kH = 1e4 could not be found
 INPUT = 4  # the parameters themselves were NaN
 
-S_TOP = math.log(1e4)
+S_TOP = math.log(1e4)  # the branch is defined by its root at kH = 1e4 (docs/physics.md §3)
 H_MAX = 0.4  # largest continuation step in ln(kH)
-H_MIN = 1e-7
+H_MIN = 1e-7  # a step this short that still fails: the branch is lost (collision with another branch)
 H_START = 0.05  # first continuation step in ln(kH)
+TAU_H_START = 0.25  # first step of the homotopy in tau = 1/gamma, as a fraction of [0, 1/gamma]
 PRED_TOL = 1e-3  # target predictor error per step, relative to _local_scale (coarse paths)
 PRED_TOL_FINE = 1e-4  # the same for paths whose interpolant should be accurate to ~1e-12 (spectrum)
 PRED_OVERSHOOT = 10.0  # steps whose predictor error exceeds this multiple of the target are retried shorter
 PRED_REJECT = 1e-2  # predictor error (relative to _local_scale) above which a step is rejected
 THETA_MAX = 0.1  # largest first Newton contraction rate accepted (basin certificate, see _newton)
-MAX_NODES = 8192
-FULL_TOL = 0.25e-16  # relative error target of a converged root at full accuracy (rtol = None)
+NODE_ITERS = 6  # Newton evaluations allowed for a node (from a predictor within PRED_REJECT: a few)
+NODE_EVALS = 5  # a node that needed more evaluations is retried with a shorter step (predictor too far)
+STEP_SAFETY = 0.9  # safety factor on the step the error model predicts for pred_tol (the model is asymptotic)
+STEP_GROW = 2.0  # after an accepted node the step at most doubles ...
+STEP_CUT = 0.5  # ... and at most halves
+RETRY_CUT_MIN = 0.2  # a step certified but too far from its prediction is shortened by the error model,
+RETRY_CUT_MAX = 0.5  # by a factor in [RETRY_CUT_MIN, RETRY_CUT_MAX]
+RETRY_HALVE = 0.5  # a step whose Newton failed (or failed the certificate) is halved
+MAX_NODES = 8192  # nodes per direction (typically ~100 for kH in [1e-4, 1e4]); a path filling it counts as lost
+START_NODES = 4096  # nodes of the tau homotopy (typically 5, a few hundred at most seen)
+START_ITERS = 20  # Newton from z_R at tau = 0, kH = 1e4, where z_R is the root to rounding: a wide margin
+EXTRA_NODES = 2  # nodes built beyond the requested range: the end intervals keep two nodes on each side
+SOLVE_ITERS = 10  # Newton at a requested point from the interpolant (~1e-12 accurate): usually one step
+C_FIRST_SAFETY = 10.0  # C at a requested point: this x the largest C of the four surrounding nodes (margin for
+# its variation between nodes, where it was measured with larger steps)
 RTOL_MARGIN = 0.1  # with a requested rtol, points are accepted once their estimated error is below 0.1 rtol
 MAP_NODE_TOL = 1e-10  # relative accuracy of the path nodes of a growth map (see _map_node_tol)
+MAP_NODE_RTOL = 1e-3  # ... tightened to this x rtol where the interpolant may be reported (a looser rtol)
 RTOL_COARSE_PATH = 1e-7  # from this rtol on the spectrum uses the coarse path (PRED_TOL, interpolant ~1e-8)
 
 
+class Nodes(NamedTuple):
+    """Buffers of path nodes filled by _continue (node 0 = the start)."""
+
+    s: np.ndarray  # continuation parameter (ln kH, or tau = 1/gamma)
+    z: np.ndarray  # roots (complex)
+    dzds: np.ndarray  # branch slopes dz/ds (complex)
+    conv: np.ndarray  # quadratic-convergence constants C = |step 2| / |step 1|^2 of the nodes' Newton (0: one step)
+    err: np.ndarray  # estimated relative errors of the roots
+
+
+@njit(cache=True)
+def _nodes(n: int) -> Nodes:
+    """Empty node buffers of length n."""
+    return Nodes(np.empty(n), np.empty(n, dtype=np.complex128), np.empty(n, dtype=np.complex128), np.empty(n),
+                 np.empty(n))
+
+
 @njit(cache=True, inline="always")
-def _path_tol(rtol):
+def _path_tol(rtol: float) -> float:
     """Predictor target of the spectrum's path: fine (interpolant ~1e-12) unless rtol >= RTOL_COARSE_PATH."""
     return PRED_TOL if rtol >= RTOL_COARSE_PATH else PRED_TOL_FINE
 
 
 @njit(cache=True, inline="always")
-def _map_node_tol(rtol):
+def _map_node_tol(rtol: float) -> float:
     """Node accuracy of a growth map's path: MAP_NODE_TOL (the grid only brackets; the reported values are
-    re-solved from the nodes), tightened to 1e-3 rtol where a looser rtol lets the interpolant be reported."""
-    return MAP_NODE_TOL if rtol <= 0.0 else max(FULL_TOL, min(MAP_NODE_TOL, 1e-3 * rtol))
+    re-solved from the nodes), tightened to MAP_NODE_RTOL rtol where a looser rtol lets the interpolant be
+    reported."""
+    return MAP_NODE_TOL if rtol <= 0.0 else max(FULL_TOL, min(MAP_NODE_TOL, MAP_NODE_RTOL * rtol))
 
 
 @njit(cache=True, inline="always")
-def _target(rtol):
+def _target(rtol: float) -> float:
     """Relative error target of one root: full accuracy for rtol <= 0, else RTOL_MARGIN * rtol."""
     return FULL_TOL if rtol <= 0.0 else max(FULL_TOL, RTOL_MARGIN * rtol)
 
 
-@njit(cache=True)
-def _eval_mode(z, s, mode, q, gamma, f, beta, eta, delta, xi):
-    """F, dF/dz, rounding scale and dF/ds along a continuation path.
-
-    Mode 0 varies ln kH = s. Mode 1 varies tau = 1/gamma = s at fixed kH = q: it evaluates
-    F/gamma = G_x + i f G_y + tau i z S, which is linear in tau and finite at tau = 0 (gamma = inf),
-    where its root is the Rayleigh root of the large-kH response.
-    """
-    if mode == 0:
-        kh = math.exp(s)
-        fv, dfv, sc, fq = _weighted_dispersion(z, kh, gamma, 1.0, f, beta, eta, delta, xi)
-        return fv, dfv, sc, kh * fq
-    fv, dfv, sc, _ = _weighted_dispersion(z, q, 1.0, s, f, beta, eta, delta, xi)
-    sf = 1.0 + (delta - 1.0) / (1.0 - 1j * xi * z * q)
-    return fv, dfv, sc, 1j * z * sf
-
-
-@njit(cache=True)
-def _newton(z0, s, mode, q, gamma, f, beta, eta, delta, xi, maxit, tol):
-    """Newton's method with contraction safeguards.
-
-    Returns (z, converged, iterations, |first step|, |F|/scale, estimated error of z, theta, dz/ds)
-    where theta = |second step| / |first step| is the first contraction rate (0 if converged at once)
-    and dz/ds = -F_s/F_z is the branch slope at z: the slopes at the last two iterates, extrapolated
-    linearly (in z: the slope is analytic in z) to the final z, so its error is O(|last two steps|^2)
-    instead of O(|last step|).
-    A small theta certifies that z0 was well inside the quadratic basin of the root found: with two
-    roots a distance d apart, theta ~ |z0 - z|/d, so theta <= 0.1 rules out starting nearer the
-    other root. Converged means the last step was below max(1e-14 |z|, rounding-level noise), or
-    quadratic convergence predicts the remaining error below tol |z|.
-    """
-    z = z0
-    prev = math.inf
-    first = 0.0
-    theta = 0.0
-    nanz = complex(math.nan, math.nan)
-    z_prev = nanz  # previous iterate and its slope
-    d_prev = nanz
-    for it in range(maxit):
-        fv, dfv, sc, fs = _eval_mode(z, s, mode, q, gamma, f, beta, eta, delta, xi)
-        if not (cmath.isfinite(fv) and cmath.isfinite(dfv)) or dfv == 0:
-            return z, False, it, first, math.inf, math.inf, math.inf, nanz
-        step = fv / dfv
-        a = _cabs(step)
-        if it == 0:
-            first = a
-        elif it == 1 and first > 0.0:
-            theta = a / first
-        adf = _cabs(dfv)
-        noise = 8.0 * EPS * sc / adf
-        slope = -fs / dfv
-        z_eval = z
-        z = z - step
-        az = max(_cabs(z), 1e-300)
-        done = a <= max(1e-14 * az, noise)
-        if done:
-            err = noise + a * a / az
-            resid = _cabs(fv) / sc
-        elif it >= 1 and a < 1e-4 * az and a < 0.1 * prev:
-            # quadratic convergence: error after this step ~ C a^2 with C ~ a/prev^2
-            rest = a * a * a / (prev * prev)
-            if rest <= tol * az:
-                done = True
-                err = noise + rest
-                resid = rest * adf / sc
-        if done:
-            if it >= 1 and z_eval != z_prev:
-                slope = slope + (slope - d_prev) / (z_eval - z_prev) * (z - z_eval)
-            return z, True, it + 1, first, resid, err, theta, slope
-        if it >= 1 and a > 0.5 * prev:
-            return z, False, it + 1, first, _cabs(fv) / sc, math.inf, theta, nanz
-        prev = a
-        z_prev = z_eval
-        d_prev = slope
-    return z, False, maxit, first, math.inf, math.inf, theta, nanz
-
-
-@njit(cache=True)
-def _local_scale(z):
-    """Radius on which the root can move smoothly: min(|z|, distance to the real-axis singularities |Re z| >= 1).
-
-    Poles (finite eta) and branch cuts (eta = inf) of F lie on the real axis with |z| >= 1 only
-    (PHYSICS.md section 2), so predictor errors are measured against this distance.
-    """
-    x = abs(z.real)
-    d = abs(z.imag) if x >= 1.0 else _cabs(complex(1.0 - x, z.imag))
-    return max(min(_cabs(z), d), 1e-12)
-
-
 @njit(cache=True, inline="always")
-def _hermite2(s0, w0, d0, s1, w1, d1, s):
+def _hermite2(s0: float, w0: complex, d0: complex, s1: float, w1: complex, d1: complex, s: float) -> complex:
     """Cubic Hermite interpolant/extrapolant through (s0, w0, w0') and (s1, w1, w1'), evaluated at s."""
     ih = 1.0 / (s1 - s0)
     f01 = (w1 - w0) * ih
@@ -574,35 +726,34 @@ def _hermite2(s0, w0, d0, s1, w1, d1, s):
 
 
 @njit(cache=True, inline="always")
-def _unwrap(w, ref):
+def _unwrap(w: complex, ref: complex) -> complex:
     """ln z with the phase shifted by a multiple of 2 pi to lie within pi of ln z_ref."""
     k = math.floor((w.imag - ref.imag) / (2.0 * math.pi) + 0.5)
     return complex(w.real, w.imag - 2.0 * math.pi * k)
 
 
 @njit(cache=True, nogil=True)
-def _continue(z0, dz0, e0, s0, s_stop, extra, direction, mode, q, gamma, f, beta, eta, delta, xi, pred_tol,
-              node_tol, out_s, out_z, out_d, out_c, out_e):
-    """Adaptive predictor-corrector continuation of one root in s from s0 towards s_stop.
+def _continue(z0: complex, dz0: complex, e0: float, s0: float, s_stop: float, extra: int, direction: float,
+              mode: int, q: float, p: Params, pred_tol: float, node_tol: float, out: Nodes) -> tuple[int, bool]:
+    """Adaptive predictor-corrector continuation of one root in s from s0 towards s_stop (mode LN_KH or TAU).
 
-    Nodes are written to out_s/out_z, the branch slopes dz/ds to out_d (node 0 = start, slope dz0);
-    continues until `extra` nodes lie beyond s_stop (or, if extra == 0, stops exactly at s_stop). The
-    sequence of nodes depends only on the start and the physical parameters, never on s_stop, except
-    for where it is cut off. The predictor is the cubic Hermite extrapolant of ln z through the last
-    two nodes (values and slopes); every node is a converged Newton root whose first contraction rate
-    passed the basin certificate (_newton) with a predictor error below PRED_REJECT of _local_scale.
-    The step size aims at a predictor error of pred_tol (relative to _local_scale); steps above
-    PRED_OVERSHOOT pred_tol are retried shorter, which bounds the error of the path interpolant.
-    Nodes are converged to node_tol relative (_newton's tol).
-    out_c receives the quadratic-convergence constant C = |step 2|/|step 1|^2 observed at each node
-    (0 where Newton converged at once), out_e the estimated relative error of each node (e0 for the
-    start). Returns (number of nodes, lost flag).
+    Nodes are written to out (node 0 = start, slope dz0, error e0); continues until `extra` nodes lie
+    beyond s_stop (or, if extra == 0, stops exactly at s_stop). The sequence of nodes depends only on the
+    start and the physical parameters, never on s_stop, except for where it is cut off. The predictor is
+    the cubic Hermite extrapolant of ln z through the last two nodes (values and slopes); every node is a
+    converged Newton root (to node_tol relative) whose first contraction rate passed the basin certificate
+    (THETA_MAX) with a predictor error below PRED_REJECT of _local_scale. The step size aims at a predictor
+    error of pred_tol (relative to _local_scale); steps above PRED_OVERSHOOT pred_tol are retried shorter,
+    which bounds the error of the path interpolant. out.conv receives the quadratic-convergence constant
+    observed at each node. Returns (number of nodes, lost flag).
     """
-    out_s[0] = s0
-    out_z[0] = z0
-    out_d[0] = dz0
-    out_c[0] = 0.0
-    out_e[0] = e0
+    o_s, o_z, o_d, o_c, o_e = out  # unpacked once (see Path)
+    o_s[0] = s0
+    o_z[0] = z0
+    o_d[0] = dz0
+    o_c[0] = 0.0
+    o_e[0] = e0
+    cap = o_s.shape[0]
     use_log = z0 != 0
     # predictor data of the previous and the current node (ln z and d ln z/ds, or z and dz/ds)
     wp = 0j
@@ -610,11 +761,11 @@ def _continue(z0, dz0, e0, s0, s_stop, extra, direction, mode, q, gamma, f, beta
     wc = cmath.log(z0) if use_log else z0
     dc = dz0 / z0 if use_log else dz0
     n = 1
-    h = H_START if mode == 0 else 0.25 * abs(s_stop - s0)
-    h_cap = H_MAX if mode == 0 else abs(s_stop - s0)
+    h = H_START if mode == LN_KH else TAU_H_START * abs(s_stop - s0)
+    h_cap = H_MAX if mode == LN_KH else abs(s_stop - s0)
     beyond = 0
     while True:
-        s_cur = out_s[n - 1]
+        s_cur = o_s[n - 1]
         if extra == 0:
             if direction * (s_stop - s_cur) <= 0.0:
                 return n, False
@@ -623,7 +774,7 @@ def _continue(z0, dz0, e0, s0, s_stop, extra, direction, mode, q, gamma, f, beta
             if beyond >= extra:
                 return n, False
             h_try = h
-        if n >= out_s.shape[0]:
+        if n >= cap:
             return n, True
         accepted = False
         while not accepted:
@@ -633,73 +784,90 @@ def _continue(z0, dz0, e0, s0, s_stop, extra, direction, mode, q, gamma, f, beta
             if n == 1:
                 wpred = wc + dc * (s_new - s_cur)
             else:
-                wpred = _hermite2(out_s[n - 2], wp, dp, s_cur, wc, dc, s_new)
+                wpred = _hermite2(o_s[n - 2], wp, dp, s_cur, wc, dc, s_new)
             zp = cmath.exp(wpred) if use_log else wpred
-            z, ok, its, first, _, zerr, theta, dz = _newton(zp, s_new, mode, q, gamma, f, beta, eta, delta, xi, 6,
-                                                            node_tol)
-            err = _cabs(z - zp) / _local_scale(z)
+            r = _newton(zp, mode, s_new, q, p, NODE_ITERS, node_tol, 0.0, SHRINK_PATH, 1.0, NO_BOX)
+            err = _cabs(r.z - zp) / _local_scale(r.z)
             order = 2.0 if n == 1 else 4.0  # predictor error O(h^2) from one node, O(h^4) from two
-            if (ok and its <= 5 and err <= PRED_REJECT and err <= PRED_OVERSHOOT * pred_tol and theta <= THETA_MAX
-                    and cmath.isfinite(dz)):
+            certified = r.ok and err <= PRED_REJECT and r.theta <= THETA_MAX and cmath.isfinite(r.dzds)
+            if certified and r.evals <= NODE_EVALS and err <= PRED_OVERSHOOT * pred_tol:
                 accepted = True
-                out_s[n] = s_new
-                out_z[n] = z
-                out_d[n] = dz
-                out_c[n] = theta / first if (first > 0.0 and theta > 0.0) else 0.0
-                out_e[n] = zerr / max(_cabs(z), 1e-300)
+                z = r.z
+                o_s[n] = s_new
+                o_z[n] = z
+                o_d[n] = r.dzds
+                o_c[n] = r.theta / r.first if (r.first > 0.0 and r.theta > 0.0) else 0.0
+                o_e[n] = r.err / max(_cabs(z), ABS_FLOOR)
                 wp = wc
                 dp = dc
                 if use_log and z == 0:
                     return n + 1, True  # cannot happen on a followable branch (z = 0 is no root for kH > 0)
                 wc = _unwrap(cmath.log(z), wc) if use_log else z
-                dc = dz / z if use_log else dz
+                dc = r.dzds / z if use_log else r.dzds
                 n += 1
                 if extra > 0 and direction * (s_new - s_stop) > 0.0:
                     beyond += 1
-                fac = 2.0 if err == 0.0 else 0.9 * (pred_tol / err) ** (1.0 / order)
-                fac = min(2.0, max(0.5, fac))
+                fac = STEP_GROW if err == 0.0 else STEP_SAFETY * (pred_tol / err) ** (1.0 / order)
+                fac = min(STEP_GROW, max(STEP_CUT, fac))
                 h = min(h_cap, h_try * fac)
-            elif ok and err <= PRED_REJECT and theta <= THETA_MAX and cmath.isfinite(dz):
+            elif certified:
                 # certified but too far from the prediction for the target: shorten by the error model
-                h_try *= min(0.5, max(0.2, 0.9 * (pred_tol / err) ** (1.0 / order)))
+                h_try *= min(RETRY_CUT_MAX, max(RETRY_CUT_MIN, STEP_SAFETY * (pred_tol / err) ** (1.0 / order)))
                 h = h_try
             else:
-                h_try *= 0.5
+                h_try *= RETRY_HALVE
                 h = h_try
 
 
 @njit(cache=True)
-def rayleigh_start(z_r, gamma, f, beta, eta, delta, xi):
+def rayleigh_start(z_r: float, p: Params) -> tuple[complex, complex, float, bool]:
     """The Rayleigh-branch root at kH = 1e4 and its slope dz/d(ln kH): homotopy in tau = 1/gamma from
     tau = 0 (gamma = inf, where the root is the Rayleigh root of the large-kH response, found by Newton
     from z_R) to 1/gamma. Returns (z, dz/ds, estimated relative error of z, found)."""
     q = math.exp(S_TOP)
-    work_s = np.empty(4096)
-    work_z = np.empty(4096, dtype=np.complex128)
-    work_d = np.empty(4096, dtype=np.complex128)
-    work_c = np.empty(4096)
-    work_e = np.empty(4096)
+    work = _nodes(START_NODES)
     nanz = complex(math.nan, math.nan)
-    z, ok, _, _, _, zerr, _, dz = _newton(z_r + 0j, 0.0, 1, q, gamma, f, beta, eta, delta, xi, 20, FULL_TOL)
-    if not ok:
-        return z, nanz, math.nan, False
-    n, lost = _continue(z, dz, zerr / max(abs(z), 1e-300), 0.0, 1.0 / gamma, 0, 1.0, 1, q, gamma, f, beta, eta, delta,
-                        xi, PRED_TOL, FULL_TOL, work_s, work_z, work_d, work_c, work_e)
-    z = work_z[n - 1]
+    r = _newton(z_r + 0j, TAU, 0.0, q, p, START_ITERS, FULL_TOL, 0.0, SHRINK_PATH, 1.0, NO_BOX)
+    if not r.ok:
+        return r.z, nanz, math.nan, False
+    n, lost = _continue(r.z, r.dzds, r.err / max(abs(r.z), ABS_FLOOR), 0.0, 1.0 / p.gamma, 0, 1.0, TAU, q, p, PRED_TOL,
+                        FULL_TOL, work)
+    z = work.z[n - 1]
     if lost:
         return z, nanz, math.nan, False
-    fv, dfv, _, fs = _eval_mode(z, S_TOP, 0, q, gamma, f, beta, eta, delta, xi)
+    fv, dfv, _, fs = _eval(z, LN_KH, S_TOP, 1.0, p)
     if not (cmath.isfinite(fv) and cmath.isfinite(dfv)) or dfv == 0:
         return z, nanz, math.nan, False
-    return z, -fs / dfv, work_e[n - 1], True
+    return z, -fs / dfv, work.err[n - 1], True
 
 
-# ----------------------------------------------------------------------------- path interpolation
+# ----------------------------------------------------------------------------- the path and its interpolant
 NTERM = 8  # Hermite data of up to four nodes (value and slope): degree-7 interpolant per interval
 
 
+class Path(NamedTuple):
+    """A followed Rayleigh branch (build_path): nodes ascending in s = ln kH and the interpolant through them.
+
+    Functions that loop over points (branch_solve, growth_one, _refine_max, _crossing) unpack the record once,
+    ``ns, nz, nc, ne, cx, cf, cm, nn, use_log = path``, and pass the fields to the per-point helpers (_interval,
+    _interp, _im_at, _solve_at, inlined into the loop): every read of an array field of a record costs an atomic
+    reference-count increment and decrement, which inside a loop is a third of the time of an interpolated point.
+    """
+
+    s: np.ndarray  # node positions ln kH, ascending
+    z: np.ndarray  # roots at the nodes
+    conv: np.ndarray  # quadratic-convergence constants of the nodes (Nodes.conv)
+    err: np.ndarray  # estimated relative errors of the nodes
+    cx: np.ndarray  # interpolation table (_interp_table): abscissae (n-1, NTERM) of each interval's Newton form,
+    cf: np.ndarray  # its coefficients (n-1, NTERM), of ln z (use_log) or of z,
+    cm: np.ndarray  # and its number of terms (n-1)
+    n: int  # number of nodes (0: no path)
+    use_log: bool  # the table interpolates ln z (False only if a node is exactly 0)
+
+
 @njit(cache=True)
-def _interp_table(ns, nw, nd, nn):
+def _interp_table(ns: np.ndarray, nw: np.ndarray, nd: np.ndarray,
+                  nn: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Newton-form coefficients of the Hermite interpolant on each path interval [ns[j], ns[j+1]].
 
     nw, nd: ln z and d ln z/ds at the nodes (or z and dz/ds). The interpolant of interval j matches
@@ -740,8 +908,8 @@ def _interp_table(ns, nw, nd, nn):
 
 
 @njit(cache=True, inline="always")
-def _interp_value(s, j, cx, cf, cm):
-    """Value of the Hermite interpolant of interval j at s (Horner on the Newton form)."""
+def _interp_value(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray) -> complex:
+    """Value of the Hermite interpolant of interval j at s (Horner on the Newton form of Path.cx, cf, cm)."""
     m = cm[j]
     p = cf[j, m - 1]
     for k in range(m - 2, -1, -1):
@@ -750,8 +918,9 @@ def _interp_value(s, j, cx, cf, cm):
 
 
 @njit(cache=True, inline="always")
-def _interp(s, j, cx, cf, cm):
-    """(p, p', p'', truncation estimate) of the Hermite interpolant of interval j at s.
+def _interp(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray) -> tuple[complex, complex, complex,
+                                                                                       float]:
+    """(p, p', p'', truncation estimate) of the Hermite interpolant of interval j at s (Path.cx, cf, cm).
 
     The estimate is |last term| + |second-to-last term| of the Newton form: the difference between the
     interpolant and the one with the data of the outermost node removed (an upper estimate of the error).
@@ -773,41 +942,31 @@ def _interp(s, j, cx, cf, cm):
 
 
 @njit(cache=True, nogil=True)
-def build_path(s_lo, s_hi, z_r, gamma, f, beta, eta, delta, xi, pred_tol, node_tol):
+def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float, node_tol: float) -> tuple[Path, int]:
     """Rayleigh-branch path covering [s_lo, s_hi] (s = ln kH), ascending in s, with its interpolation table.
 
-    Start at ln 1e4 (see rayleigh_start), continue down to two nodes below min(s_lo, ln 1e4) and up to
-    two nodes above max(s_hi, ln 1e4). The node sequence depends only on the physical parameters;
-    s_lo/s_hi only decide where it is cut off. pred_tol and node_tol: see _continue. Returns
-    (ns, nz, nc, ne, cx, cf, cm, nn, use_log, code) with code OK, START (no starting root) or INPUT (NaN
-    parameter); nc, ne: quadratic-convergence constants and relative error estimates of the nodes;
-    cx, cf, cm: _interp_table of ln z (use_log) or of z (if a node is exactly 0).
+    Start at ln 1e4 (see rayleigh_start), continue down to EXTRA_NODES nodes below min(s_lo, ln 1e4) and up
+    to EXTRA_NODES nodes above max(s_hi, ln 1e4). The node sequence depends only on the physical parameters;
+    s_lo/s_hi only decide where it is cut off. pred_tol and node_tol: see _continue. Returns (path, code)
+    with code OK, START (no starting root; path.n = 0) or INPUT (NaN parameter; path.n = 0).
     """
     ns = np.empty(1)
     nz = np.empty(1, dtype=np.complex128)
     cx = np.zeros((0, NTERM))
     cf = np.zeros((0, NTERM), dtype=np.complex128)
     cm = np.zeros(0, dtype=np.int64)
-    for v in (gamma, f, beta, eta, delta, xi):
+    for v in p:
         if math.isnan(v):
-            return ns, nz, ns, ns, cx, cf, cm, 0, True, INPUT
-    z0, dz0, e0, ok = rayleigh_start(z_r, gamma, f, beta, eta, delta, xi)
+            return Path(ns, nz, ns, ns, cx, cf, cm, 0, True), INPUT
+    z0, dz0, e0, ok = rayleigh_start(z_r, p)
     if not ok:
-        return ns, nz, ns, ns, cx, cf, cm, 0, True, START
-    dn_s = np.empty(MAX_NODES)
-    dn_z = np.empty(MAX_NODES, dtype=np.complex128)
-    dn_d = np.empty(MAX_NODES, dtype=np.complex128)
-    dn_c = np.empty(MAX_NODES)
-    dn_e = np.empty(MAX_NODES)
-    up_s = np.empty(MAX_NODES)
-    up_z = np.empty(MAX_NODES, dtype=np.complex128)
-    up_d = np.empty(MAX_NODES, dtype=np.complex128)
-    up_c = np.empty(MAX_NODES)
-    up_e = np.empty(MAX_NODES)
-    nd, _ = _continue(z0, dz0, e0, S_TOP, min(s_lo, S_TOP), 2, -1.0, 0, 1.0, gamma, f, beta, eta, delta, xi,
-                      pred_tol, node_tol, dn_s, dn_z, dn_d, dn_c, dn_e)
-    nu, _ = _continue(z0, dz0, e0, S_TOP, max(s_hi, S_TOP), 2, 1.0, 0, 1.0, gamma, f, beta, eta, delta, xi,
-                      pred_tol, node_tol, up_s, up_z, up_d, up_c, up_e)
+        return Path(ns, nz, ns, ns, cx, cf, cm, 0, True), START
+    dn = _nodes(MAX_NODES)
+    up = _nodes(MAX_NODES)
+    nd, _ = _continue(z0, dz0, e0, S_TOP, min(s_lo, S_TOP), EXTRA_NODES, -1.0, LN_KH, 1.0, p, pred_tol, node_tol,
+                      dn)
+    nu, _ = _continue(z0, dz0, e0, S_TOP, max(s_hi, S_TOP), EXTRA_NODES, 1.0, LN_KH, 1.0, p, pred_tol, node_tol,
+                      up)
     nn = nd + nu - 1
     ns = np.empty(nn)
     nz = np.empty(nn, dtype=np.complex128)
@@ -816,18 +975,18 @@ def build_path(s_lo, s_hi, z_r, gamma, f, beta, eta, delta, xi, pred_tol, node_t
     ne = np.empty(nn)
     for i in range(nd):
         k = nd - 1 - i
-        ns[i] = dn_s[k]
-        nz[i] = dn_z[k]
-        ndz[i] = dn_d[k]
-        nc[i] = dn_c[k]
-        ne[i] = dn_e[k]
+        ns[i] = dn.s[k]
+        nz[i] = dn.z[k]
+        ndz[i] = dn.dzds[k]
+        nc[i] = dn.conv[k]
+        ne[i] = dn.err[k]
     for i in range(1, nu):
         k = nd - 1 + i
-        ns[k] = up_s[i]
-        nz[k] = up_z[i]
-        ndz[k] = up_d[i]
-        nc[k] = up_c[i]
-        ne[k] = up_e[i]
+        ns[k] = up.s[i]
+        nz[k] = up.z[i]
+        ndz[k] = up.dzds[i]
+        nc[k] = up.conv[i]
+        ne[k] = up.err[i]
     use_log = True
     for i in range(nn):
         use_log = use_log and nz[i] != 0
@@ -841,22 +1000,29 @@ def build_path(s_lo, s_hi, z_r, gamma, f, beta, eta, delta, xi, pred_tol, node_t
         cx, cf, cm = _interp_table(ns, nw, ndz, nn)
     else:
         cx, cf, cm = _interp_table(ns, nz, ndz, nn)
-    return ns, nz, nc, ne, cx, cf, cm, nn, use_log, OK
+    return Path(ns, nz, nc, ne, cx, cf, cm, nn, use_log), OK
 
 
 @njit(cache=True, inline="always")
-def _interval(s, ns, nn):
-    """Index j of the path interval [ns[j], ns[j+1]] holding s (-1 outside the path or for < 2 nodes)."""
+def _interval(s: float, ns: np.ndarray, nn: int) -> int:
+    """Index j of the path interval [ns[j], ns[j+1]] holding s (-1 outside the path or for nn < 2 nodes)."""
     if nn < 2 or not (ns[0] <= s <= ns[nn - 1]):
         return -1
     j = np.searchsorted(ns, s, side="right") - 1  # ns[j] <= s
     return min(j, nn - 2)
 
 
+@njit(cache=True, inline="always")
+def _around(v: np.ndarray, j: int, nn: int) -> float:
+    """Largest of v over the (up to) four nodes j-1 .. j+2 whose data the interpolant of interval j uses."""
+    return max(max(v[max(j - 1, 0)], v[j]), max(v[j + 1], v[min(j + 2, nn - 1)]))
+
+
 @njit(cache=True, nogil=True)
-def path_value(s, ns, nz, cx, cf, cm, nn, use_log):
+def path_value(s: float, path: Path) -> tuple[complex, complex, complex, float]:
     """(z, dz/ds, d2z/ds2, estimated relative error) of the path interpolant at s (NaN outside the path)."""
     nanz = complex(math.nan, math.nan)
+    ns, nz, _, _, cx, cf, cm, nn, use_log = path
     j = _interval(s, ns, nn)
     if j < 0:
         if nn == 1 and s == ns[0]:
@@ -866,22 +1032,24 @@ def path_value(s, ns, nz, cx, cf, cm, nn, use_log):
     if use_log:
         z = cmath.exp(p)
         return z, dp * z, (d2p + dp * dp) * z, est
-    return p, dp, d2p, est / max(abs(p), 1e-300)
+    return p, dp, d2p, est / max(abs(p), ABS_FLOOR)
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _solve_at(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol):
-    """The Rayleigh-branch root at s = ln kH from the path: (z, status, residual, error, dz/ds).
+def _solve_at(s: float, ns: np.ndarray, nz: np.ndarray, nc: np.ndarray, ne: np.ndarray, cx: np.ndarray,
+              cf: np.ndarray, cm: np.ndarray, nn: int, use_log: bool, p: Params,
+              rtol: float) -> tuple[complex, int, float, float, complex]:
+    """The Rayleigh-branch root at s = ln kH from the path (its fields unpacked, see Path): (z, status, residual,
+    error, dz/ds).
 
     Start from the Hermite interpolant of the path nodes. With rtol > 0 the interpolant itself is
     returned where its truncation estimate plus the nodes' error estimates is below RTOL_MARGIN rtol
-    (residual NaN: F not evaluated; dz/ds from the interpolant). Otherwise one Newton step: the
-    quadratic-convergence constant C was measured at the surrounding path nodes (whose steps passed
-    the contraction certificate with larger predictor errors); if 10 C |step|^2 is below the target
-    (_target) the stepped point is accepted without a second evaluation (error estimate noise +
-    10 C |step|^2), else Newton continues and is accepted only with a strong first contraction and a
-    small distance from the prediction (else NOCONV). Outside the nodes' range the branch was lost
-    (LOST).
+    (residual NaN: F not evaluated; dz/ds from the interpolant). Otherwise Newton's method (_newton)
+    with the first step certified by the quadratic-convergence constants measured at the surrounding
+    path nodes (their steps passed the contraction certificate with larger predictor errors), times
+    C_FIRST_SAFETY: where that bounds the error after one step below the target (_target), the point
+    costs one evaluation of F. Further steps must show a strong first contraction (THETA_MAX) and end
+    near the prediction (PRED_REJECT), else NOCONV. Outside the nodes' range the branch was lost (LOST).
     """
     nanz = complex(math.nan, math.nan)
     j = _interval(s, ns, nn)
@@ -897,58 +1065,31 @@ def _solve_at(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, d
         else:
             zp = w
             dzp = dw
-            est /= max(abs(w), 1e-300)
+            est /= max(abs(w), ABS_FLOOR)
         # add the nodes' own errors (the truncation estimate is 0 at a node)
-        est += max(max(ne[max(j - 1, 0)], ne[j]), max(ne[j + 1], ne[min(j + 2, nn - 1)]))
+        est += _around(ne, j, nn)
         if est <= RTOL_MARGIN * rtol:
             return zp, OK, math.nan, est * abs(zp), dzp
     else:
         w = _interp_value(s, j, cx, cf, cm)
         zp = cmath.exp(w) if use_log else w
-    tol = _target(rtol)
-    c_loc = max(max(nc[max(j - 1, 0)], nc[j]), max(nc[j + 1], nc[min(j + 2, nn - 1)]))
-    fv, dfv, sc, fs = _eval_mode(zp, s, 0, 1.0, gamma, f, beta, eta, delta, xi)
-    if cmath.isfinite(fv) and cmath.isfinite(dfv) and dfv != 0 and c_loc > 0.0:
-        inv = 1.0 / dfv
-        step = fv * inv
-        a2 = step.real * step.real + step.imag * step.imag  # |step|^2
-        z1 = zp - step
-        az = _cabs(z1)
-        rest = 10.0 * c_loc * a2
-        ls = _local_scale(z1)
-        if (a2 <= 1e-28 * az * az or rest <= tol * az) and a2 <= 1e-12 * ls * ls:
-            adf = _cabs(dfv)
-            noise = 8.0 * EPS * sc / adf
-            # residual of z1 from the quadratic model: |F(z1)| ~ |F'| (rest + noise)
-            return z1, OK, (rest + noise) * adf / sc, noise + rest, -fs * inv
-        return _solve_more(zp, z1, math.sqrt(a2), s, gamma, f, beta, eta, delta, xi, tol)
-    return _solve_more(zp, zp, 0.0, s, gamma, f, beta, eta, delta, xi, tol)
-
-
-@njit(cache=True, nogil=True)
-def solve_at(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol):
-    """_solve_at as a function of its own (_solve_at is inlined into the spectrum's loop only)."""
-    return _solve_at(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol)
-
-
-@njit(cache=True, nogil=True)
-def _solve_more(zp, z1, a, s, gamma, f, beta, eta, delta, xi, tol):
-    """The rest of solve_at where one Newton step (of size a, from zp to z1; a = 0: none) was not enough:
-    Newton continues from z1; accepted only with a strong first contraction |step 2| / |step 1| and a
-    small distance from the prediction zp (else NOCONV)."""
-    if a > 0.0:
-        z, ok, _, second, rr, ee, _, dz = _newton(z1, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 9, tol)
-        theta = second / a
-    else:
-        z, ok, _, _, rr, ee, theta, dz = _newton(zp, s, 0, 1.0, gamma, f, beta, eta, delta, xi, 10, tol)
-    if ok and abs(z - zp) <= PRED_REJECT * _local_scale(z) and theta <= THETA_MAX:
-        return z, OK, rr, ee, dz
-    nanz = complex(math.nan, math.nan)
+    c_nodes = C_FIRST_SAFETY * _around(nc, j, nn)
+    r = _newton(zp, LN_KH, s, 1.0, p, SOLVE_ITERS, _target(rtol), c_nodes, SHRINK_PATH, 1.0, NO_BOX)
+    if r.ok and r.theta <= THETA_MAX and abs(r.z - zp) <= PRED_REJECT * _local_scale(r.z):
+        return r.z, OK, r.resid, r.err, r.dzds
     return nanz, NOCONV, math.nan, math.nan, nanz
 
 
 @njit(cache=True, nogil=True)
-def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, rtol, z_out, status, resid, err):
+def solve_at(s: float, path: Path, p: Params, rtol: float) -> tuple[complex, int, float, float, complex]:
+    """_solve_at for one point of a path (the loops over points inline _solve_at instead)."""
+    ns, nz, nc, ne, cx, cf, cm, nn, use_log = path
+    return _solve_at(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, p, rtol)
+
+
+@njit(cache=True, nogil=True)
+def branch_solve(s_req: np.ndarray, z_r: float, p: Params, rtol: float, z_out: np.ndarray, status: np.ndarray,
+                 resid: np.ndarray, err: np.ndarray) -> None:
     """Rayleigh-branch roots at the requested s = ln kH values for one parameter set.
 
     Each requested point is reached from the interpolated path nodes by Newton's method
@@ -957,8 +1098,8 @@ def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, rtol, z_out, status
     m = s_req.shape[0]
     if m == 0:
         return
-    ns, nz, nc, ne, cx, cf, cm, nn, use_log, code = build_path(s_req.min(), s_req.max(), z_r, gamma, f, beta, eta,
-                                                           delta, xi, _path_tol(rtol), FULL_TOL)
+    path, code = build_path(s_req.min(), s_req.max(), z_r, p, _path_tol(rtol), FULL_TOL)
+    ns, nz, nc, ne, cx, cf, cm, nn, use_log = path  # unpacked once (see Path)
     for i in range(m):
         if code != OK:
             z_out[i] = complex(math.nan, math.nan)
@@ -966,18 +1107,27 @@ def branch_solve(s_req, z_r, gamma, f, beta, eta, delta, xi, rtol, z_out, status
             resid[i] = math.nan
             err[i] = math.nan
             continue
-        z_out[i], status[i], resid[i], err[i], _ = _solve_at(s_req[i], ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma,
-                                                             f, beta, eta, delta, xi, rtol)
+        z_out[i], status[i], resid[i], err[i], _ = _solve_at(s_req[i], ns, nz, nc, ne, cx, cf, cm, nn, use_log, p,
+                                                             rtol)
 
 
-GOLDEN = 0.3819660112501051
+# ----------------------------------------------------------------------------- growth maps
+GOLDEN = 0.3819660112501051  # (3 - sqrt 5)/2: golden-section fraction
 S_TOL_MAX = 1e-9  # location of the maximum in ln kH
+GOLDEN_STOP = 0.1 * S_TOL_MAX  # golden-section search stops at this bracket width
+GOLDEN_ITERS = 80  # 0.618^80 < 1e-16: any bracket narrower than 1e6 in ln kH gets below GOLDEN_STOP first
+MAX_SHIFT = 0.1  # largest Newton correction of the maximum's location in ln kH (the local quadratic model's reach)
+FLAT_ULPS = 4.0  # the corrected location is kept unless its Im z is lower by more than FLAT_ULPS eps |z|
 S_TOL_CROSS = 1e-13  # relative location of a band end in ln kH
+ILLINOIS = 0.5  # factor on the retained end's value in the Illinois variant of false position (superlinear)
+ILLINOIS_ITERS = 100  # false-position iterations on the interpolant (superlinear: a bound, not a budget)
+CROSS_ITERS = 8  # Newton in ln kH on exact roots from the false-position estimate (quadratic: a few steps)
 
 
-@njit(cache=True, nogil=True)
-def _path_im(s, ns, nz, cx, cf, cm, nn, use_log):
-    """Im z of the path interpolant at s (NaN outside the path)."""
+@njit(cache=True, nogil=True, inline="always")
+def _im_at(s: float, ns: np.ndarray, nz: np.ndarray, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray, nn: int,
+           use_log: bool) -> float:
+    """Im z of the path interpolant at s (NaN outside the path); the path's fields unpacked (see Path)."""
     j = _interval(s, ns, nn)
     if j < 0:
         return nz[0].imag if (nn == 1 and s == ns[0]) else math.nan
@@ -986,84 +1136,85 @@ def _path_im(s, ns, nz, cx, cf, cm, nn, use_log):
 
 
 @njit(cache=True, nogil=True)
-def _refine_max(a, b, s0, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol):
+def _refine_max(a: float, b: float, s0: float, path: Path, p: Params, rtol: float) -> tuple[float, float]:
     """Max of Im z on [a, b] (bracketing the grid maximum s0): (growth, s_at_max).
 
-    Golden-section search on the path interpolant (location to S_TOL_MAX / 10; within S_TOL_MAX of an
-    end of [a, b] it is that end), then the root there (solve_at) and one Newton correction of the
-    location inside [a, b] with its exact slope Im dz/ds and the interpolant's curvature (kept unless its
-    Im z is lower beyond rounding; the value reported is the larger of the two).
+    Golden-section search on the path interpolant (location to GOLDEN_STOP; within S_TOL_MAX of an end of
+    [a, b] it is that end), then the root there (solve_at) and one Newton correction of the location inside
+    [a, b] with its exact slope Im dz/ds and the interpolant's curvature (kept unless its Im z is lower
+    beyond rounding; the value reported is the larger of the two).
     """
+    ns, nz, _, _, cx, cf, cm, nn, use_log = path  # unpacked once (see Path)
     s_m = s0
     lo = a
     hi = b
     if b > a:
         x1 = a + GOLDEN * (b - a)
         x2 = b - GOLDEN * (b - a)
-        f1 = _path_im(x1, ns, nz, cx, cf, cm, nn, use_log)
-        f2 = _path_im(x2, ns, nz, cx, cf, cm, nn, use_log)
-        for _ in range(80):
-            if b - a <= 0.1 * S_TOL_MAX:
+        f1 = _im_at(x1, ns, nz, cx, cf, cm, nn, use_log)
+        f2 = _im_at(x2, ns, nz, cx, cf, cm, nn, use_log)
+        for _ in range(GOLDEN_ITERS):
+            if b - a <= GOLDEN_STOP:
                 break
             if f1 >= f2:
                 b, x2, f2 = x2, x1, f1
                 x1 = a + GOLDEN * (b - a)
-                f1 = _path_im(x1, ns, nz, cx, cf, cm, nn, use_log)
+                f1 = _im_at(x1, ns, nz, cx, cf, cm, nn, use_log)
             else:
                 a, x1, f1 = x1, x2, f2
                 x2 = b - GOLDEN * (b - a)
-                f2 = _path_im(x2, ns, nz, cx, cf, cm, nn, use_log)
+                f2 = _im_at(x2, ns, nz, cx, cf, cm, nn, use_log)
         s_m = x1 if f1 >= f2 else x2
         # a maximum at the end of the grid (monotone Im z) is the end point itself
         s_m = lo if s_m - lo <= S_TOL_MAX else (hi if hi - s_m <= S_TOL_MAX else s_m)
-    z, st, _, _, dz = solve_at(s_m, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol)
+    z, st, _, _, dz = solve_at(s_m, path, p, rtol)
     if st != OK:
         return math.nan, math.nan
-    d2 = path_value(s_m, ns, nz, cx, cf, cm, nn, use_log)[2].imag
+    d2 = path_value(s_m, path)[2].imag
     if d2 < 0.0 and cmath.isfinite(dz):
         ds = -dz.imag / d2
-        if S_TOL_MAX < abs(ds) <= 0.1 and lo <= s_m + ds <= hi:
-            z2, st2, _, _, _ = solve_at(s_m + ds, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta,
-                                        delta, xi, rtol)
+        if S_TOL_MAX < abs(ds) <= MAX_SHIFT and lo <= s_m + ds <= hi:
+            z2, st2, _, _, _ = solve_at(s_m + ds, path, p, rtol)
             # keep the corrected location unless its value is lower beyond rounding (the maximum is flat)
-            if st2 == OK and z2.imag >= z.imag - 4.0 * EPS * abs(z):
+            if st2 == OK and z2.imag >= z.imag - FLAT_ULPS * EPS * abs(z):
                 return max(z2.imag, z.imag), s_m + ds
     return z.imag, s_m
 
 
 @njit(cache=True, nogil=True)
-def _crossing(a, b, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol):
+def _crossing(a: float, b: float, path: Path, p: Params, rtol: float) -> float:
     """s in [a, b] (Im z of the interpolant changes sign) where Im z(s) = 0, or NaN.
 
     Illinois false position on the interpolant, then Newton in s with the exact roots and slopes
     (solve_at) until the step is below S_TOL_CROSS (quadratic convergence: the last step's square
     is negligible). NaN if Newton leaves the bracket widened by its width or does not converge.
     """
-    fa = _path_im(a, ns, nz, cx, cf, cm, nn, use_log)
-    fb = _path_im(b, ns, nz, cx, cf, cm, nn, use_log)
+    ns, nz, _, _, cx, cf, cm, nn, use_log = path  # unpacked once (see Path)
+    fa = _im_at(a, ns, nz, cx, cf, cm, nn, use_log)
+    fb = _im_at(b, ns, nz, cx, cf, cm, nn, use_log)
     if math.isnan(fa) or math.isnan(fb) or (fa > 0.0) == (fb > 0.0):
         return math.nan
     lo = min(a, b)
     hi = max(a, b)
     width = hi - lo
-    for _ in range(100):
+    for _ in range(ILLINOIS_ITERS):
         if abs(b - a) <= S_TOL_CROSS * max(1.0, abs(a)):
             break
         c = b - fb * (b - a) / (fb - fa)
-        fc = _path_im(c, ns, nz, cx, cf, cm, nn, use_log)
+        fc = _im_at(c, ns, nz, cx, cf, cm, nn, use_log)
         if math.isnan(fc):
             return math.nan
         if fc == 0.0:
             b = c
             break
         if (fc > 0.0) == (fb > 0.0):
-            fa *= 0.5
+            fa *= ILLINOIS
         else:
             a, fa = b, fb
         b, fb = c, fc
     s = b
-    for _ in range(8):
-        z, st, _, err, dz = solve_at(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta, xi, rtol)
+    for _ in range(CROSS_ITERS):
+        z, st, _, err, dz = solve_at(s, path, p, rtol)
         if st != OK or not cmath.isfinite(dz) or dz.imag == 0.0:
             return math.nan
         ds = -z.imag / dz.imag
@@ -1076,26 +1227,26 @@ def _crossing(a, b, ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta
 
 
 @njit(cache=True, nogil=True)
-def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi, rtol):
+def growth_one(s_grid: np.ndarray, z_r: float, p: Params, rtol: float) -> tuple[float, float, float, float, int]:
     """Max of Im z over kH on the Rayleigh branch, refined between grid points, and the unstable band.
 
     Returns (growth, s_at_max, s_band_lo, s_band_hi, n_masked). Im z on the grid comes from the path
     interpolant (no root solves); the maximum is refined on the two grid intervals around the grid
-    maximum (_refine_max: location to 1e-9 in ln kH, so the value is exact to rounding); the band is
+    maximum (_refine_max: location to S_TOL_MAX in ln kH, so the value is exact to rounding); the band is
     the interval around the maximum where Im z > 0, with both ends refined by Newton on exact roots
     (_crossing; NaN where Im z stays positive up to the end of the grid or where the growth is not
     positive).
     """
     m = s_grid.shape[0]
-    ns, nz, nc, ne, cx, cf, cm, nn, use_log, code = build_path(s_grid[0], s_grid[m - 1], z_r, gamma, f, beta, eta,
-                                                               delta, xi, PRED_TOL, _map_node_tol(rtol))
+    path, code = build_path(s_grid[0], s_grid[m - 1], z_r, p, PRED_TOL, _map_node_tol(rtol))
     if code != OK:
         return math.nan, math.nan, math.nan, math.nan, m
+    ns, nz, _, _, cx, cf, cm, nn, use_log = path  # unpacked once (see Path)
     im = np.empty(m)
     n_masked = 0
     best = -1
     for i in range(m):
-        im[i] = _path_im(s_grid[i], ns, nz, cx, cf, cm, nn, use_log)
+        im[i] = _im_at(s_grid[i], ns, nz, cx, cf, cm, nn, use_log)
         if math.isnan(im[i]):
             n_masked += 1
         elif best < 0 or im[i] > im[best]:
@@ -1104,8 +1255,7 @@ def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi, rtol):
         return math.nan, math.nan, math.nan, math.nan, n_masked
     a = s_grid[best - 1] if best > 0 and not math.isnan(im[best - 1]) else s_grid[best]
     b = s_grid[best + 1] if best < m - 1 and not math.isnan(im[best + 1]) else s_grid[best]
-    g_max, s_max = _refine_max(a, b, s_grid[best], ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta, delta,
-                               xi, rtol)
+    g_max, s_max = _refine_max(a, b, s_grid[best], path, p, rtol)
     if math.isnan(g_max):
         return math.nan, math.nan, math.nan, math.nan, n_masked
     lo = math.nan
@@ -1115,65 +1265,55 @@ def growth_one(s_grid, z_r, gamma, f, beta, eta, delta, xi, rtol):
         while i > 0 and not math.isnan(im[i - 1]) and im[i - 1] > 0.0:
             i -= 1
         if i > 0 and not math.isnan(im[i - 1]):
-            lo = _crossing(s_grid[i - 1], s_grid[i], ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta,
-                           delta, xi, rtol)
+            lo = _crossing(s_grid[i - 1], s_grid[i], path, p, rtol)
         i = best
         while i < m - 1 and not math.isnan(im[i + 1]) and im[i + 1] > 0.0:
             i += 1
         if i < m - 1 and not math.isnan(im[i + 1]):
-            hi = _crossing(s_grid[i + 1], s_grid[i], ns, nz, nc, ne, cx, cf, cm, nn, use_log, gamma, f, beta, eta,
-                           delta, xi, rtol)
+            hi = _crossing(s_grid[i + 1], s_grid[i], path, p, rtol)
     return g_max, s_max, lo, hi, n_masked
 
 
+# ----------------------------------------------------------------------------- entry points (flat arrays)
 @njit(cache=True, nogil=True)
-def growth_many(s_grid, gamma, f, beta, eta, delta, xi, rtol, g_out, s_out, lo_out, hi_out, nm_out):
+def growth_many(s_grid: np.ndarray, gamma: np.ndarray, f: np.ndarray, beta: np.ndarray, eta: np.ndarray,
+                delta: np.ndarray, xi: np.ndarray, rtol: float, g_out: np.ndarray, s_out: np.ndarray,
+                lo_out: np.ndarray, hi_out: np.ndarray, nm_out: np.ndarray) -> None:
     """growth_one over flattened parameter sets (one chunk of a stability map)."""
-    for p in range(gamma.shape[0]):
-        g_out[p], s_out[p], lo_out[p], hi_out[p], nm_out[p] = growth_one(
-            s_grid, rayleigh_z(beta[p]), gamma[p], f[p], beta[p], eta[p], delta[p], xi[p], rtol
-        )
-
-
-@njit(cache=True)
-def rayleigh_z(beta):
-    """z_R(beta): Newton on the Rayleigh cubic in x = z^2 from x = 0.9 (monotone convergence)."""
-    b = beta * beta
-    x = 0.85
-    for _ in range(40):
-        fx = ((x - 8.0) * x + 8.0 * (3.0 - 2.0 * b)) * x - 16.0 * (1.0 - b)
-        dfx = (3.0 * x - 16.0) * x + 8.0 * (3.0 - 2.0 * b)
-        dx = fx / dfx
-        x -= dx
-        if abs(dx) <= 1e-17:
-            break
-    return math.sqrt(x)
+    for i in range(gamma.shape[0]):
+        p = Params(gamma[i], f[i], beta[i], eta[i], delta[i], xi[i])
+        g_out[i], s_out[i], lo_out[i], hi_out[i], nm_out[i] = growth_one(s_grid, rayleigh_z(beta[i]), p, rtol)
 
 
 @njit(cache=True, nogil=True)
-def branch_many(s_req, gamma, f, beta, eta, delta, xi, rtol, z_out, status, resid, err):
+def branch_many(s_req: np.ndarray, gamma: np.ndarray, f: np.ndarray, beta: np.ndarray, eta: np.ndarray,
+                delta: np.ndarray, xi: np.ndarray, rtol: float, z_out: np.ndarray, status: np.ndarray,
+                resid: np.ndarray, err: np.ndarray) -> None:
     """branch_solve for many parameter sets (rows of the 2-D outputs)."""
-    for p in range(gamma.shape[0]):
-        zr = rayleigh_z(beta[p])
-        branch_solve(s_req, zr, gamma[p], f[p], beta[p], eta[p], delta[p], xi[p], rtol, z_out[p], status[p], resid[p],
-                     err[p])
+    for i in range(gamma.shape[0]):
+        p = Params(gamma[i], f[i], beta[i], eta[i], delta[i], xi[i])
+        branch_solve(s_req, rayleigh_z(beta[i]), p, rtol, z_out[i], status[i], resid[i], err[i])
 
 
 @njit(cache=True, nogil=True)
-def branch_one(s_req, gamma, f, beta, eta, delta, xi, rtol, z_out, status, resid, err):
+def branch_one(s_req: np.ndarray, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float,
+               rtol: float, z_out: np.ndarray, status: np.ndarray, resid: np.ndarray, err: np.ndarray) -> None:
     """branch_solve for one parameter set given as scalars (1-D outputs)."""
-    branch_solve(s_req, rayleigh_z(beta), gamma, f, beta, eta, delta, xi, rtol, z_out, status, resid, err)
+    branch_solve(s_req, rayleigh_z(beta), Params(gamma, f, beta, eta, delta, xi), rtol, z_out, status, resid, err)
 
 
 @njit(cache=True)
-def response_many(z, q, beta, eta, gx, gy, dgx, dgy):
+def response_many(z: np.ndarray, q: np.ndarray, beta: np.ndarray, eta: np.ndarray, gx: np.ndarray,
+                  gy: np.ndarray, dgx: np.ndarray, dgy: np.ndarray) -> None:
     """Vector loop over flattened broadcast inputs."""
     for i in range(z.shape[0]):
         gx[i], gy[i], dgx[i], dgy[i], _, _, _ = response(z[i], q[i], beta[i], eta[i])
 
 
 @njit(cache=True)
-def dispersion_many(z, q, gamma, f, beta, eta, delta, xi, fo, dfo, sco):
+def dispersion_many(z: np.ndarray, q: np.ndarray, gamma: np.ndarray, f: np.ndarray, beta: np.ndarray,
+                    eta: np.ndarray, delta: np.ndarray, xi: np.ndarray, fo: np.ndarray, dfo: np.ndarray,
+                    sco: np.ndarray) -> None:
     """Vector loop over flattened broadcast inputs."""
     for i in range(z.shape[0]):
         fo[i], dfo[i], sco[i] = dispersion_eval(z[i], q[i], gamma[i], f[i], beta[i], eta[i], delta[i], xi[i])

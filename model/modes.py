@@ -1,8 +1,8 @@
-"""Every unstable mode in a window: all roots of F(z; kH) = 0 with Im z > 0 (issue 3, PHYSICS.md sections 2-3).
+"""Every unstable mode in a window: all roots of F(z; kH) = 0 with Im z > 0 (docs/physics.md §2-3, §10).
 
 The dispersion function F(z; kH) of Eq. implicit_spectrum (with Eq. delta f RSF and the response functions
 of Eq. Gs_general / S-G_gen) is analytic in the open upper half-plane Im z > 0: its poles (finite eta) and
-branch cuts (eta = inf) lie on the real axis (PHYSICS.md section 2). The number of roots inside a rectangle
+branch cuts (eta = inf) lie on the real axis (docs/physics.md §2). The number of roots inside a rectangle
 R = [-re_max, re_max] x [im_min, im_max] with im_min > 0 is therefore given by the argument principle with no
 pole correction,
 
@@ -20,8 +20,8 @@ For every pair of neighbouring samples a, b (step h = z_b - z_a) it accepts the 
 
 and otherwise bisects it. The increment of log F along an accepted segment is then L (the true increment
 differs from L by a multiple of 2 pi i, and the checks keep it far below pi), so the winding number is an
-integer by construction; it is still checked to be within 1e-6 of one. Lines start from nodes spaced <= 0.1;
-vertical lines add nodes graded geometrically (ratio 3) from their distance to the real axis, horizontal
+integer by construction; it is still checked to be within WINDING_TOL = 1e-6 of one. Lines start from nodes
+spaced <= 0.1; vertical lines add nodes graded geometrically (ratio 3) from their distance to the real axis, horizontal
 lines at height y add nodes p +- y 3^k around each real-axis singularity p (z = +-1, +-1/beta, and for
 finite eta the poles z^2 = 1 + (pi n / ((1+eta) kH))^2, z^2 = beta^-2 [1 + (pi n / ((1+eta) kH))^2]) that is
 at least 2y from one of its neighbours, so that a root sitting next to a pole is resolved at every scale.
@@ -30,9 +30,10 @@ at least 2y from one of its neighbours, so that a root sitting next to a pole is
 *Locating.* The rectangle is split recursively (a vertical line at mid-width, or for a tall cell a horizontal
 line at mid-height, geometric mean height near the axis); the samples of the parent's edges are reused, only
 the new splitting line is sampled (its end values give the corners on the edges it meets). A cell holding
-exactly one root is solved by Newton's method with the analytic derivative (as model.dispersion_derivative),
-started from the contour-integral estimate (1 / 2 pi i) closed-integral z F'/F dz of the cell (else its
-centre); the root must converge inside its cell with |F| / scale < 1e-12 (scale = model.dispersion_scale).
+exactly one root is solved by Newton's method with the analytic derivative (as model.dispersion_derivative;
+the model's one Newton loop, model._kernels._newton), started from the contour-integral estimate
+(1 / 2 pi i) closed-integral z F'/F dz of the cell (else its centre); the root must converge inside its cell
+with |F| / scale < RESID_MAX = 1e-12 (scale = model.dispersion_scale).
 Cells where Newton fails are split further. The number of located roots always equals the certified count,
 or a RuntimeError is raised.
 
@@ -73,15 +74,31 @@ TRAP_TOL = 0.3  # largest accepted |Log(F_b/F_a) - trapezoid of F'/F|
 LIN_TOL = 0.7  # largest accepted relative error of the linear (F') prediction across a segment
 H0 = 0.1  # initial sample spacing along lines
 LADDER = 3.0  # ratio of the graded initial nodes around real-axis poles
+GRADE = 3.0  # ratio of the initial nodes of a vertical line graded towards the real axis
 IM_FLOOR = 1e-10  # the bottom edge never goes below this (im_min = 0)
 TINY = 1e-13  # |F| / scale below which a sample is taken to be a root on the line
 REL_HMIN = 1e-11  # smallest segment, relative to the window size ...
 AXIS_HMIN = 1e-7  # ... and relative to the distance of the line from the real axis
-SHIFT = 16.0  # an edge holding a root moves outward by SHIFT * h_min (then 4x more per retry)
+SHIFT = 16.0  # an edge holding a root moves outward by SHIFT * h_min (then SHIFT_GROWTH x more per retry)
 CAP = 1 << 20  # most samples on one line
 MAX_LADDER_POLES = 20000  # beyond this many isolated real-axis poles the graded seeding is skipped
-NEWTON_ITERS = 60
-RESID_MAX = 1e-12
+NEWTON_ITERS = 60  # Newton evaluations allowed in a cell (generous: a start at the cell's centre may converge slowly)
+SHRINK_CELL = 0.9  # Newton in a cell fails once a step is not below 0.9 x the previous one (slow but converging
+# steps are allowed: the start is an estimate, and the confinement to the cell guards against wandering)
+RESID_MAX = 1e-12  # largest |F| / scale accepted at a cell's root (a converged root has it at rounding level)
+IM_POSITIVE = 5e-324  # smallest positive double: "Im z < IM_POSITIVE" is "Im z <= 0" (a root must stay above the axis)
+WINDING_TOL = 1e-6  # largest distance of a winding number from an integer (it is one up to rounding by construction)
+CORNER_TOL = 1e-8  # a corner's two log-increments must sum to its segment's to this (else a root is near the corner)
+MAX_SHIFTS = 6  # times an edge holding a root is moved outward (by SHIFT * SHIFT_GROWTH^k h_min) before giving up
+SHIFT_GROWTH = 4.0  # growth of that move per retry
+# splitting positions tried in turn (fractions of the cell): the middle; if a root lies on that line, irregular offsets
+SPLIT_AT = (0.5, 0.5 + 0.0917, 0.5 - 0.1231, 0.5 + 0.2143, 0.5 - 0.2569, 0.3333, 0.6667)
+GEOMETRIC_SPLIT = 4.0  # a cell with y1 > 4 y0 is split at the geometric mean height (structure geometric near the axis)
+# a cell smaller than max(min(TINY_CELL_REL x window size, TINY_CELL_AXIS x its height), TINY_CELL_ULPS ulps of its
+# coordinates) holding n > 1 roots is taken to hold one root of multiplicity n (distinct roots are not resolved there)
+TINY_CELL_REL = 1e-9
+TINY_CELL_AXIS = 1e-3
+TINY_CELL_ULPS = 64
 
 _FLOAT = np.float64
 
@@ -121,7 +138,7 @@ def _seeds(t0, t1, h0, geo0, lad_y, poles, half):
     extra = 0
     kmax = 0
     if geo0 > 0.0 and geo0 < h0:
-        kmax = int(math.ceil(math.log(h0 / geo0) / math.log(3.0)))
+        kmax = int(math.ceil(math.log(h0 / geo0) / math.log(GRADE)))
         extra += kmax + 1
     lmax = 0
     if lad_y > 0.0 and lad_y < h0:
@@ -137,7 +154,7 @@ def _seeds(t0, t1, h0, geo0, lad_y, poles, half):
     buf[n] = t1
     if geo0 > 0.0 and geo0 < h0:
         for k in range(kmax + 1):
-            buf[m] = geo0 * 3.0**k
+            buf[m] = geo0 * GRADE**k
             m += 1
     if lad_y > 0.0 and lad_y < h0:
         for j in range(poles.shape[0]):
@@ -160,9 +177,9 @@ def _seeds(t0, t1, h0, geo0, lad_y, poles, half):
 def _kernels_fingerprint() -> str:
     """sha256 of model/_kernels.py.
 
-    The compiled functions below call K.dispersion_eval, which numba compiles into them; numba's on-disk
-    cache only checks the time stamp of *this* file, so the fingerprint of _kernels.py is made part of their
-    cache key (numba hashes the closure variables of a cached function).
+    The compiled functions below call K.dispersion_eval and K._newton, which numba compiles into them; numba's
+    on-disk cache only checks the time stamp of *this* file, so the fingerprint of _kernels.py is made part of
+    their cache key (numba hashes the closure variables of a cached function).
     """
     try:
         return hashlib.sha256(Path(K.__file__).read_bytes()).hexdigest()
@@ -264,41 +281,24 @@ def _build(kernels_sha: str):
         return out_t[:n], out_f[:n], out_l[: n - 1], 0, ta, nev
 
     @njit(cache=True)
-    def newton_cell(z0, x0, x1, y0, y1, mult, q, gamma, f, beta, eta, delta, xi):
-        """Newton's method (step multiplied by `mult` for a multiple root) confined near the cell [x0,x1]x[y0,y1].
+    def newton_cell(z0: complex, x0: float, x1: float, y0: float, y1: float, mult: float, q: float, gamma: float,
+                    f: float, beta: float, eta: float, delta: float, xi: float) -> tuple[complex, bool, float, int]:
+        """The root of F(z; kH = q) in the cell [x0, x1] x [y0, y1] by the model's one Newton loop (K._newton, thin
+        wrapper): the step multiplied by `mult` for a multiple root; the iterates confined to the cell enlarged by
+        its own size on every side and to Im z > 0; steps allowed to shrink slowly (SHRINK_CELL: the start is a
+        contour-integral estimate or the cell's centre, not a certified predictor).
 
-        Returns (z, converged, |F|/scale at z, evaluations). Fails if an iterate leaves the cell enlarged by its
-        own size on every side, or if the steps stop shrinking.
+        Returns (z, converged, |F|/scale at z (one more evaluation), evaluations).
         """
         kernels_sha  # noqa: B018 (part of the cache key, see _kernels_fingerprint)
         w = max(x1 - x0, y1 - y0)
-        z = z0
-        prev = math.inf
-        nev = 0
-        for _ in range(NEWTON_ITERS):
-            fv, dfv, sc = K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
-            nev += 1
-            if not (cmath.isfinite(fv) and cmath.isfinite(dfv)) or dfv == 0:
-                return z, False, math.inf, nev
-            if fv == 0:
-                return z, True, 0.0, nev
-            step = mult * fv / dfv
-            a = abs(step)
-            z = z - step
-            if z.real < x0 - w or z.real > x1 + w or z.imag < y0 - w or z.imag > y1 + w or z.imag <= 0.0:
-                return z, False, math.inf, nev
-            noise = 8.0 * K.EPS * sc / abs(dfv) * mult
-            # converged: the step is at rounding level, or quadratic convergence puts the remaining error
-            # (~ a^3 / prev^2) below 1e-16 |z|
-            quadratic_done = a < 1e-6 * abs(z) and a * a * a <= 1e-16 * abs(z) * prev * prev
-            if a <= max(2.0 * K.EPS * abs(z), noise) or quadratic_done:
-                fv, dfv, sc = K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
-                nev += 1
-                return z, True, abs(fv) / sc, nev
-            if a > 0.9 * prev and a > 1e3 * noise:
-                return z, False, math.inf, nev
-            prev = a
-        return z, False, math.inf, nev
+        box = K.Box(x0 - w, x1 + w, max(y0 - w, IM_POSITIVE), y1 + w)
+        p = K.Params(gamma, f, beta, eta, delta, xi)
+        r = K._newton(z0, K.KH, 0.0, q, p, NEWTON_ITERS, K.FULL_TOL, 0.0, SHRINK_CELL, mult, box)
+        if not r.ok:
+            return r.z, False, math.inf, r.evals
+        fv, _, sc = K.dispersion_eval(r.z, q, gamma, f, beta, eta, delta, xi)
+        return r.z, True, abs(fv) / sc, r.evals + 1
 
     return sample_line, newton_cell
 
@@ -371,7 +371,7 @@ class _Problem:
         self.poles, self.half = self._real_axis_singularities()
 
     def _real_axis_singularities(self) -> tuple[np.ndarray, np.ndarray]:
-        """Real-axis poles / branch points of F with |x| <= re_max + 1 (PHYSICS.md section 2) and the
+        """Real-axis poles / branch points of F with |x| <= re_max + 1 (docs/physics.md §2) and the
         half-distance to their neighbours (capped at H0): where the initial nodes of low lines are graded.
 
         The spacing of a finite-eta pole family tends to a = pi / ((1+eta) kH) from below; a family with more
@@ -433,7 +433,7 @@ class _Problem:
             raise AssertionError("internal error: corner outside its line")
         l1 = cmath.log(fv / line.F[i - 1])
         l2 = cmath.log(line.F[i] / fv)
-        if abs(l1 + l2 - line.L[i - 1]) > 1e-8:
+        if abs(l1 + l2 - line.L[i - 1]) > CORNER_TOL:
             raise _RootOnLine(t)
         z0 = _point(line.t[i - 1], line.c, line.horizontal)
         z1 = _point(t, line.c, line.horizontal)
@@ -452,10 +452,10 @@ class _Problem:
 
     @staticmethod
     def count_of(dlog: complex) -> int:
-        """The winding number (must be within 1e-6 of an integer)."""
+        """The winding number (must be within WINDING_TOL of an integer)."""
         w = dlog.imag / (2.0 * math.pi)
         n = round(w)
-        if abs(w - n) > 1e-6:
+        if abs(w - n) > WINDING_TOL:
             raise RuntimeError(f"unstable_modes: winding number {w} is not an integer")
         return int(n)
 
@@ -473,9 +473,9 @@ class _Problem:
             except _RootOnLine:
                 k = len(lines)  # the edge that holds a root moves outward
                 shifts[k] += 1
-                if shifts[k] > 6:
+                if shifts[k] > MAX_SHIFTS:
                     break
-                grow = SHIFT * 4.0 ** (shifts[k] - 1)
+                grow = SHIFT * SHIFT_GROWTH ** (shifts[k] - 1)
                 if k == 0:
                     y0 -= grow * self._h_min(y0)
                 elif k == 1:
@@ -497,7 +497,7 @@ class _Problem:
         """Split a cell in two by a new sampled line (trying other positions if a root lies on it)."""
         x0, x1, y0, y1, bot, top, left, right = cell
         vertical = (x1 - x0) >= (y1 - y0)
-        for fr in (0.5, 0.5 + 0.0917, 0.5 - 0.1231, 0.5 + 0.2143, 0.5 - 0.2569, 0.3333, 0.6667):
+        for fr in SPLIT_AT:
             try:
                 if vertical:
                     xs = x0 + fr * (x1 - x0)
@@ -507,7 +507,7 @@ class _Problem:
                     self.corner(bot, xs, mid.F[0])
                     self.corner(top, xs, mid.F[-1])
                     return (x0, xs, y0, y1, bot, top, left, mid), (xs, x1, y0, y1, bot, top, mid, right)
-                if y1 > 4.0 * y0:  # near the axis the structure is geometric in Im z
+                if y1 > GEOMETRIC_SPLIT * y0:  # near the axis the structure is geometric in Im z
                     ys = math.exp(math.log(y0) + fr * (math.log(y1) - math.log(y0)))
                 else:
                     ys = y0 + fr * (y1 - y0)
@@ -534,7 +534,8 @@ class _Problem:
                 raise RuntimeError("unstable_modes: negative root count in a cell (contour sampling failed)")
             x0, x1, y0, y1 = c[:4]
             # a cell this small holding n > 1 roots is taken to hold one root of multiplicity n
-            tiny = max(min(1e-9 * self.size, 1e-3 * y0), 64 * eps * max(abs(x0), abs(x1), y1))
+            tiny = max(min(TINY_CELL_REL * self.size, TINY_CELL_AXIS * y0),
+                       TINY_CELL_ULPS * eps * max(abs(x0), abs(x1), y1))
             small = max(x1 - x0, y1 - y0) < tiny
             if n == 1 or small:
                 if moment is None:
@@ -620,7 +621,7 @@ def unstable_count(
     """Number of roots of F(z; kH) = 0 (Eq. implicit_spectrum with Eq. delta f RSF) in the closed window.
 
     Certified by the argument principle, N = (1/2 pi i) closed-integral F'/F dz along the boundary of
-    [-re_max, re_max] x [im_min, im_max]; F has no poles in Im z > 0 (PHYSICS.md section 2), so no pole
+    [-re_max, re_max] x [im_min, im_max]; F has no poles in Im z > 0 (docs/physics.md §2), so no pole
     correction is needed. The phase of F is tracked continuously with adaptive refinement (see the module
     docstring for the acceptance criteria and the window semantics: roots on the boundary count).
 
