@@ -622,11 +622,20 @@ RAYLEIGH_ITERS = 40  # far more than needed: Newton converges monotonically afte
 
 
 @njit(cache=True, nogil=True)
-def rayleigh_z(beta: float) -> float:
-    """z_R(beta) (docs/physics.md §5): Newton on the Rayleigh cubic in x = z^2 from RAYLEIGH_X0 (NaN if it fails)."""
+def rayleigh_x(beta: float) -> float:
+    """x_R = z_R^2 (docs/physics.md §5): Newton on the Rayleigh cubic in x = z^2 from RAYLEIGH_X0 (NaN if it fails).
+
+    For the spectrum's beta in (0, 1/sqrt(2)] (from x = 0.85 the iterates converge to the root in (0, 1); near
+    beta = 1, i.e. Poisson ratios near -1, they do not: model.rayleigh._rayleigh_x covers those)."""
     r = _newton(RAYLEIGH_X0 + 0j, CUBIC, 0.0, 0.0, Params(1.0, 0.0, beta, math.inf, 1.0, 0.0), RAYLEIGH_ITERS,
                 FULL_TOL, 0.0, SHRINK_PATH, 1.0, NO_BOX)
-    return math.sqrt(r.z.real) if r.ok else math.nan
+    return r.z.real if r.ok else math.nan
+
+
+@njit(cache=True, nogil=True)
+def rayleigh_z(beta: float) -> float:
+    """z_R(beta) = sqrt(x_R) (docs/physics.md §5)."""
+    return math.sqrt(rayleigh_x(beta))
 
 
 @njit(cache=True)
