@@ -54,6 +54,7 @@ bench: venv  ## run the benchmarks (timings live here, not in tests)
 	elif [ -f benchmarks/__main__.py ]; then $(PY) -m benchmarks; \
 	else echo "no benchmarks yet: add benchmarks/run.py or benchmarks/__main__.py"; fi
 	$(PY) benchmarks/latency.py  # browser slider-to-plot latency (needs $(CHROMIUM)); prints PASS/MISS, exits 0
+	$(PY) benchmarks/atlas_latency.py  # Atlas tab slice-to-paint latency (needs $(CHROMIUM)); into results.md
 	$(PY) benchmarks/load_test.py  # 20 sessions for 60 s; exits 1 on errors, p95 > 1 s or unbounded memory
 	$(PY) -m asymslide.processes $$ASYMSLIDE_RUN_ID  # exits 1 if a benchmark left a process running
 

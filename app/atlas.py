@@ -289,8 +289,8 @@ class HeatMap:
     click (`on_tap(x, y)` in plotted coordinates).
 
     Why Bokeh directly and not a HoloViews DynamicMap as the other scenes: a slice change sends new data only, and
-    updating three ColumnDataSources takes ~2 ms on the server where HoloViews' update of the same overlay took
-    40-75 ms (benchmarks/results.md); the slice-to-paint target is 100 ms in the browser."""
+    updating three ColumnDataSources is an order of magnitude cheaper on the server than HoloViews' update of the
+    same overlay (benchmarks/design_measurements.md); the slice-to-paint target is 100 ms in the browser."""
 
     def __init__(self, atlas: Atlas, x_axis: str, y_axis: str | None, on_tap) -> None:
         from bokeh.events import Tap

@@ -88,7 +88,7 @@ class App:
         self.branches = AllBranchesScene(params=self.spectrum_params)
         self.atlas = AtlasScene(params=self.spectrum_params, requested=updates["atlas"].get("name"))
         # the Stability-map, Thin-on-thick and All-branches scenes are built when their tab is first shown: a new
-        # session pays only for what it opens on (create_app ~70 ms instead of ~150 ms), and parameter changes
+        # session pays only for what it opens on (about half of create_app's cost), and parameter changes
         # update only the widgets that exist (StabilityMapScene.ensure_map defers its pane updates for this)
         self._scenes = {"spectrum": self.spectrum, "map": self.map, "thin": self.thin, "rupture": self.rupture,
                         "branches": self.branches, "atlas": self.atlas}

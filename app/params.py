@@ -27,8 +27,8 @@ hv.extension("bokeh", logo=False)
 # the page has loaded (a lazily built tab), when it is too late to add a JavaScript library to the page
 pn.extension("plotly")
 # Canvas, not WebGL: the plots hold at most a few thousand points, and copying the WebGL layer onto
-# the canvas (blit_webgl -> drawImage) took ~58 ms of every ~100 ms browser update in Chromium's
-# profile (benchmarks/latency.py; software GL without a GPU). Image-based plots are unaffected.
+# the canvas (software GL without a GPU) was most of a browser update in Chromium's profile
+# (benchmarks/design_measurements.md). Image-based plots are unaffected.
 hv.renderer("bokeh").webgl = False
 # Axes follow the data when the parameters change. HoloViews takes `framewise` from each element's
 # options: set on the Overlays only (as before), every plot kept the ranges of its first frame and a
@@ -53,7 +53,7 @@ def zero_line_hook(plot, _element) -> None:
     """HoloViews plot hook: a black horizontal line at y = 0, added once to the Bokeh figure.
 
     A Bokeh ``Span`` instead of an ``hv.HLine`` element: it takes no part in HoloViews' per-update work
-    (one subplot less to refresh, ~4 ms per plot and update) and never needs re-sending.
+    (one subplot less to refresh per plot and update) and never needs re-sending.
     """
     fig = plot.state
     if not any(getattr(r, "name", None) == ZERO_LINE for r in fig.center):
@@ -86,7 +86,7 @@ def frozen_document() -> Iterator[None]:
     graph did not change.
 
     HoloViews freezes the document around each plot it refreshes, and Bokeh walks every model of the
-    page when the outermost freeze ends (~12 ms here) whether or not a model reference changed. Inside
+    page when the outermost freeze ends whether or not a model reference changed. Inside
     this context: nested freezes do not walk; at the end the walk happens once, and only if Bokeh
     reported a changed reference (``models.invalidate``) or a root was added or removed. A slider
     release that only sends new data (the usual case) walks nothing. Events are still sent as they
@@ -204,26 +204,29 @@ def declared_parameters(cls: type[param.Parameterized]) -> dict[str, Physical | 
     return {name: p for name, p in cls.param.objects("existing").items() if isinstance(p, Physical | Choice | Switch)}
 
 
+#: the paper's symbols and meanings of the model's parameters (declared once, in model.PARAMETERS); the app adds the
+#: user-interface side: slider ranges and steps, URL keys, map axes
+_SYMBOL = {name: p.symbol for name, p in model.PARAMETERS.items()}
+_MEANING = {name: p.description for name, p in model.PARAMETERS.items()}
+
+
 class SpectrumParams(param.Parameterized):
     """The physical parameters of the spectrum (paper Sect. IV; docs/physics.md §1), shared by the Spectrum,
     Stability-map and All-branches scenes. Defaults: the paper's Fig. 4 (γ = 3, f = 0.9, β = 0.3, η = ∞, Δ = 1)."""
 
-    gamma = Physical(3.0, bounds=(1e-2, 1e3), softbounds=(0.1, 30.0), step=0.01, label="γ", url="gamma",
-                     axis=(0.1, 30.0, True),
-                     doc="γ = μ/(σ₀ c_s ∂_v f): elastodynamic stiffness over the direct velocity effect of friction")
-    f = Physical(0.9, bounds=(0.0, 2.0), step=0.01, label="f", url="f", axis=(0.0, 2.0, False),
-                 doc="f: the steady-state friction coefficient")
-    beta = Physical(0.3, bounds=(0.01, 0.7071), step=0.001, label="β", url="beta", axis=(0.01, 0.7071, False),
-                    doc="β = c_s/c_d: shear over dilatational wave speed (β² = (1 − 2ν)/(2 − 2ν))")
-    log10_eta = Physical(8.0, bounds=(-2.0, 12.0), step=0.1, label="η", url="eta", log10=True,
-                         axis=(1.0, 1e8, True), infinite="eta_infinite",
-                         doc="η = H₂/H₁: the lower block's height over the upper block's (slider: log10 η)")
-    eta_infinite = param.Boolean(True, label="η = ∞", doc="the lower block is a half-space (η = ∞)")
-    Delta = Physical(1.0, bounds=(0.01, 1.0), step=0.01, label="Δ", url="Delta", axis=(0.01, 1.0, False),
-                     doc="Δ = d_v f/∂_v f: steady-state over direct velocity dependence of friction (1: no state)")
-    xi = Physical(0.0, bounds=(0.0, 1e4), softbounds=(0.0, 10.0), step=0.01, label="ξ", url="xi",
-                  axis=(1e-2, 1e3, True),
-                  doc="ξ = D c_s/(H v |g′(1)|): the memory length of the interface state (irrelevant at Δ = 1)")
+    gamma = Physical(3.0, bounds=(1e-2, 1e3), softbounds=(0.1, 30.0), step=0.01, label=_SYMBOL["gamma"],
+                     url="gamma", axis=(0.1, 30.0, True), doc=_MEANING["gamma"])
+    f = Physical(0.9, bounds=(0.0, 2.0), step=0.01, label=_SYMBOL["f"], url="f", axis=(0.0, 2.0, False),
+                 doc=_MEANING["f"])
+    beta = Physical(0.3, bounds=(0.01, 0.7071), step=0.001, label=_SYMBOL["beta"], url="beta",
+                    axis=(0.01, 0.7071, False), doc=_MEANING["beta"] + " (β² = (1 − 2ν)/(2 − 2ν))")
+    log10_eta = Physical(8.0, bounds=(-2.0, 12.0), step=0.1, label=_SYMBOL["eta"], url="eta", log10=True,
+                         axis=(1.0, 1e8, True), infinite="eta_infinite", doc=_MEANING["eta"] + " (slider: log10 η)")
+    eta_infinite = param.Boolean(True, label=f"{_SYMBOL['eta']} = ∞", doc="the lower block is a half-space (η = ∞)")
+    Delta = Physical(1.0, bounds=(0.01, 1.0), step=0.01, label=_SYMBOL["Delta"], url="Delta",
+                     axis=(0.01, 1.0, False), doc=_MEANING["Delta"])
+    xi = Physical(0.0, bounds=(0.0, 1e4), softbounds=(0.0, 10.0), step=0.01, label=_SYMBOL["xi"], url="xi",
+                  axis=(1e-2, 1e3, True), doc=_MEANING["xi"])
 
     #: the model's keyword arguments, in the order of :meth:`model_args`
     MODEL_ARGS = ("gamma", "f", "beta", "eta", "Delta", "xi")

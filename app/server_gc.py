@@ -20,14 +20,13 @@ _live_sessions = 0
 def configure_gc() -> None:
     """Garbage-collector settings for the server process, applied once, when the first session starts.
 
-    - The objects alive after start-up (modules, HoloViews/Bokeh/Panel internals: ~400k) move to the
-      permanent generation: they are never garbage, and a full collection walks every tracked object
-      (~580 ms with 20 live sessions, a pause every open session feels). Later sessions' objects stay
-      collectable, so closed sessions are still reclaimed.
-    - Young collections every 10 000 instead of 700 allocations: a session allocates ~10^5 container
-      objects, so the default collected (and promoted) many times per session opened. GC time 4.6 ->
-      1.7 s, wall time 44 -> 38 s. The price: closed sessions' memory is reclaimed later (full
-      collections are rarer), hence :func:`track_session`.
+    - The objects alive after start-up (modules, HoloViews/Bokeh/Panel internals) move to the permanent
+      generation: they are never garbage, and a full collection would walk every one of them, a pause every
+      open session feels. Later sessions' objects stay collectable, so closed sessions are still reclaimed.
+    - Young collections every GC_THRESHOLD0 allocations instead of Python's 700: a session allocates ~10^5
+      container objects, so the default collected (and promoted) many times per session opened. The price:
+      closed sessions' memory is reclaimed later (full collections are rarer), hence :func:`track_session`.
+      Measurements: benchmarks/design_measurements.md.
     """
     global _configured
     if not _configured:

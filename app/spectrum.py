@@ -48,8 +48,8 @@ def styled(kind: type[hv.Element], vdim: str, label: str = "", **style: object) 
     """An empty `kind` element (Curve, VSpans or HLine; `vdim` names a curve's y) with its style applied once.
 
     The plot callbacks ``clone`` it with data; a clone keeps the style (HoloViews looks options up by
-    the element's id). Setting the same options on a new curve in every update cost ~3.5 ms per
-    curve, the clone ~0.7 ms (five to seven curves per slider release).
+    the element's id), which is several times cheaper than setting the same options on a new curve in
+    every update (benchmarks/design_measurements.md).
     """
     if kind is hv.HLine:
         return hv.HLine(0.0, label=label).opts(**style)
@@ -74,8 +74,7 @@ STYLE = {
 def styled_overlay(**options: object) -> hv.Overlay:
     """An empty Overlay with the plot `options` applied once; the plot callbacks ``clone`` it with their
     layers, which keeps the options (looked up by the overlay's id) without applying them, and
-    registering a new option tree, on every update. A γ release re-renders the three plots in 56-60
-    instead of 67-77 ms (in-process, min of 60 releases, three interleaved A/B runs)."""
+    registering a new option tree, on every update (benchmarks/design_measurements.md)."""
     return hv.Overlay([]).opts(hv.opts.Overlay(**options))
 
 
@@ -259,9 +258,9 @@ class SpectrumScene(pn.viewable.Viewer):
     def __panel__(self) -> pn.viewable.Viewable:
         """The tab: widgets and readout (left); equation, plots and download (right).
 
-        Served, the plots are rendered after the page has loaded, one per event-loop turn (~50 ms each)
-        instead of all three while the session is created (~170 ms of its ~450 ms): other sessions'
-        updates are served in between. Outside a server session they are rendered at once.
+        Served, the plots are rendered after the page has loaded, one per event-loop turn, instead of all
+        three while the session is created (a large part of its cost): other sessions' updates are served
+        in between. Outside a server session they are rendered at once.
         """
         controls = controls_column(self.params.make_widgets(), self.readout)
         slots = [pn.Column(sizing_mode="stretch_width", min_height=h) for h in PLOT_HEIGHTS]

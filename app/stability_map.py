@@ -15,9 +15,9 @@ cache. A progress bar advances per chunk. When the map's inputs change, a genera
 computation stop after its current chunk and the new one starts. The worker thread never touches the Bokeh
 document: it writes its progress into a job record, which a periodic callback of the session
 (``pn.state.add_periodic_callback``, on the session's event loop, stopped when the map is shown) carries to the
-progress bar and the plot; without a server (tests) the worker applies it itself. (Scheduling each update from
-the thread with ``pn.state.execute`` was tried: in about one served run in three the first update, which sets
-the progress bar's maximum, did not take effect before the later ones.)
+progress bar and the plot; without a server (tests) the worker applies it itself. (Updates scheduled from the
+thread with ``pn.state.execute`` can take effect out of order: the progress bar's maximum could arrive after
+its values.)
 
 What the map depends on: its plane, resolution, and the four parameters off the plane (ξ normalised to 0 at Δ = 1,
 where it does not enter F). Moving a parameter of the plane moves only the marker.

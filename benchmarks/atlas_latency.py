@@ -7,7 +7,8 @@ app on it (``asymslide serve``, as ``make serve``), opens ``?tab=atlas&atlas=ben
 moves a slider of an axis off the image (``value`` and ``value_throttled``, as a handle release does), timing
 inside the page with ``performance.now()`` until the heat map's image data changed (*data*) and until the next
 frame was painted (*painted*). A slice change reads the stored cube only (no model call): this is Panel,
-HoloViews, Bokeh and the browser. Prints a table and appends it to stdout for ``make bench``; exits 0.
+HoloViews, Bokeh and the browser. Prints a table and puts it into benchmarks/results.md (its own section, replaced
+on every run; ``make bench`` runs this after benchmarks/run.py); exits 0 whether or not the target is met.
 """
 
 from __future__ import annotations
@@ -139,11 +140,29 @@ def report(res: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
+RESULTS = Path(__file__).resolve().parent / "results.md"
+HEADING = "## Atlas tab: slice change to painted heat map (`benchmarks/atlas_latency.py`)"
+
+
+def put_section(path: Path, heading: str, body: str) -> None:
+    """Replace the section `heading` of the Markdown file (up to the next '## ' heading), or append it."""
+    text = path.read_text(encoding="utf-8") if path.exists() else ""
+    start = text.find(heading)
+    if start < 0:
+        text = text.rstrip("\n") + "\n\n" + heading + "\n\n" + body
+    else:
+        end = text.find("\n## ", start + len(heading))
+        text = text[:start] + heading + "\n\n" + body + (text[end:] if end >= 0 else "")
+    path.write_text(text, encoding="utf-8")
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", type=int, default=30, help="slice changes to time (default 30)")
     args = ap.parse_args()
-    print(report(measure(args.n)))
+    text = report(measure(args.n))
+    print(text)
+    put_section(RESULTS, HEADING, text)
     return 0
 
 

@@ -1,6 +1,8 @@
-"""Interleaved A/B of the compiled kernels: this tree's `model` against another checkout's (not part of make bench).
+"""Interleaved A/B of the compiled kernels: this tree's `model` against another checkout's or revision's.
 
-    NUMBA_CACHE_DIR=.numba_cache python benchmarks/bench_kernels_ab.py --old /path/to/other/checkout
+    python benchmarks/bench_kernels_ab.py [--old /path/to/other/checkout | --old-rev REV]
+
+(`make bench` runs it against the revision before the kernels' refactor, BEFORE_REFACTOR.)
 
 The other checkout's `model` package is imported under the name `model_old` (its compiled functions are
 cached next to this tree's, keyed by their source path). Every case is timed alternately old, new, old, new...
@@ -194,32 +196,54 @@ def random_statuses(m_old, m_new, n: int = 200, seed: int = 1) -> str:
     return f"random parameter sets ({n} x 200 kH): " + "; ".join(out)
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--old", type=Path, required=True, help="checkout holding the old model/ package")
-    ap.add_argument("--rounds", type=int, default=6)
-    ap.add_argument("--no-oracle", action="store_true")
-    args = ap.parse_args()
-    m_old, modes_old = load_old(args.old.resolve())
-    print(f"new: {new.__file__}\nold: {m_old.__file__}\n")
+#: the commit before the kernels were regrouped into records with one Newton loop (issue 15, point 5)
+BEFORE_REFACTOR = "2c58f4c"
+
+
+def export_revision(rev: str, target: Path) -> Path:
+    """`git archive` the model/ package of revision `rev` into target (a checkout holding only model/)."""
+    import io
+    import subprocess
+    import tarfile
+
+    data = subprocess.run(["git", "-C", str(ROOT), "archive", rev, "model"], capture_output=True, check=True,
+                          timeout=120).stdout
+    with tarfile.open(fileobj=io.BytesIO(data)) as tar:
+        tar.extractall(target, filter="data")
+    return target
+
+
+def markdown(old: Path, rounds: int = 6, oracle: bool = True) -> str:
+    """The A/B table and the comparisons as Markdown."""
+    m_old, modes_old = load_old(old.resolve())
     co, cn = cases(m_old, modes_old), cases(new, new_modes)
 
     def inner_for(name: str) -> int:
         return 1 if name.startswith(("growth", "critical")) else (20 if name.startswith("spectrum") else 5)
 
-    rows = ab_table(co, cn, args.rounds, inner_for)
-    print("| case | old [ms] | new [ms] | new/old (median of rounds) |")
-    print("|---|---|---|---|")
-    for name, to, tn, r in rows:
-        print(f"| {name} | {to * 1e3:.2f} | {tn * 1e3:.2f} | {r:.3f} |")
-    print()
-    for line in compare(co, cn):
-        print(line)
-    print(random_statuses(m_old, new))
-    print(random_growth(m_old, new))
-    if not args.no_oracle:
-        for line in oracle_errors(m_old, new):
-            print(line)
+    rows = ab_table(co, cn, rounds, inner_for)
+    lines = ["| case | old [ms] | new [ms] | new/old (median of rounds) |", "|---|---|---|---|"]
+    lines += [f"| {name} | {to * 1e3:.2f} | {tn * 1e3:.2f} | {r:.3f} |" for name, to, tn, r in rows]
+    lines += ["", *(f"- {line}" for line in compare(co, cn)), f"- {random_statuses(m_old, new)}",
+              f"- {random_growth(m_old, new)}"]
+    if oracle:
+        lines += [f"- {line}" for line in oracle_errors(m_old, new)]
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    import tempfile
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--old", type=Path, help="checkout holding the old model/ package")
+    ap.add_argument("--old-rev", default=BEFORE_REFACTOR, help=f"or a git revision of this repository (default "
+                                                               f"{BEFORE_REFACTOR}, before the kernels' refactor)")
+    ap.add_argument("--rounds", type=int, default=6)
+    ap.add_argument("--no-oracle", action="store_true")
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        old = args.old or export_revision(args.old_rev, Path(tmp))
+        print(markdown(old, args.rounds, not args.no_oracle))
 
 
 if __name__ == "__main__":

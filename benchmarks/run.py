@@ -1,6 +1,7 @@
 """`make bench`: run time against error for the model core (issue: model core, point 5).
 
-Prints a table and writes benchmarks/results.md and benchmarks/spectrum_pareto.png.
+Prints a table and writes benchmarks/results.md (with the thresholds, the stability atlases, the kernels' A/B and
+benchmarks/design_measurements.md) and benchmarks/spectrum_pareto.png.
 Timings are medians of repeated warm runs in one process (the model and the baseline it is compared with
 measured interleaved); compare ratios, not absolute numbers.
 """
@@ -170,6 +171,19 @@ def main() -> None:
 
     text += ("\n## All unstable roots in |Re z| <= 5, im_min <= Im z <= 2 (model.unstable_modes vs cxroots)\n\n"
              + bench_modes.markdown(bench_modes.run()))
+    from benchmarks import bench_kernels_ab, bench_sweep, bench_thresholds
+
+    text += ("\n## Exact thresholds for whole chunks (model.threshold_chunk; `benchmarks/bench_thresholds.py`)\n\n"
+             + bench_thresholds.table(bench_thresholds.run(8, 64, 3, 2)))
+    text += "\n## Stability atlases (asymslide sweep; `benchmarks/bench_sweep.py`)\n\n" + bench_sweep.markdown()
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        old = bench_kernels_ab.export_revision(bench_kernels_ab.BEFORE_REFACTOR, Path(tmp))
+        text += (f"\n## Compiled kernels before and after their refactor (revision {bench_kernels_ab.BEFORE_REFACTOR} "
+                 "against this tree, interleaved; `benchmarks/bench_kernels_ab.py`)\n\n"
+                 + bench_kernels_ab.markdown(old))
+    text += "\n" + (OUT / "design_measurements.md").read_text(encoding="utf-8")
     text += "\n" + host_line(host_before, host_loop_seconds()) + "\n"
     print(text)
     (OUT / "results.md").write_text(text)

@@ -81,3 +81,12 @@ def test_declarations_are_complete() -> None:
     from benchmarks.load_test import PARAM_TITLES
 
     assert PARAM_TITLES == {n: p.label for n, p in physical_parameters(SpectrumParams).items()}
+
+
+def test_symbols_and_meanings_come_from_the_model() -> None:
+    """The model declares the six parameters (model.PARAMETERS); the app shows its symbols and meanings."""
+    import model
+
+    for name in SpectrumParams.MODEL_ARGS:
+        decl, p = SpectrumParams.declaration(name), model.PARAMETERS[name]
+        assert decl.label == p.symbol and decl.doc.startswith(p.description)
