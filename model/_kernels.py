@@ -675,6 +675,10 @@ RETRY_CUT_MAX = 0.5  # by a factor in [RETRY_CUT_MIN, RETRY_CUT_MAX]
 RETRY_HALVE = 0.5  # a step whose Newton failed (or failed the certificate) is halved
 MAX_NODES = 8192  # nodes per direction (typically ~100 for kH in [1e-4, 1e4]); a path filling it counts as lost
 START_NODES = 4096  # nodes of the tau homotopy (typically 5, a few hundred at most seen)
+# node buffers start this small and double when full (up to the limits above): allocating the limits at every call
+# cost more than the continuation where freed memory goes back to the OS at once (Dask workers set glibc's
+# MALLOC_TRIM_THRESHOLD_), and the typical path needs a hundred nodes
+NODES_INITIAL = 128
 START_ITERS = 20  # Newton from z_R at tau = 0, kH = 1e4, where z_R is the root to rounding: a wide margin
 EXTRA_NODES = 2  # nodes built beyond the requested range: the end intervals keep two nodes on each side
 SOLVE_ITERS = 10  # Newton at a requested point from the interpolant (~1e-12 accurate): usually one step
@@ -701,6 +705,18 @@ def _nodes(n: int) -> Nodes:
     """Empty node buffers of length n."""
     return Nodes(np.empty(n), np.empty(n, dtype=np.complex128), np.empty(n, dtype=np.complex128), np.empty(n),
                  np.empty(n))
+
+
+@njit(cache=True)
+def _grown(out: Nodes, n: int, cap: int) -> Nodes:
+    """Node buffers of length cap holding the first n nodes of out."""
+    new = _nodes(cap)
+    new.s[:n] = out.s[:n]
+    new.z[:n] = out.z[:n]
+    new.dzds[:n] = out.dzds[:n]
+    new.conv[:n] = out.conv[:n]
+    new.err[:n] = out.err[:n]
+    return new
 
 
 @njit(cache=True, inline="always")
@@ -743,7 +759,8 @@ def _unwrap(w: complex, ref: complex) -> complex:
 
 @njit(cache=True, nogil=True)
 def _continue(z0: complex, dz0: complex, e0: float, s0: float, s_stop: float, extra: int, direction: float,
-              mode: int, q: float, p: Params, pred_tol: float, node_tol: float, out: Nodes) -> tuple[int, bool]:
+              mode: int, q: float, p: Params, pred_tol: float, node_tol: float, out: Nodes,
+              max_nodes: int) -> tuple[int, bool, Nodes]:
     """Adaptive predictor-corrector continuation of one root in s from s0 towards s_stop (mode LN_KH or TAU).
 
     Nodes are written to out (node 0 = start, slope dz0, error e0); continues until `extra` nodes lie
@@ -754,7 +771,8 @@ def _continue(z0: complex, dz0: complex, e0: float, s0: float, s_stop: float, ex
     (THETA_MAX) with a predictor error below PRED_REJECT of _local_scale. The step size aims at a predictor
     error of pred_tol (relative to _local_scale); steps above PRED_OVERSHOOT pred_tol are retried shorter,
     which bounds the error of the path interpolant. out.conv receives the quadratic-convergence constant
-    observed at each node. Returns (number of nodes, lost flag).
+    observed at each node. The buffers double when full, up to max_nodes (then the branch counts as lost).
+    Returns (number of nodes, lost flag, the buffers holding them).
     """
     o_s, o_z, o_d, o_c, o_e = out  # unpacked once (see Path)
     o_s[0] = s0
@@ -777,18 +795,22 @@ def _continue(z0: complex, dz0: complex, e0: float, s0: float, s_stop: float, ex
         s_cur = o_s[n - 1]
         if extra == 0:
             if direction * (s_stop - s_cur) <= 0.0:
-                return n, False
+                return n, False, out
             h_try = min(h, direction * (s_stop - s_cur))
         else:
             if beyond >= extra:
-                return n, False
+                return n, False, out
             h_try = h
         if n >= cap:
-            return n, True
+            if cap >= max_nodes:
+                return n, True, out
+            out = _grown(out, n, min(2 * cap, max_nodes))
+            o_s, o_z, o_d, o_c, o_e = out
+            cap = o_s.shape[0]
         accepted = False
         while not accepted:
             if h_try < H_MIN:
-                return n, True
+                return n, True, out
             s_new = s_cur + direction * h_try
             if n == 1:
                 wpred = wc + dc * (s_new - s_cur)
@@ -810,7 +832,7 @@ def _continue(z0: complex, dz0: complex, e0: float, s0: float, s_stop: float, ex
                 wp = wc
                 dp = dc
                 if use_log and z == 0:
-                    return n + 1, True  # cannot happen on a followable branch (z = 0 is no root for kH > 0)
+                    return n + 1, True, out  # cannot happen on a followable branch (z = 0 is no root for kH > 0)
                 wc = _unwrap(cmath.log(z), wc) if use_log else z
                 dc = r.dzds / z if use_log else r.dzds
                 n += 1
@@ -834,13 +856,13 @@ def rayleigh_start(z_r: float, p: Params) -> tuple[complex, complex, float, bool
     tau = 0 (gamma = inf, where the root is the Rayleigh root of the large-kH response, found by Newton
     from z_R) to 1/gamma. Returns (z, dz/ds, estimated relative error of z, found)."""
     q = math.exp(S_TOP)
-    work = _nodes(START_NODES)
+    work = _nodes(min(NODES_INITIAL, START_NODES))
     nanz = complex(math.nan, math.nan)
     r = _newton(z_r + 0j, TAU, 0.0, q, p, START_ITERS, FULL_TOL, 0.0, SHRINK_PATH, 1.0, NO_BOX)
     if not r.ok:
         return r.z, nanz, math.nan, False
-    n, lost = _continue(r.z, r.dzds, r.err / max(abs(r.z), ABS_FLOOR), 0.0, 1.0 / p.gamma, 0, 1.0, TAU, q, p, PRED_TOL,
-                        FULL_TOL, work)
+    n, lost, work = _continue(r.z, r.dzds, r.err / max(abs(r.z), ABS_FLOOR), 0.0, 1.0 / p.gamma, 0, 1.0, TAU, q, p,
+                              PRED_TOL, FULL_TOL, work, START_NODES)
     z = work.z[n - 1]
     if lost:
         return z, nanz, math.nan, False
@@ -970,12 +992,10 @@ def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float,
     z0, dz0, e0, ok = rayleigh_start(z_r, p)
     if not ok:
         return Path(ns, nz, ns, ns, cx, cf, cm, 0, True), START
-    dn = _nodes(MAX_NODES)
-    up = _nodes(MAX_NODES)
-    nd, _ = _continue(z0, dz0, e0, S_TOP, min(s_lo, S_TOP), EXTRA_NODES, -1.0, LN_KH, 1.0, p, pred_tol, node_tol,
-                      dn)
-    nu, _ = _continue(z0, dz0, e0, S_TOP, max(s_hi, S_TOP), EXTRA_NODES, 1.0, LN_KH, 1.0, p, pred_tol, node_tol,
-                      up)
+    nd, _, dn = _continue(z0, dz0, e0, S_TOP, min(s_lo, S_TOP), EXTRA_NODES, -1.0, LN_KH, 1.0, p, pred_tol,
+                          node_tol, _nodes(NODES_INITIAL), MAX_NODES)
+    nu, _, up = _continue(z0, dz0, e0, S_TOP, max(s_hi, S_TOP), EXTRA_NODES, 1.0, LN_KH, 1.0, p, pred_tol,
+                          node_tol, _nodes(NODES_INITIAL), MAX_NODES)
     nn = nd + nu - 1
     ns = np.empty(nn)
     nz = np.empty(nn, dtype=np.complex128)
