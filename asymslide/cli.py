@@ -16,6 +16,9 @@ from pathlib import Path
 
 from . import __version__
 
+#: the engine's default (asymslide.sweep.CHUNK_POINTS), without importing it for --help
+CHUNK_POINTS = 8192
+
 
 def _serve(args: argparse.Namespace) -> int:
     from .serve import panel_command, run
@@ -162,7 +165,8 @@ def build_parser() -> argparse.ArgumentParser:
     sw.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler, e.g. tcp://HOST:8786 (default: "
                                                            "threads on this machine)")
     sw.add_argument("--workers", type=int, default=None, help="threads on this machine (default: one per core)")
-    sw.add_argument("--chunk-points", type=int, default=2048, help="grid points per chunk (default 2048)")
+    sw.add_argument("--chunk-points", type=int, default=CHUNK_POINTS, help=f"grid points per growth chunk (default "
+                                                                          f"{CHUNK_POINTS})")
     sw.add_argument("--quiet", action="store_true", help="no progress bars")
     sw.set_defaults(func=_sweep)
 

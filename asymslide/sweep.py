@@ -51,8 +51,9 @@ PARAMETERS = tuple(model.PARAMETERS)
 DEFAULT_FIXED = {"gamma": 3.0, "f": 0.9, "beta": 0.3, "eta": math.inf, "Delta": 1.0, "xi": 0.0}
 #: default kH grid: 16 points per decade over [1e-3, 1e3]
 DEFAULT_KH = np.logspace(-3, 3, 97)
-#: grid points per growth chunk (about 0.1 s at eta = inf, ~1 s at finite eta on one core)
-CHUNK_POINTS = 2048
+#: grid points per growth chunk (~0.6 s at eta = inf, ~7 s at finite eta on one core): smaller chunks cost ~10 ms
+#: each on a distributed cluster (benchmarks/bench_sweep.py), larger ones lose more work when a sweep is killed
+CHUNK_POINTS = 8192
 #: grid points per gamma_c chunk (each point costs ~10-20 growth evaluations)
 GAMMA_C_CHUNK_POINTS = 256
 #: grid points per unstable_count chunk (each point costs one count per kH of the count grid, ~1-5 ms each)

@@ -334,3 +334,9 @@ def test_axis_specs(spec: str, values: list[float]) -> None:
     name, v = S.parse_axis(spec)
     assert name == spec.split("=")[0]
     np.testing.assert_allclose(v, values, rtol=1e-15)
+
+
+def test_the_command_line_default_chunk_is_the_engines() -> None:
+    from asymslide import cli
+
+    assert cli.CHUNK_POINTS == S.CHUNK_POINTS
