@@ -331,7 +331,8 @@ def _params(task: Task) -> tuple[tuple[int, ...], np.ndarray]:
     columns = dict(zip(task.names, (m.ravel() for m in mesh), strict=True))
     n = math.prod(shape)
     fixed = dict(task.fixed)
-    rows = [columns[p] if p in columns else np.full(n, fixed.get(p, 0.0)) for p in PARAMETERS]
+    # a parameter neither in the chunk nor fixed is the one a threshold task solves for (its row is ignored)
+    rows = [columns[p] if p in columns else np.full(n, fixed.get(p, math.nan)) for p in PARAMETERS]
     return shape, np.ascontiguousarray(np.stack(rows))
 
 
@@ -656,12 +657,15 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
     if path.exists():
         check_resumable(path, plan)
     else:
+        # created beside it and renamed into place: a store interrupted while being created would be unreadable,
+        # and refused, instead of resumed
         ds0 = template(plan, command)
+        tmp = path.with_name(f".{path.name}.creating-{os.getpid()}")
         try:
-            ds0.to_zarr(path, compute=False, mode="w-", encoding=_encoding(ds0), consolidated=False)
-        except BaseException:
-            shutil.rmtree(path, ignore_errors=True)  # a half-created store would be refused as unreadable
-            raise
+            ds0.to_zarr(tmp, compute=False, mode="w-", encoding=_encoding(ds0), consolidated=False)
+            os.rename(tmp, path)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
     done = done_chunks(path)
     todo = [t for kind, group in groups.items() for t in group if not done[kind][t.index]]
     if progress is not None:

@@ -340,3 +340,26 @@ def test_the_command_line_default_chunk_is_the_engines() -> None:
     from asymslide import cli
 
     assert cli.CHUNK_POINTS == S.CHUNK_POINTS
+
+
+def test_ctrl_c_keeps_the_chunks_written_and_says_how_to_resume(tmp_path: Path) -> None:
+    store = tmp_path / "interrupted.zarr"
+    proc = subprocess.Popen([sys.executable, "-m", "asymslide", *RESUME_ARGS, "--out", str(store)], cwd=ROOT,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and proc.poll() is None:
+            if (store / "done_growth" / "zarr.json").exists() and S.done_chunks(store)["growth"].sum() >= 5:
+                break
+            time.sleep(0.1)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)  # the chunk in flight finishes, nothing more starts
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 130, err
+    assert "interrupted" in err and "run the same command to resume" in err
+    flags = S.done_chunks(store)["growth"]
+    assert 5 <= flags.sum() < flags.size
+    assert not list(tmp_path.glob(".*creating*"))
