@@ -10,7 +10,7 @@ of the other scenes to that cell.
 Atlases are read from one directory only: ``$ASYMSLIDE_ATLAS_DIR`` (``asymslide serve --atlas-dir``), default
 ``$XDG_CACHE_HOME/asymslide/atlases`` (~/.cache/asymslide/atlases). The URL may name an atlas of that directory
 (``?tab=atlas&atlas=NAME`` for ``NAME.zarr``); no other path is ever read. The default atlas (4-D: γ, η, f, β) is not
-shipped: it is computed on first use into that directory, in the background with a progress bar (~10-30 s on two
+shipped: it is computed on first use into that directory, in the background with a progress bar (~25 s on two
 cores), and reused afterwards; another server process computing it is waited for (a file lock).
 """
 
@@ -19,6 +19,7 @@ from __future__ import annotations
 import collections
 import fcntl
 import functools
+import hashlib
 import io
 import json
 import logging
@@ -47,13 +48,13 @@ CALLS: collections.Counter[str] = collections.Counter()
 
 #: the default atlas: 4-D over (γ, η, f, β) at Δ = 1, ξ = 0, with γ_c over (η, f, β)
 DEFAULT_AXES = {
-    "gamma": np.geomspace(0.1, 30.0, 20),
-    "eta": np.geomspace(1.0, 1e4, 11),
-    "f": np.linspace(0.3, 1.5, 7),
-    "beta": np.linspace(0.1, 0.6, 6),
+    "gamma": np.geomspace(0.1, 30.0, 16),
+    "eta": np.geomspace(1.5, 1e4, 9),
+    "f": np.linspace(0.3, 1.5, 5),
+    "beta": np.linspace(0.1, 0.6, 5),
 }
 DEFAULT_KH = np.logspace(-3, 3, 49)
-#: the name (without .zarr) of the default atlas; the model's fingerprint makes a changed model compute a new one
+#: the default atlas is NAME.zarr with NAME = DEFAULT_PREFIX + a hash (see default_name)
 DEFAULT_PREFIX = "default-"
 
 #: atlases whose variables are larger than this are read slice by slice from the store instead of held in memory
@@ -78,7 +79,11 @@ def atlas_dir() -> Path:
 
 
 def default_name() -> str:
-    return DEFAULT_PREFIX + engine.model_fingerprint()[:12]
+    """The default atlas's name: a hash of the model's fingerprint and the atlas's plan, so that another model
+    version or another DEFAULT_AXES computes a new one instead of refusing to resume the old."""
+    plan = engine.make_plan(DEFAULT_AXES, kH=DEFAULT_KH).identity()
+    key = engine.model_fingerprint() + json.dumps(plan, sort_keys=True)
+    return DEFAULT_PREFIX + hashlib.sha256(key.encode()).hexdigest()[:12]
 
 
 def list_atlases(directory: Path | None = None) -> list[str]:

@@ -168,10 +168,16 @@ def _blocks(sizes: Sequence[tuple[int, int]]) -> list[tuple[tuple[int, int], ...
     return out
 
 
+#: a grid is cut into at least this many chunks where it has the points (a small sweep still keeps every core busy)
+MIN_CHUNKS = 16
+
+
 def chunk_sizes(shape: Sequence[int], points: int) -> list[int]:
-    """Chunk length per axis with at most `points` points per chunk: the longest chunk axis is halved until the
-    chunk is small enough (deterministic, so a resumed sweep cuts the grid the same way)."""
+    """Chunk length per axis with at most `points` points per chunk, and at most 1/MIN_CHUNKS of the grid: the
+    longest chunk axis is halved until the chunk is small enough (deterministic, from the shape alone, so a resumed
+    sweep cuts the grid the same way on any machine)."""
     c = list(shape)
+    points = min(points, max(1, math.prod(shape) // MIN_CHUNKS))
     while math.prod(c) > points and max(c) > 1:
         i = int(np.argmax(c))
         c[i] = math.ceil(c[i] / 2)

@@ -14,7 +14,6 @@ on every run; ``make bench`` runs this after benchmarks/run.py); exits 0 whether
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import sys
 import tempfile
@@ -27,6 +26,7 @@ sys.path.insert(0, str(ROOT))
 
 from asymslide import sweep as S  # noqa: E402
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
+from benchmarks.latency import _stats  # noqa: E402
 from benchmarks.load_test import ServedApp  # noqa: E402
 from tests.conftest import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
@@ -75,13 +75,6 @@ _MEASURE_JS = """async ([which, index, timeoutMs]) => {
     setTimeout(poll, 5);
   });
 }"""
-
-
-def _stats(xs: list[float]) -> dict[str, float]:
-    a = np.asarray(xs, dtype=float)
-    if not a.size:
-        return {"median": math.nan, "p90": math.nan, "max": math.nan, "n": 0}
-    return {"median": float(np.median(a)), "p90": float(np.percentile(a, 90)), "max": float(a.max()), "n": a.size}
 
 
 def measure(n: int) -> dict:
