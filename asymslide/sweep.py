@@ -715,7 +715,8 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
     yield "  fixed: " + ", ".join(f"{k} = {v}" for k, v in plan.get("fixed", {}).items())
     yield f"  kH grid: {ds.attrs.get('kH_grid')}; rtol: {ds.attrs.get('rtol')}"
     done = done_chunks(path)
-    yield "  chunks written: " + ", ".join(f"{kind} {int(f.sum())} of {f.size}" for kind, f in done.items())
+    yield "  chunks written: " + ", ".join(f"{kind} {int(done[kind].sum())} of {done[kind].size}"
+                                          for kind in ("growth", "gamma_c", "count") if kind in done)
     g = ds["growth"].values if "growth" in ds else np.empty(0)
     finite = np.isfinite(g)
     if finite.any():
