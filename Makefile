@@ -22,7 +22,7 @@ PYTEST_ARGS ?=
 # numba compiles once and keeps its machine code here (ignored by git)
 export NUMBA_CACHE_DIR := $(CURDIR)/.numba_cache
 
-.PHONY: help venv serve test bench lint check clean
+.PHONY: help venv serve test screenshots bench lint check clean
 
 help:  ## list the targets
 	@grep -E '^[a-z]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/' | expand -t 10
@@ -46,6 +46,10 @@ test: venv  ## ruff, then every test (browser tests need /usr/bin/chromium)
 	@if [ ! -x $(CHROMIUM) ]; then \
 	  echo "SKIPPING browser tests: $(CHROMIUM) not found (apt-get install -y chromium)"; fi
 	$(PY) -m pytest $(PYTEST_ARGS)
+
+screenshots: venv  ## refresh the README's screenshots in docs/ (make test writes them to build/screenshots/)
+	ASYMSLIDE_UPDATE_SCREENSHOTS=1 $(PY) -m pytest -m ui tests/test_ui_smoke.py tests/test_app_atlas.py \
+	  tests/test_app_lab.py tests/test_app_rupture.py
 
 # every process a benchmark starts carries this id in its environment; the last step fails if one is left
 bench: export ASYMSLIDE_RUN_ID := bench-$(shell date +%s%N)

@@ -288,6 +288,11 @@ def zero_contour(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> list[np.ndarray
 HEIGHT = 480
 
 
+#: the heat map's legend (HeatMap's colour mapper: growth > 0 red, as in the Stability map)
+COLOURS = ("Red: unstable, blue: stable, grey: not computable; black line: neutral curve (max growth = 0); "
+           "green dashes: the exact threshold γ_c (where γ is an axis).")
+
+
 class HeatMap:
     """The heat map of one atlas and pair of axes: the slice's growth (an image glyph, or one rectangle per cell
     on irregular axes), the neutral curve and the γ_c slice, a colour bar over the whole atlas's range, hover and
@@ -320,7 +325,7 @@ class HeatMap:
         for axis, name in ((fig.xaxis, x_axis), (fig.yaxis, y_axis)):
             if name is not None and atlas.log[name]:
                 axis.formatter = CustomJSTickFormatter(code=LOG_TICKS)
-        self.mapper = LinearColorMapper(palette=list(reversed(RdBu11)), low=-atlas.clim, high=atlas.clim,
+        self.mapper = LinearColorMapper(palette=list(RdBu11), low=-atlas.clim, high=atlas.clim,  # high (unstable): red
                                         nan_color=NAN_COLOR)
         if self.regular:
             self.cells = ColumnDataSource({"image": [np.zeros((y.size, x.size))], "x": [xr[0]], "y": [yr[0]],
@@ -755,8 +760,7 @@ class AtlasScene(pn.viewable.Viewer):
             width=340,
         )
         help_text = pn.pane.Markdown(
-            "Red: unstable, blue: stable, grey: not computable; black line: neutral curve (max growth = 0); "
-            "green dashes: the exact threshold γ_c (where γ is an axis). Sliders snap to the atlas grid; click a "
+            f"{COLOURS} Sliders snap to the atlas grid; click a "
             f"cell to set the other tabs' parameters. Atlases are read from `{atlas_dir()}`; make your own with "
             "`asymslide sweep ... --out DIR/NAME.zarr`.", sizing_mode="stretch_width")
         self._show_heat_map()

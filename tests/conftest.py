@@ -7,8 +7,10 @@ where a missing browser is an error.
 
 from __future__ import annotations
 
+import hashlib
 import os
 import socket
+import subprocess
 import time
 import urllib.request
 import uuid
@@ -32,6 +34,9 @@ CHROMIUM_ARGS = [
 ]
 REPO_ROOT = Path(__file__).resolve().parent.parent
 MISSING_BROWSER = f"{CHROMIUM} not found (apt-get install -y chromium)"
+#: set to 1 (``make screenshots``) to refresh the README's screenshots in docs/; otherwise the browser tests write
+#: theirs under build/screenshots/ (ignored by git), so that ``make test`` leaves the working tree unchanged
+UPDATE_SCREENSHOTS = os.environ.get("ASYMSLIDE_UPDATE_SCREENSHOTS", "") == "1"
 
 _ui_skipped: list[str] = []
 
@@ -56,8 +61,38 @@ def pytest_runtest_setup(item: pytest.Item) -> None:
     pytest.skip(f"browser test skipped: {MISSING_BROWSER}")
 
 
+def _worktree_state() -> dict[str, str] | None:
+    """{path: status and content hash} of the repository's changed and untracked files (those git does not
+    ignore), or None outside a git checkout."""
+    try:
+        out = subprocess.run(["git", "status", "--porcelain=v1", "-z", "--untracked-files=all"], cwd=REPO_ROOT,
+                             capture_output=True, timeout=60, check=True).stdout
+    except (OSError, subprocess.SubprocessError):
+        return None
+    state = {}
+    for entry in filter(None, out.decode(errors="replace").split("\0")):
+        path = REPO_ROOT / entry[3:]
+        digest = hashlib.sha1(path.read_bytes()).hexdigest() if path.is_file() else "-"
+        state[entry[3:]] = entry[:2] + " " + digest
+    return state
+
+
+#: the working tree when the session started: the tests must leave it as they found it (their output goes to
+#: build/, tmp_path or ignored caches; the README's screenshots change only with ASYMSLIDE_UPDATE_SCREENSHOTS=1)
+_WORKTREE_AT_START = _worktree_state()
+
+
+def _worktree_changes() -> list[str]:
+    """Files of the working tree that the session created, changed or removed."""
+    if _WORKTREE_AT_START is None or UPDATE_SCREENSHOTS:
+        return []
+    now = _worktree_state() or {}
+    return sorted(p for p in set(now) | set(_WORKTREE_AT_START) if now.get(p) != _WORKTREE_AT_START.get(p))
+
+
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
-    """Fail the session if any process it started outlives it (they are killed, so none keeps running).
+    """Fail the session if any process it started outlives it (they are killed, so none keeps running) or if it
+    changed the working tree.
 
     multiprocessing's resource tracker (started for spawned processes: the robustness worker, Dask's local
     clusters) belongs to this process and would end with it; it is stopped first, as multiprocessing itself
@@ -68,15 +103,20 @@ def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     if stop_tracker is not None:
         stop_tracker()
     lines = stop_marked(RUN_ID, LEFTOVER_GRACE, exclude=(os.getpid(),))
-    if not lines:
-        return
+    changed = _worktree_changes()
     reporter = session.config.pluginmanager.get_plugin("terminalreporter")
-    if reporter is not None:
+    if lines and reporter is not None:
         reporter.write_sep("!", f"{len(lines)} process(es) started by the tests were still running (killed now)",
                            red=True, bold=True)
         for line in lines:
             reporter.write_line(line)
-    session.exitstatus = pytest.ExitCode.TESTS_FAILED
+    if changed and reporter is not None:
+        reporter.write_sep("!", f"{len(changed)} file(s) of the working tree changed during the tests "
+                                "(tests write to build/ or tmp_path)", red=True, bold=True)
+        for path in changed:
+            reporter.write_line(path)
+    if lines or changed:
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 
 def pytest_terminal_summary(terminalreporter) -> None:
@@ -181,6 +221,13 @@ def browser_page(_browser):
         context.close()
     if errors:
         pytest.fail("browser console errors:\n" + "\n".join(errors), pytrace=False)
+
+
+def screenshot_path(name: str) -> Path:
+    """Where a browser test saves the screenshot `name`: docs/ when refreshing them, else build/screenshots/."""
+    folder = REPO_ROOT / "docs" if UPDATE_SCREENSHOTS else REPO_ROOT / "build" / "screenshots"
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder / name
 
 
 def open_app(page, url: str, tab: str | None = None) -> None:

@@ -14,6 +14,7 @@ import model
 from app import atlas as A
 from app.params import SpectrumParams
 from asymslide import sweep as S
+from tests.conftest import screenshot_path
 
 KH = np.logspace(-3, 3, 33)
 AXES = {"gamma": np.geomspace(0.3, 30, 8), "beta": np.linspace(0.1, 0.6, 5), "f": np.linspace(0.3, 1.5, 4)}
@@ -104,6 +105,26 @@ def test_neutral_curve_separates_the_signs(atlas_dir: Path) -> None:
         assert np.max(np.abs(values)) < 0.05 * np.nanmax(np.abs(g))
 
 
+def _rgb(color: str) -> tuple[int, int, int]:
+    return tuple(int(color[i : i + 2], 16) for i in (1, 3, 5))
+
+
+def test_colours_are_the_legend_and_the_stability_map(atlas_dir: Path) -> None:
+    """Red: unstable (growth > 0), blue: stable, as the legend says and as the Stability map draws (RdBu_r)."""
+    from holoviews.plotting.util import process_cmap
+
+    scene = A.AtlasScene(requested="small")
+    scene.refresh()
+    mapper = _heat(scene).mapper
+    assert mapper.low < 0 < mapper.high
+    low, high = _rgb(mapper.palette[0]), _rgb(mapper.palette[-1])
+    assert high[0] > high[2] and low[2] > low[0]  # the largest growth red, the most negative blue
+    stability_map = process_cmap("RdBu_r", len(mapper.palette))  # app/stability_map.py's colour map
+    assert _rgb(stability_map[-1])[0] > _rgb(stability_map[-1])[2] and _rgb(stability_map[0])[2] > \
+        _rgb(stability_map[0])[0]
+    assert A.COLOURS.startswith("Red: unstable, blue: stable")
+
+
 def test_click_sets_all_six_shared_parameters(atlas_dir: Path) -> None:
     params = SpectrumParams(gamma=1.0, f=0.2, beta=0.5, eta_infinite=False, log10_eta=2.0, Delta=0.5, xi=3.0)
     scene = A.AtlasScene(requested="small", params=params)
@@ -183,8 +204,8 @@ def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: P
 # browser
 # ------------------------------------------------------------------------------------------------
 
-SCREENSHOT = Path(__file__).resolve().parent.parent / "docs" / "screenshot_atlas.png"
-SCREENSHOT_3D = SCREENSHOT.with_name("screenshot_atlas_3d.png")
+SCREENSHOT = screenshot_path("screenshot_atlas.png")
+SCREENSHOT_3D = screenshot_path("screenshot_atlas_3d.png")
 
 #: the heat map's image data (JS): the sum of its finite values and its shape, or null before it is drawn
 _IMAGE_JS = """() => {

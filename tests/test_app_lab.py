@@ -9,7 +9,6 @@ import html
 import io
 import math
 import urllib.parse
-from pathlib import Path
 
 import holoviews as hv
 import numpy as np
@@ -22,11 +21,11 @@ from app.lab import CALLS, E_FOLDING_AXIS, KH, LabScene, slider_values
 from app.main import create_app
 from app.params import CUSTOM, LabParams, SpectrumParams
 from app.urlstate import parse_query, query_string
-from tests.conftest import open_app
+from tests.conftest import open_app, screenshot_path
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
 
-SCREENSHOT = Path(__file__).resolve().parent.parent / "docs" / "screenshot_lab.png"
+SCREENSHOT = screenshot_path("screenshot_lab.png")
 
 PMMA = model.material("PMMA")
 

@@ -9,7 +9,6 @@ import html
 import io
 import math
 import urllib.parse
-from pathlib import Path
 
 import holoviews as hv
 import numpy as np
@@ -21,11 +20,11 @@ from app.main import create_app
 from app.params import CUSTOM, RuptureParams
 from app.rupture import C_RATIO, CALLS, PROFILE_GRID, RuptureScene
 from app.urlstate import TABS, query_string
-from tests.conftest import open_app
+from tests.conftest import open_app, screenshot_path
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
 
-SCREENSHOT = Path(__file__).resolve().parent.parent / "docs" / "screenshot_rupture.png"
+SCREENSHOT = screenshot_path("screenshot_rupture.png")
 
 P = model.PAPER_DEFAULTS
 #: the paper's inputs as the model's keyword arguments (plane stress)

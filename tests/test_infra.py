@@ -5,6 +5,7 @@ from __future__ import annotations
 import shutil
 import subprocess
 import sys
+import uuid
 from pathlib import Path
 
 import pytest
@@ -65,15 +66,42 @@ def test_readme_shows_the_commands() -> None:
 @pytest.mark.skipif(shutil.which("make") is None, reason="GNU make not installed")
 def test_makefile_targets_parse() -> None:
     result = subprocess.run(
-        ["make", "--dry-run", "--always-make", "venv", "serve", "test", "bench", "lint", "check"],
+        ["make", "--dry-run", "--always-make", "venv", "serve", "test", "screenshots", "bench", "lint", "check"],
         cwd=ROOT,
         capture_output=True,
         text=True,
         timeout=60,
     )
     assert result.returncode == 0, result.stderr
-    for needle in ("pip install", "asymslide serve", "pytest", "hadolint", "check_contract.py"):
+    for needle in ("pip install", "asymslide serve", "pytest", "hadolint", "check_contract.py",
+                   "ASYMSLIDE_UPDATE_SCREENSHOTS=1"):
         assert needle in result.stdout, needle
+
+
+def test_the_session_notices_a_change_of_the_working_tree() -> None:
+    """The check behind 'make test leaves the working tree unchanged' (conftest.pytest_sessionfinish): a file
+    created or changed among the tracked sources shows up; build/ (where the screenshots go) does not."""
+    from tests import conftest
+
+    before = conftest._worktree_state()
+    if before is None:
+        pytest.skip("not a git checkout")
+    probe = ROOT / "tests" / f"_probe_{uuid.uuid4().hex}.txt"
+    ignored = conftest.screenshot_path(f"_probe_{uuid.uuid4().hex}.png")
+    try:
+        probe.write_text("1")
+        ignored.write_bytes(b"1")
+        created = conftest._worktree_state()
+        probe.write_text("2")
+        changed = conftest._worktree_state()
+    finally:
+        probe.unlink(missing_ok=True)
+        ignored.unlink(missing_ok=True)
+    name = str(probe.relative_to(ROOT))
+    assert name not in before and name in created and created[name] != changed[name]
+    assert not conftest.UPDATE_SCREENSHOTS and ignored.parent == ROOT / "build" / "screenshots"
+    assert not any(path.startswith("build/") for path in changed)
+    assert conftest._worktree_state() == before
 
 
 @pytest.mark.skipif(shutil.which("make") is None, reason="GNU make not installed")

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import html
 import urllib.request
-from pathlib import Path
 
 import pytest
 
 from app.main import TITLE
+from tests.conftest import screenshot_path
 
-SCREENSHOT = Path(__file__).resolve().parent.parent / "docs" / "screenshot.png"
+SCREENSHOT = screenshot_path("screenshot.png")
 
 #: titles of the page's Bokeh figures (JS function)
 FIGURE_TITLES = ("() => Array.from(Bokeh.documents[0].all_models)"
@@ -47,7 +47,6 @@ def test_page_renders_in_chromium(served_app: str, browser_page) -> None:
     page.wait_for_function(f"() => ({FIGURE_TITLES})().length >= 3", timeout=60_000)
     page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
     page.wait_for_timeout(500)  # the last plot's paint
-    SCREENSHOT.parent.mkdir(parents=True, exist_ok=True)
     page.screenshot(path=str(SCREENSHOT))
     assert SCREENSHOT.stat().st_size > 0
     assert page.console_errors == []
