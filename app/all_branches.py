@@ -26,7 +26,7 @@ import param
 
 import model
 
-from .params import Physical, SpectrumParams, csv_download, fmt, from_log10, make_widgets, physical_parameters
+from .params import Physical, SpectrumParams, csv_download, fmt, from_log10, heading, make_widgets, physical_parameters
 
 # --------------------------------------------------------------------------------------------
 # grids, window limits, labels
@@ -454,8 +454,8 @@ class AllBranchesScene(pn.viewable.Viewer):
         """The tab: shared and own widgets, window message and readout (left); plots, downloads, help (right)."""
         own = self.make_widgets()
         controls = pn.Column(
-            "### Parameters", *self.params.make_widgets().values(),
-            "### Wavenumber and window", *own.values(), self.window_alert,
+            heading("Parameters"), *self.params.make_widgets().values(),
+            heading("Wavenumber and window"), *own.values(), self.window_alert,
             pn.panel(self.readout, lazy=True, sizing_mode="stretch_width"),
             width=360,
         )

@@ -39,7 +39,7 @@ from bokeh.models import CustomJSTickFormatter
 
 from asymslide import sweep as engine
 
-from .params import SpectrumParams, csv_table, fmt, frozen_document
+from .params import SpectrumParams, csv_table, fmt, frozen_document, heading
 
 log = logging.getLogger(__name__)
 
@@ -754,7 +754,7 @@ class AtlasScene(pn.viewable.Viewer):
             pn.widgets.Select.from_param(self.param.atlas, sizing_mode="stretch_width"),
             pn.widgets.Select.from_param(self.param.x_axis, sizing_mode="stretch_width"),
             pn.widgets.Select.from_param(self.param.y_axis, sizing_mode="stretch_width"),
-            "### Other axes", self.sliders,
+            heading("Other axes"), self.sliders,
             pn.pane.Markdown(self.slice_readout, width=320, height=90),
             pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
             width=340,

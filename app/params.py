@@ -499,7 +499,17 @@ def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]
     obj.param.watch(to_widget, list(widgets))
 
 
+#: a section heading's size, whatever the page's theme: the Bootstrap design gives the components of a tab
+#: rendered after the page has loaded its full bootstrap.css (h3 at 28 px), those of the first tab not (14 px)
+HEADING_CSS = ":host h3 { font-size: 1.1rem; font-weight: 600; margin: 0.6em 0 0.3em; }"
+
+
+def heading(text: str) -> pn.pane.Markdown:
+    """A section heading of a scene's controls (the same size in every tab)."""
+    return pn.pane.Markdown(f"### {text}", stylesheets=[HEADING_CSS])
+
+
 def controls_column(widgets: dict[str, pn.widgets.Widget], readout) -> pn.Column:
     """The left column of a scene: parameter widgets, then the readout."""
-    return pn.Column("### Parameters", *widgets.values(), pn.pane.Markdown(readout, sizing_mode="stretch_width"),
+    return pn.Column(heading("Parameters"), *widgets.values(), pn.pane.Markdown(readout, sizing_mode="stretch_width"),
                      width=320)

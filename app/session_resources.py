@@ -14,12 +14,22 @@ Those sessions then load ~8 stylesheets from the CDN: offline, the requests fail
 Panel's styles (loading spinner, alerts, Markdown, buttons, the Bootstrap theme);
 tests/test_app_multiprocess.py shows it. :func:`use_server_stylesheets` applies to such a session what
 Panel applies to a rendered page.
+
+A second way to the CDN: with ``pn.Tabs(dynamic=True)`` a tab that is switched away from keeps its panes'
+models, now outside the document. A pane updated later (the Stability map finishing after the user opened
+another tab) re-renders its properties for ``model.document`` = None, so Panel patches the stylesheet objects
+-- shared with the live models of the session -- back to its CDN, and the browser requests them there.
+:func:`guard_detached_updates` makes such a patch use the URL of the session whose callback is running.
 """
 
 from __future__ import annotations
 
+import functools
+
 import panel as pn
-from panel.io.resources import get_dist_path, patch_model_css
+import panel.io.resources
+import panel.reactive
+from panel.io.resources import CDN_DIST, get_dist_path, patch_model_css
 
 
 def use_server_stylesheets() -> bool:
@@ -37,3 +47,25 @@ def use_server_stylesheets() -> bool:
     for root in doc.roots:
         patch_model_css(root, dist_url=dist_url)
     return True
+
+
+def _session_dist_url(patch):
+    """patch_stylesheet that, asked for Panel's CDN while a session with local stylesheets is current, keeps them
+    local (a model outside the document has no document of its own to tell Panel which URL the page uses)."""
+
+    @functools.wraps(patch)
+    def patch_stylesheet(stylesheet, dist_url):
+        if dist_url == CDN_DIST:
+            doc = pn.state.curdoc
+            dist_url = (doc._template_variables.get("dist_url") if doc is not None else None) or dist_url
+        return patch(stylesheet, dist_url)
+
+    patch_stylesheet._asymslide_guard = True
+    return patch_stylesheet
+
+
+def guard_detached_updates() -> None:
+    """Install the guard in the two places Panel calls patch_stylesheet from (idempotent)."""
+    for module in (panel.io.resources, panel.reactive):
+        if not getattr(module.patch_stylesheet, "_asymslide_guard", False):
+            module.patch_stylesheet = _session_dist_url(module.patch_stylesheet)

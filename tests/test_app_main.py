@@ -250,3 +250,67 @@ def test_preset_button_draws_the_family(served_app: str, browser_page) -> None:
               ".filter(m => m.label && m.label.value).map(m => m.label.value)")
     page.wait_for_function(f"() => ({labels})().includes('η = 3.3')", timeout=30_000)
     assert {"η = 1", "η = 10", "η = ∞"} <= set(page.evaluate(labels))
+
+
+#: (tag, font size) of every visible h3 heading of the page, shadow roots included (JS function)
+_HEADINGS_JS = """() => { const out = [];
+  const walk = (root) => { for (const el of root.querySelectorAll('*')) {
+    if (el.shadowRoot) walk(el.shadowRoot);
+    if (el.tagName === 'H3' && el.getBoundingClientRect().width > 0)
+      out.push([el.textContent.trim(), getComputedStyle(el).fontSize]); } };
+  walk(document); return out; }"""
+
+#: whether every stylesheet linked in the page's shadow roots has loaded (they load after the tab is drawn)
+_STYLES_LOADED_JS = """() => { let ok = true;
+  const walk = (root) => { for (const el of root.querySelectorAll('*')) {
+    if (el.shadowRoot) walk(el.shadowRoot);
+    if (el.tagName === 'LINK' && el.rel === 'stylesheet' && !el.sheet) ok = false; } };
+  walk(document); return ok; }"""
+
+
+def test_a_pane_outside_the_document_keeps_the_sessions_stylesheets() -> None:
+    """app.session_resources.guard_detached_updates: a stylesheet patched for Panel's CDN while a session with local
+    stylesheets is current stays local (a pane of a tab switched away from, updated later); without a session,
+    Panel's own behaviour."""
+    import panel.reactive
+    from bokeh.document import Document
+    from bokeh.models import ImportedStyleSheet
+    from panel.io.resources import CDN_DIST
+    from panel.io.state import set_curdoc
+
+    import app.main  # noqa: F401  (installs the guard)
+
+    local = "static/extensions/panel/css/markdown.css"
+    doc = Document()
+    doc._template_variables["dist_url"] = "static/extensions/panel/"
+    sheet = ImportedStyleSheet(url=local)
+    with set_curdoc(doc):
+        panel.reactive.patch_stylesheet(sheet, CDN_DIST)
+    assert sheet.url.startswith(local)  # Panel appends ?v=VERSION
+    panel.reactive.patch_stylesheet(sheet, CDN_DIST)
+    assert sheet.url.startswith(CDN_DIST + "css/markdown.css")
+
+
+@pytest.mark.ui
+def test_tabs_opened_later_keep_the_pages_styles(served_app: str, browser_page) -> None:
+    """Tabs rendered after the page has loaded get Bootstrap's full stylesheet (h3 at 28 px): the headings of the
+    controls (app.params.heading) keep one size whichever tab they are in. And no stylesheet is requested from
+    Panel's CDN (offline here) when the Stability map finishes after its tab was left."""
+    page = browser_page
+    requested = []
+    page.on("request", lambda r: requested.append(r.url))
+    open_app(page, served_app)
+    sizes = {}
+    for tab in ("Spectrum", "Stability map", "Thin-on-thick", "Rupture fronts", "All branches"):
+        page.locator(".bk-tab", has_text=tab).first.click()
+        page.wait_for_timeout(500)  # the previous tab hidden
+        # the visible headings once the tab is drawn, the document idle and every stylesheet loaded
+        headings = page.wait_for_function(
+            f"""() => {{ const h = ({_HEADINGS_JS})().filter(h => h[0] === 'Parameters');
+                return h.length > 0 && Bokeh.documents[0].is_idle && ({_STYLES_LOADED_JS})() ? h : null; }}""",
+            timeout=60_000).json_value()
+        sizes[tab] = {size for _, size in headings}
+    assert len(set().union(*sizes.values())) == 1, sizes
+    assert float(next(iter(sizes["Rupture fronts"])).removesuffix("px")) < 20, sizes
+    assert not [url for url in requested if "cdn.holoviz.org" in url]
+    assert page.console_errors == []
