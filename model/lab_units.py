@@ -63,6 +63,12 @@ def _numeric_allow_nan(name: str, value) -> np.ndarray:
 # --- elastic wave speeds (docs/physics.md §1; reuses model/elastic.py) ---------------------------------------
 
 
+def _first_bad(bad: np.ndarray, *arrays: np.ndarray) -> list[float]:
+    """The values of `arrays` (broadcast to bad's shape) at the first element where `bad` holds (for messages)."""
+    i = np.unravel_index(np.argmax(bad), bad.shape)
+    return [float(np.broadcast_to(a, bad.shape)[i]) for a in arrays]
+
+
 def poisson_ratio_from_speeds(*, c_s, c_d, plane: str = "strain") -> np.ndarray:
     """Poisson ratio nu from the shear and dilatational wave speeds c_s, c_d [m/s] (docs/physics.md §12).
 
@@ -77,8 +83,7 @@ def poisson_ratio_from_speeds(*, c_s, c_d, plane: str = "strain") -> np.ndarray:
     else:
         bad, text = (cd <= cs) | (cd >= 2.0 * cs), "c_s < c_d < 2 c_s"
     if np.any(bad):
-        i = np.unravel_index(np.argmax(bad), bad.shape)
-        got_cs, got_cd = float(np.broadcast_to(cs, bad.shape)[i]), float(np.broadcast_to(cd, bad.shape)[i])
+        got_cs, got_cd = _first_bad(bad, cs, cd)
         raise ValueError(
             f"c_d must satisfy {text} for plane {plane} (Poisson ratio nu in (-1, 0.5)); got c_d = {got_cd!r}, "
             f"c_s = {got_cs!r}"
@@ -113,8 +118,7 @@ def wave_speed_ratio_from_speeds(*, c_s, c_d, plane: str = "strain") -> np.ndarr
     # a few ulps of slack so that c_d = sqrt(2) c_s, rounded, is still nu = 0 (beta clipped to 1/sqrt(2) below)
     bad = cd < _CD_OVER_CS_MIN_MODEL * cs * (1.0 - 1e-15)
     if np.any(bad):
-        i = np.unravel_index(np.argmax(bad), bad.shape)
-        got_cs, got_cd = float(np.broadcast_to(cs, bad.shape)[i]), float(np.broadcast_to(cd, bad.shape)[i])
+        got_cs, got_cd = _first_bad(bad, cs, cd)
         raise ValueError(
             "c_d must be >= sqrt(2) c_s (Poisson ratio nu >= 0, beta = c_s/c_d <= 1/sqrt(2), the model's range); "
             f"got c_d = {got_cd!r}, c_s = {got_cs!r}"
@@ -207,8 +211,7 @@ def _check_rsf(a, b) -> tuple[np.ndarray, np.ndarray]:
     bb = check("b", b, domain="rsf_b")
     bad = bb >= aa
     if np.any(bad):
-        i = np.unravel_index(np.argmax(bad), bad.shape)
-        got_a, got_b = float(np.broadcast_to(aa, bad.shape)[i]), float(np.broadcast_to(bb, bad.shape)[i])
+        got_a, got_b = _first_bad(bad, aa, bb)
         raise ValueError(
             "rate-and-state parameters must satisfy 0 <= b < a (steady-state velocity strengthening, "
             f"Delta = 1 - b/a in (0, 1]); got a = {got_a!r}, b = {got_b!r}"

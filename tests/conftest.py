@@ -230,6 +230,16 @@ def screenshot_path(name: str) -> Path:
     return folder / name
 
 
+def save_screenshot(page, name: str, *, paint_ms: int = 500, full_page: bool = True) -> Path:
+    """Once Bokeh is idle and the last plot painted (paint_ms), save the page as `name` (see screenshot_path)."""
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
+    page.wait_for_timeout(paint_ms)
+    path = screenshot_path(name)
+    page.screenshot(path=str(path), full_page=full_page)
+    assert path.stat().st_size > 0
+    return path
+
+
 def open_app(page, url: str, tab: str | None = None) -> None:
     """Load the served app in `page`, wait until Bokeh has rendered and is idle, then show `tab`."""
     page.goto(url, wait_until="load")

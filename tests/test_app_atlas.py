@@ -14,7 +14,7 @@ import model
 from app import atlas as A
 from app.params import SpectrumParams
 from asymslide import sweep as S
-from tests.conftest import screenshot_path
+from tests.conftest import save_screenshot
 
 KH = np.logspace(-3, 3, 33)
 AXES = {"gamma": np.geomspace(0.3, 30, 8), "beta": np.linspace(0.1, 0.6, 5), "f": np.linspace(0.3, 1.5, 4)}
@@ -204,8 +204,6 @@ def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: P
 # browser
 # ------------------------------------------------------------------------------------------------
 
-SCREENSHOT = screenshot_path("screenshot_atlas.png")
-SCREENSHOT_3D = screenshot_path("screenshot_atlas_3d.png")
 
 #: the heat map's image data (JS): the sum of its finite values and its shape, or null before it is drawn
 _IMAGE_JS = """() => {
@@ -249,13 +247,8 @@ def test_atlas_tab_in_the_browser(atlas_dir: Path, served_app: str, browser_page
     page.wait_for_function(f"() => ({_IMAGE_JS})().sum !== {first['sum']!r}", timeout=30_000)
     moved = page.evaluate(_IMAGE_JS)
     assert moved["sum"] == pytest.approx(float(np.nansum(stored.isel(f=0).values)), rel=1e-12)
-    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
-    page.wait_for_timeout(300)
-    page.screenshot(path=str(SCREENSHOT), full_page=True)
-    assert SCREENSHOT.stat().st_size > 0
+    save_screenshot(page, "screenshot_atlas.png", paint_ms=300)
     page.locator(".bk-tab", has_text="3-D neutral surface").first.click()
     page.locator(".js-plotly-plot").first.wait_for(state="visible", timeout=60_000)  # rendered offline
-    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
-    page.wait_for_timeout(800)  # the 3-D plot's first paint
-    page.screenshot(path=str(SCREENSHOT_3D), full_page=True)
+    save_screenshot(page, "screenshot_atlas_3d.png", paint_ms=800)  # the 3-D plot's first paint
     # browser_page fails the test on any console error (e.g. plotly.js not served by this server)

@@ -21,11 +21,10 @@ from app.lab import CALLS, E_FOLDING_AXIS, KH, LabScene, slider_values
 from app.main import create_app
 from app.params import CUSTOM, LabParams, SpectrumParams
 from app.urlstate import parse_query, query_string
-from tests.conftest import open_app, screenshot_path
+from tests.conftest import open_app, save_screenshot
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
 
-SCREENSHOT = screenshot_path("screenshot_lab.png")
 
 PMMA = model.material("PMMA")
 
@@ -418,8 +417,5 @@ def test_lab_panel_moves_the_gamma_slider(served_app: str, browser_page) -> None
     page.wait_for_function(f"() => ({_FIGURES_JS})().includes('Growth rate vs wavelength (lab values)')",
                            timeout=60_000)
     page.wait_for_function("() => window.location.search.includes('lab=1')", timeout=30_000)
-    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
-    page.wait_for_timeout(500)  # the last plot's paint
-    page.screenshot(path=str(SCREENSHOT), full_page=True)
-    assert SCREENSHOT.stat().st_size > 0
+    save_screenshot(page, "screenshot_lab.png")
     assert page.console_errors == []

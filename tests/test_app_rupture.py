@@ -20,11 +20,10 @@ from app.main import create_app
 from app.params import CUSTOM, RuptureParams
 from app.rupture import C_RATIO, CALLS, PROFILE_GRID, RuptureScene
 from app.urlstate import TABS, query_string
-from tests.conftest import open_app, screenshot_path
+from tests.conftest import open_app, save_screenshot
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
 
-SCREENSHOT = screenshot_path("screenshot_rupture.png")
 
 P = model.PAPER_DEFAULTS
 #: the paper's inputs as the model's keyword arguments (plane stress)
@@ -324,8 +323,5 @@ def test_rupture_tab_renders(served_app: str, browser_page) -> None:
     v_m = np.array(page.evaluate(_VM_SOURCE_JS), dtype=float)
     np.testing.assert_allclose(v_m, model.peak_slip_velocity(C_RATIO * _c_R(), **KW), rtol=1e-12, atol=0)
     page.wait_for_function("() => window.location.search.includes('tab=rupture')", timeout=30_000)
-    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
-    page.wait_for_timeout(500)  # the last plot's paint
-    page.screenshot(path=str(SCREENSHOT), full_page=True)
-    assert SCREENSHOT.stat().st_size > 0
+    save_screenshot(page, "screenshot_rupture.png")
     assert page.console_errors == []

@@ -14,7 +14,7 @@ import pytest
 import model
 from app import thin_on_thick as tt
 from app.thin_on_thick import CALLS, KW, ThinOnThickParams, ThinOnThickScene
-from tests.conftest import open_app, screenshot_path, set_slider
+from tests.conftest import open_app, save_screenshot, set_slider
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
 
@@ -247,5 +247,5 @@ def test_kW_slider_updates_the_gy_curve(served_app: str, browser_page) -> None:
     after = np.array(page.evaluate(_GY_SOURCE_JS), dtype=float)
     z = np.linspace(1e-3, 0.999 * min(1.0, math.sqrt(float(model.effective_moduli(1.0, 0.33)[0]))), tt.N_Z)
     np.testing.assert_allclose(after, model.thin_on_thick_response(z, 1.0, nu=0.33)[1].real, rtol=1e-12, atol=0)
-    page.screenshot(path=str(screenshot_path("thin_on_thick.png")), full_page=True)
+    save_screenshot(page, "thin_on_thick.png")
     assert page.console_errors == []

@@ -8,9 +8,7 @@ import urllib.request
 import pytest
 
 from app.main import TITLE
-from tests.conftest import screenshot_path
-
-SCREENSHOT = screenshot_path("screenshot.png")
+from tests.conftest import save_screenshot
 
 #: titles of the page's Bokeh figures (JS function)
 FIGURE_TITLES = ("() => Array.from(Bokeh.documents[0].all_models)"
@@ -45,8 +43,5 @@ def test_page_renders_in_chromium(served_app: str, browser_page) -> None:
     # (they are rendered after the page has loaded, one per server event-loop turn)
     page.set_viewport_size({"width": 1280, "height": 1560})
     page.wait_for_function(f"() => ({FIGURE_TITLES})().length >= 3", timeout=60_000)
-    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=30_000)
-    page.wait_for_timeout(500)  # the last plot's paint
-    page.screenshot(path=str(SCREENSHOT))
-    assert SCREENSHOT.stat().st_size > 0
+    save_screenshot(page, "screenshot.png", full_page=False)
     assert page.console_errors == []
