@@ -272,12 +272,15 @@ def load(name: str) -> Atlas:
 
 
 def zero_contour(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> list[np.ndarray]:
-    """The line(s) z = 0 of z[y, x] on the plotted coordinates (|z| <= MARGINAL counts as stable; NaN masked)."""
+    """The line(s) z = 0 of z[y, x] on the plotted coordinates (|z| <= MARGINAL counts as stable; NaN masked),
+    clipped to the grid (contourpy puts a vertex on a cell edge at y0 + t dy, which can stick out by an ulp)."""
     zz = np.where(np.abs(z) <= MARGINAL, -MARGINAL, z)
     if not np.isfinite(zz).any() or x.size < 2 or y.size < 2:
         return []
     gen = contourpy.contour_generator(x, y, np.ma.masked_invalid(zz), line_type="Separate")
-    return [s for s in gen.lines(0.0) if len(s) > 1]
+    lo = [x.min(), y.min()]
+    hi = [x.max(), y.max()]
+    return [np.clip(s, lo, hi) for s in gen.lines(0.0) if len(s) > 1]
 
 
 # ------------------------------------------------------------------------------------------------
