@@ -244,10 +244,16 @@ def _psi(t: complex) -> tuple[complex, complex]:
 
 
 @njit(cache=True, inline="always")
+def _squares_safe(w: complex) -> bool:
+    """Re w^2 + Im w^2 neither overflows nor underflows (the fast forms below; else the library's functions)."""
+    m = max(abs(w.real), abs(w.imag))
+    return CABS_LO < m < CABS_HI
+
+
+@njit(cache=True, inline="always")
 def _cabs(w: complex) -> float:
     """|w| by sqrt(re^2 + im^2) (several times faster than hypot), hypot where squares could over/underflow."""
-    m = max(abs(w.real), abs(w.imag))
-    if CABS_LO < m < CABS_HI:
+    if _squares_safe(w):
         return math.sqrt(w.real * w.real + w.imag * w.imag)
     return abs(w)
 
@@ -255,8 +261,7 @@ def _cabs(w: complex) -> float:
 @njit(cache=True, inline="always")
 def _cinv(w: complex) -> complex:
     """1/w with one real division (conj(w)/|w|^2), the library's division where |w|^2 could over/underflow."""
-    m = max(abs(w.real), abs(w.imag))
-    if CABS_LO < m < CABS_HI:
+    if _squares_safe(w):
         d = 1.0 / (w.real * w.real + w.imag * w.imag)
         return complex(w.real * d, -w.imag * d)
     return 1.0 / w
@@ -266,10 +271,9 @@ def _cinv(w: complex) -> complex:
 def _csqrt(u: complex) -> complex:
     """Principal sqrt(u) (+i sqrt|u| on the negative real axis with Im u = +0) with the modulus as
     sqrt(re^2 + im^2); the library's sqrt where the squares could over/underflow (and at u = 0)."""
-    m = max(abs(u.real), abs(u.imag))
-    if not CABS_LO < m < CABS_HI:
+    if not _squares_safe(u):
         return cmath.sqrt(u)
-    a = math.sqrt(u.real * u.real + u.imag * u.imag)
+    a = _cabs(u)
     if u.real >= 0.0:
         t = math.sqrt(0.5 * (a + u.real))
         return complex(t, 0.5 * u.imag / t)
@@ -291,8 +295,7 @@ def _cexp(w: complex) -> complex:
 @njit(cache=True, inline="always")
 def _clog(w: complex) -> complex:
     """Principal ln w: ln|w| as ln(|w|^2)/2 (no hypot), the library's log where |w|^2 could over/underflow."""
-    m = max(abs(w.real), abs(w.imag))
-    if CABS_LO < m < CABS_HI:
+    if _squares_safe(w):
         return complex(0.5 * math.log(w.real * w.real + w.imag * w.imag), math.atan2(w.imag, w.real))
     return cmath.log(w)
 

@@ -57,19 +57,22 @@ def test_csqrt_is_the_principal_root(u: complex) -> None:
         assert math.copysign(1.0, got.imag) == math.copysign(1.0, u.imag)
 
 
+# real parts up to 709: beyond, cmath.exp overflows
+below_overflow = st.builds(complex, st.floats(min_value=-800.0, max_value=709.0), st.floats(min_value=-800.0,
+                                                                                            max_value=800.0))
+
+
 @settings(deadline=None)  # the first call compiles
-@given(st.complex_numbers(max_magnitude=800.0, allow_nan=False, allow_infinity=False))
+@given(below_overflow)
 @example(complex(-746.0, 3.0))
 @example(complex(-745.9, 3.0))
 @example(complex(-745.0, -1.0))
 def test_cexp_is_exp_and_exactly_zero_where_it_underflows(w: complex) -> None:
-    if w.real > 709.0:  # cmath.exp overflows
-        return
     got, want = K._cexp(w), cmath.exp(w)
     if w.real < K.EXP_ZERO:
         assert got == 0 and want == 0  # the skipped sin/cos multiply an exact 0
-    else:
-        assert got == want
+    else:  # numba's own cmath.exp, which differs from CPython's by an ulp near overflow
+        assert close(got, want, abs(want))
 
 
 @settings(deadline=None)  # the first call compiles
