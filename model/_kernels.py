@@ -808,6 +808,31 @@ def _hermite2(s0: float, w0: complex, d0: complex, s1: float, w1: complex, d1: c
 
 
 @njit(cache=True, inline="always")
+def _hermite3(s0: float, w0: complex, d0: complex, s1: float, w1: complex, d1: complex, s2: float, w2: complex,
+              d2: complex, s: float) -> complex:
+    """Quintic Hermite interpolant/extrapolant through three nodes (values and slopes), evaluated at s."""
+    i10 = 1.0 / (s1 - s0)
+    i21 = 1.0 / (s2 - s1)
+    i20 = 1.0 / (s2 - s0)
+    f01 = (w1 - w0) * i10
+    f12 = (w2 - w1) * i21
+    f001 = (f01 - d0) * i10
+    f011 = (d1 - f01) * i10
+    f112 = (f12 - d1) * i21
+    f122 = (d2 - f12) * i21
+    f0011 = (f011 - f001) * i10
+    f0112 = (f112 - f011) * i20
+    f1122 = (f122 - f112) * i21
+    f00112 = (f0112 - f0011) * i20
+    f01122 = (f1122 - f0112) * i20
+    f001122 = (f01122 - f00112) * i20
+    x0 = s - s0
+    x1 = s - s1
+    x2 = s - s2
+    return w0 + x0 * (d0 + x0 * (f001 + x1 * (f0011 + x1 * (f00112 + x2 * f001122))))
+
+
+@njit(cache=True, inline="always")
 def _unwrap(w: complex, ref: complex) -> complex:
     """ln z with the phase shifted by a multiple of 2 pi to lie within pi of ln z_ref."""
     k = math.floor((w.imag - ref.imag) / (2.0 * math.pi) + 0.5)
@@ -823,7 +848,9 @@ def _continue(z0: complex, dz0: complex, e0: float, s0: float, s_stop: float, ex
     Nodes are written to out (node 0 = start, slope dz0, error e0); continues until `extra` nodes lie
     beyond s_stop (or, if extra == 0, stops exactly at s_stop). The sequence of nodes depends only on the
     start and the physical parameters, never on s_stop, except for where it is cut off. The predictor is
-    the cubic Hermite extrapolant of ln z through the last two nodes (values and slopes); every node is a
+    the cubic Hermite extrapolant of ln z through the last two nodes (values and slopes) -- for eta = inf the
+    quintic one through the last three (O(h^6): longer steps for the same predictor error; for finite eta it moved
+    where the branch counts as lost, see docs/physics.md §8); every node is a
     converged Newton root (to node_tol relative) whose first contraction rate passed the basin certificate
     (THETA_MAX) with a predictor error below PRED_REJECT of _local_scale. The step size aims at a predictor
     error of pred_tol (relative to _local_scale); steps above PRED_OVERSHOOT pred_tol are retried shorter,
@@ -844,6 +871,8 @@ def _continue(z0: complex, dz0: complex, e0: float, s0: float, s_stop: float, ex
     cap = o_s.shape[0]
     use_log = z0 != 0
     # predictor data of the previous and the current node (ln z and d ln z/ds, or z and dz/ds)
+    wq = 0j
+    dq = 0j
     wp = 0j
     dp = 0j
     wc = _clog(z0) if use_log else z0
@@ -876,12 +905,15 @@ def _continue(z0: complex, dz0: complex, e0: float, s0: float, s_stop: float, ex
             s_new = s_cur + direction * h_try
             if n == 1:
                 wpred = wc + dc * (s_new - s_cur)
+            elif n >= 3 and cut:
+                wpred = _hermite3(o_s[n - 3], wq, dq, o_s[n - 2], wp, dp, s_cur, wc, dc, s_new)
             else:
                 wpred = _hermite2(o_s[n - 2], wp, dp, s_cur, wc, dc, s_new)
             zp = cmath.exp(wpred) if use_log else wpred
             r = _newton(zp, mode, s_new, q, p, NODE_ITERS, node_tol, 0.0, SHRINK_PATH, 1.0, NO_BOX)
             err = _cabs(r.z - zp) / _local_scale(r.z)
-            order = 2.0 if n == 1 else 4.0  # predictor error O(h^2) from one node, O(h^4) from two
+            # predictor error O(h^2) from one node, O(h^4) from two, O(h^6) from three (eta = inf)
+            order = 2.0 if n == 1 else (6.0 if (n >= 3 and cut) else 4.0)
             certified = r.ok and err <= PRED_REJECT and r.theta <= THETA_MAX and cmath.isfinite(r.dzds)
             if certified and r.evals <= NODE_EVALS and err <= PRED_OVERSHOOT * pred_tol:
                 accepted = True
@@ -891,6 +923,8 @@ def _continue(z0: complex, dz0: complex, e0: float, s0: float, s_stop: float, ex
                 o_d[n] = r.dzds
                 o_c[n] = r.theta / r.first if (r.first > 0.0 and r.theta > 0.0) else 0.0
                 o_e[n] = r.err / max(_cabs(z), ABS_FLOOR)
+                wq = wp
+                dq = dp
                 wp = wc
                 dp = dc
                 if use_log and z == 0:
@@ -927,15 +961,25 @@ def rayleigh_start(z_r: float, p: Params) -> tuple[complex, complex, float, bool
     r = _newton(z_r + 0j, TAU, 0.0, q, p, START_ITERS, FULL_TOL, 0.0, SHRINK_PATH, 1.0, NO_BOX)
     if not r.ok:
         return r.z, nanz, math.nan, False
+    # eta = inf: homotopy nodes to MAP_NODE_TOL and one full-accuracy Newton at its end; for finite eta this
+    # changed the start of small-gamma sets, so there every node is at full accuracy
+    cut = math.isinf(p.eta)
     n, lost, work = _continue(r.z, r.dzds, r.err / max(abs(r.z), ABS_FLOOR), 0.0, 1.0 / p.gamma, 0, 1.0, TAU, q, p,
-                              PRED_TOL, FULL_TOL, work, START_NODES)
+                              PRED_TOL, MAP_NODE_TOL if cut else FULL_TOL, work, START_NODES)
     z = work.z[n - 1]
     if lost:
         return z, nanz, math.nan, False
+    err = work.err[n - 1]
+    if cut:
+        r = _newton(z, TAU, 1.0 / p.gamma, q, p, START_ITERS, FULL_TOL, 0.0, SHRINK_PATH, 1.0, NO_BOX)
+        if not r.ok:
+            return r.z, nanz, math.nan, False
+        z = r.z
+        err = r.err / max(abs(z), ABS_FLOOR)
     fv, dfv, _, fs = _eval(z, LN_KH, S_TOP, 1.0, p)
     if not (cmath.isfinite(fv) and cmath.isfinite(dfv)) or dfv == 0:
         return z, nanz, math.nan, False
-    return z, -fs / dfv, work.err[n - 1], True
+    return z, -fs / dfv, err, True
 
 
 # ----------------------------------------------------------------------------- the path and its interpolant
@@ -984,22 +1028,21 @@ def _interp_table(ns: np.ndarray, nw: np.ndarray, nd: np.ndarray,
                 idx[k] = node
                 k += 1
         m = 2 * k
-        x = cx[j]
-        c = cf[j]
+        # the row's abscissae and coefficients indexed in place (row views cost a reference count each)
         for i in range(k):
-            x[2 * i] = ns[idx[i]]
-            x[2 * i + 1] = ns[idx[i]]
-            c[2 * i] = nw[idx[i]]
-            c[2 * i + 1] = nw[idx[i]]
+            cx[j, 2 * i] = ns[idx[i]]
+            cx[j, 2 * i + 1] = ns[idx[i]]
+            cf[j, 2 * i] = nw[idx[i]]
+            cf[j, 2 * i + 1] = nw[idx[i]]
         # divided differences in place (column 1: slopes at the doubled nodes)
         for i in range(m - 1, 0, -1):
             if i % 2 == 1:
-                c[i] = nd[idx[i // 2]]
+                cf[j, i] = nd[idx[i // 2]]
             else:
-                c[i] = (c[i] - c[i - 1]) * (1.0 / (x[i] - x[i - 1]))
+                cf[j, i] = (cf[j, i] - cf[j, i - 1]) * (1.0 / (cx[j, i] - cx[j, i - 1]))
         for order in range(2, m):
             for i in range(m - 1, order - 1, -1):
-                c[i] = (c[i] - c[i - 1]) * (1.0 / (x[i] - x[i - order]))
+                cf[j, i] = (cf[j, i] - cf[j, i - 1]) * (1.0 / (cx[j, i] - cx[j, i - order]))
         cm[j] = m
     return cx, cf, cm
 
@@ -1045,8 +1088,9 @@ def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float,
     Start at ln 1e4 (see rayleigh_start), continue down to EXTRA_NODES nodes below min(s_lo, ln 1e4) and up
     to EXTRA_NODES nodes above max(s_hi, ln 1e4) -- unless EXTRA_NODES nodes of the downward path lie above s_hi
     already (a growth map up to kH = 1e3): the interpolant of every interval up to s_hi is then the same without
-    the upward nodes. The node sequence depends only on the physical parameters; s_lo/s_hi only decide where it
-    is cut off. pred_tol and node_tol: see _continue. Returns (path, code)
+    the upward nodes and without the downward ones above those EXTRA_NODES, which are dropped. The node sequence
+    depends only on the physical parameters; s_lo/s_hi only decide where it is cut off. pred_tol and node_tol: see
+    _continue. Returns (path, code)
     with code OK, START (no starting root; path.n = 0) or INPUT (NaN parameter; path.n = 0).
     """
     ns = np.empty(1)
@@ -1062,12 +1106,16 @@ def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float,
         return Path(ns, nz, ns, ns, cx, cf, cm, 0, True), START
     nd, _, dn = _continue(z0, dz0, e0, S_TOP, min(s_lo, S_TOP), EXTRA_NODES, -1.0, LN_KH, 1.0, p, pred_tol,
                           node_tol, _nodes(NODES_INITIAL), MAX_NODES)
+    top = 0  # downward nodes before this index are dropped (they lie above the EXTRA_NODES nodes above s_hi)
     if nd > EXTRA_NODES and s_hi < dn.s[EXTRA_NODES - 1]:
         # EXTRA_NODES nodes of the downward path lie above s_hi already: the interpolant up to s_hi needs no more
         nu, up = 1, dn
+        while top + EXTRA_NODES < nd and dn.s[top + EXTRA_NODES] > s_hi:
+            top += 1
     else:
         nu, _, up = _continue(z0, dz0, e0, S_TOP, max(s_hi, S_TOP), EXTRA_NODES, 1.0, LN_KH, 1.0, p, pred_tol,
                               node_tol, _nodes(NODES_INITIAL), MAX_NODES)
+    nd -= top
     nn = nd + nu - 1
     ns = np.empty(nn)
     nz = np.empty(nn, dtype=np.complex128)
@@ -1075,7 +1123,7 @@ def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float,
     nc = np.empty(nn)
     ne = np.empty(nn)
     for i in range(nd):
-        k = nd - 1 - i
+        k = nd - 1 - i + top
         ns[i] = dn.s[k]
         nz[i] = dn.z[k]
         ndz[i] = dn.dzds[k]
@@ -1346,8 +1394,17 @@ def growth_one(s_grid: np.ndarray, z_r: float, p: Params, rtol: float) -> tuple[
     im = np.empty(m)
     n_masked = 0
     best = -1
+    j = 0
     for i in range(m):
-        im[i] = _im_at(s_grid[i], ns, nz, cx, cf, cm, nn, use_log)
+        # _im_at(s_grid[i], ...) with the interval found by walking up the ascending grid, not by bisection
+        si = s_grid[i]
+        if nn >= 2 and ns[0] <= si <= ns[nn - 1]:
+            while j < nn - 2 and ns[j + 1] <= si:
+                j += 1
+            w = _interp_value(si, j, cx, cf, cm)
+            im[i] = math.exp(w.real) * math.sin(w.imag) if use_log else w.imag
+        else:
+            im[i] = _im_at(si, ns, nz, cx, cf, cm, nn, use_log)
         if math.isnan(im[i]):
             n_masked += 1
         elif best < 0 or im[i] > im[best]:
