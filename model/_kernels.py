@@ -1274,14 +1274,20 @@ CROSS_ITERS = 8  # Newton in ln kH on exact roots from the false-position estima
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _im_in(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray, use_log: bool) -> float:
+    """Im z of the interpolant of path interval j at s (Im e^w = e^Re w sin Im w where it interpolates w = ln z)."""
+    w = _interp_value(s, j, cx, cf, cm)
+    return math.exp(w.real) * math.sin(w.imag) if use_log else w.imag
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _im_at(s: float, ns: np.ndarray, nz: np.ndarray, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray, nn: int,
            use_log: bool) -> float:
     """Im z of the path interpolant at s (NaN outside the path); the path's fields unpacked (see Path)."""
     j = _interval(s, ns, nn)
     if j < 0:
         return nz[0].imag if (nn == 1 and s == ns[0]) else math.nan
-    w = _interp_value(s, j, cx, cf, cm)
-    return math.exp(w.real) * math.sin(w.imag) if use_log else w.imag
+    return _im_in(s, j, cx, cf, cm, use_log)
 
 
 @njit(cache=True, nogil=True)
@@ -1401,8 +1407,7 @@ def growth_one(s_grid: np.ndarray, z_r: float, p: Params, rtol: float) -> tuple[
         if nn >= 2 and ns[0] <= si <= ns[nn - 1]:
             while j < nn - 2 and ns[j + 1] <= si:
                 j += 1
-            w = _interp_value(si, j, cx, cf, cm)
-            im[i] = math.exp(w.real) * math.sin(w.imag) if use_log else w.imag
+            im[i] = _im_in(si, j, cx, cf, cm, use_log)
         else:
             im[i] = _im_at(si, ns, nz, cx, cf, cm, nn, use_log)
         if math.isnan(im[i]):
