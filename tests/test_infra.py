@@ -120,3 +120,24 @@ def test_make_serve_the_image_and_the_load_test_serve_alike() -> None:
     assert "NUM_PROCS=2" in docker  # the load test's default (benchmarks/load_test.py --num-procs)
     args = ServedApp(num_procs=3).args
     assert args[1:4] == ["-m", "asymslide", "serve"] and args[args.index("--num-procs") + 1] == "3"
+
+
+def _repository_text_files() -> list[Path]:
+    """Tracked text files (git ls-files on a clone; the tree without hidden and build directories otherwise)."""
+    listed = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True)
+    if listed.returncode == 0 and listed.stdout.strip():
+        paths = [ROOT / line for line in listed.stdout.splitlines()]
+    else:
+        paths = [p for p in ROOT.rglob("*")
+                 if not any(part.startswith(".") or part in ("build", "__pycache__")
+                            for part in p.relative_to(ROOT).parts)]
+    return [p for p in paths if p.is_file() and p.suffix not in (".png", ".svg", ".ico", ".zip")]
+
+
+def test_the_physics_reference_is_the_repositorys_own() -> None:
+    """Every pointer to the physics notes names docs/physics.md, not the external file it replaced."""
+    external = "PHYSICS" + ".md"
+    offenders = [str(p.relative_to(ROOT)) for p in _repository_text_files()
+                 if external in p.read_text(errors="replace")]
+    assert (ROOT / "docs" / "physics.md").is_file()
+    assert offenders == []
