@@ -519,7 +519,7 @@ def dispersion_dq(
 # ---------------------------------------------------------------------------------------------
 
 # What _eval (and so _newton) evaluates; s and q as named here.
-LN_KH = 0  # F along s = ln kH (q unused): the Rayleigh-branch path
+LN_KH = 0  # F along s = ln kH, evaluated at kH = q = e^s (_newton sets q once per root): the Rayleigh-branch path
 TAU = 1  # F/gamma along s = tau = 1/gamma at kH = q: the homotopy to the branch's starting root
 KH = 2  # F at kH = q (s unused): one root of model.modes
 CUBIC = 3  # the Rayleigh cubic in x = z^2 (docs/physics.md §5), b = beta^2 (s, q and the other parameters unused)
@@ -568,9 +568,8 @@ def _eval(z: complex, mode: int, s: float, q: float, p: Params) -> tuple[complex
     at x = z (its scale: the sum of the magnitudes of its terms; dF/ds = 0).
     """
     if mode == LN_KH:
-        kh = math.exp(s)
-        fv, dfv, sc, fq = _weighted_dispersion(z, kh, p.gamma, 1.0, p)
-        return fv, dfv, sc, kh * fq
+        fv, dfv, sc, fq = _weighted_dispersion(z, q, p.gamma, 1.0, p)
+        return fv, dfv, sc, q * fq
     if mode == TAU:
         fv, dfv, sc, _ = _weighted_dispersion(z, q, 1.0, s, p)
         sf = 1.0 + (p.delta - 1.0) / (1.0 - 1j * p.xi * z * q)
@@ -629,6 +628,8 @@ def _newton(z0: complex, mode: int, s: float, q: float, p: Params, maxit: int, t
     z_prev = nanz  # previous iterate and the slope there
     d_prev = nanz
     evals = 0
+    if mode == LN_KH:
+        q = math.exp(s)  # kH, once for all iterations at this s
     for it in range(maxit):
         fv, dfv, sc, fs = _eval(z, mode, s, q, p)
         evals += 1
@@ -976,7 +977,7 @@ def rayleigh_start(z_r: float, p: Params) -> tuple[complex, complex, float, bool
             return r.z, nanz, math.nan, False
         z = r.z
         err = r.err / max(abs(z), ABS_FLOOR)
-    fv, dfv, _, fs = _eval(z, LN_KH, S_TOP, 1.0, p)
+    fv, dfv, _, fs = _eval(z, LN_KH, S_TOP, q, p)
     if not (cmath.isfinite(fv) and cmath.isfinite(dfv)) or dfv == 0:
         return z, nanz, math.nan, False
     return z, -fs / dfv, err, True
@@ -1082,6 +1083,14 @@ def _interp(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray) ->
 
 
 @njit(cache=True, nogil=True)
+def _no_path() -> Path:
+    """The empty Path (n = 0) that build_path returns with a failure code."""
+    ns = np.empty(1)
+    return Path(ns, np.empty(1, dtype=np.complex128), ns, ns, np.zeros((0, NTERM)),
+                np.zeros((0, NTERM), dtype=np.complex128), np.zeros(0, dtype=np.int64), 0, True)
+
+
+@njit(cache=True, nogil=True)
 def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float, node_tol: float) -> tuple[Path, int]:
     """Rayleigh-branch path covering [s_lo, s_hi] (s = ln kH), ascending in s, with its interpolation table.
 
@@ -1093,17 +1102,12 @@ def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float,
     _continue. Returns (path, code)
     with code OK, START (no starting root; path.n = 0) or INPUT (NaN parameter; path.n = 0).
     """
-    ns = np.empty(1)
-    nz = np.empty(1, dtype=np.complex128)
-    cx = np.zeros((0, NTERM))
-    cf = np.zeros((0, NTERM), dtype=np.complex128)
-    cm = np.zeros(0, dtype=np.int64)
     for v in p:
         if math.isnan(v):
-            return Path(ns, nz, ns, ns, cx, cf, cm, 0, True), INPUT
+            return _no_path(), INPUT
     z0, dz0, e0, ok = rayleigh_start(z_r, p)
     if not ok:
-        return Path(ns, nz, ns, ns, cx, cf, cm, 0, True), START
+        return _no_path(), START
     nd, _, dn = _continue(z0, dz0, e0, S_TOP, min(s_lo, S_TOP), EXTRA_NODES, -1.0, LN_KH, 1.0, p, pred_tol,
                           node_tol, _nodes(NODES_INITIAL), MAX_NODES)
     top = 0  # downward nodes before this index are dropped (they lie above the EXTRA_NODES nodes above s_hi)
