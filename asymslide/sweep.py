@@ -13,11 +13,13 @@ that diagram on a grid. The engine only distributes: every number is computed by
 
 The grid is cut into chunks (a hyper-rectangle of grid points each, aligned with the Zarr chunks). A chunk is a
 pure task: it needs only this package on the machine that runs it, and returns its arrays to the process that
-writes them. With a store, each finished chunk is written at once (an xarray region write) and then marked done
-(``done_*`` flags, one Zarr chunk per flag, written atomically after the data); Ctrl-C, a killed process or a lost
-worker loses at most the chunks in flight, and running the same sweep again computes only the chunks not marked
-done. A store remembers its plan (axes, fixed values, kH grid, rtol, chunks, variables) and the model's
-fingerprint; a sweep with another plan or another model refuses to resume it, saying why, and leaves it untouched.
+writes them. A store is created by xarray (the template dataset: coordinates, attributes, encodings) and read back
+with ``xarray.open_zarr``; each finished chunk is written at once (an xarray region write, by one thread while the
+workers go on computing) and then marked done (``done_*`` flags, one Zarr chunk per flag, written after the data);
+Ctrl-C, a killed process or a lost worker loses at most the chunks in flight, and running the same sweep again
+computes only the chunks not marked done. A store remembers its plan (axes, fixed values, kH grid, rtol, chunks,
+variables) and the model's fingerprint; a sweep with another plan or another model refuses to resume it, saying
+why, and leaves it untouched.
 
 Execution: without a client, Dask's threaded scheduler on this machine (the compiled kernels release the GIL;
 ``benchmarks/bench_sweep.py`` compares it with a ``distributed.LocalCluster``); with ``client=`` a
@@ -32,8 +34,10 @@ import hashlib
 import json
 import math
 import os
+import queue
 import shutil
 import subprocess
+import threading
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -576,9 +580,47 @@ def _write(store: Path, task: Task, result: dict[str, np.ndarray], region_dims: 
 Progress = Callable[[str, int], None]
 
 
+class _ResultQueue:
+    """Hands finished chunks to one thread that calls `on_result` on them in order of completion, so that a worker
+    thread starts its next chunk at once instead of waiting while the last one is written (Dask's threaded
+    scheduler runs its callbacks before it gives a worker new work). An error of `on_result` stops the sweep."""
+
+    def __init__(self, on_result: Callable[[Task, dict[str, np.ndarray]], None]) -> None:
+        self._on_result = on_result
+        self._queue: queue.SimpleQueue = queue.SimpleQueue()
+        self._error: BaseException | None = None
+        self._thread = threading.Thread(target=self._run, name="asymslide-writer", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while (item := self._queue.get()) is not None:
+            if self._error is None:
+                try:
+                    self._on_result(*item)
+                except BaseException as exc:  # noqa: BLE001 (handed to the sweep's thread by put/close)
+                    self._error = exc
+
+    def put(self, task: Task, result: dict[str, np.ndarray]) -> None:
+        if self._error is not None:
+            raise self._error
+        self._queue.put((task, result))
+
+    def close(self) -> None:
+        """Write what is queued (a Ctrl-C keeps every finished chunk), then re-raise a writing error."""
+        self._queue.put(None)
+        self._thread.join()
+        if self._error is not None:
+            raise self._error
+
+
+#: chunks handed to Dask's threaded scheduler at once: it keeps their results until the batch is done (memory),
+#: and a batch ends with one worker waiting for the other's last chunk (~half a chunk's time lost per batch)
+THREADED_BATCH = 256
+
+
 def _execute(todo: list[Task], on_result: Callable[[Task, dict[str, np.ndarray]], None], client=None,
              workers: int | None = None) -> None:
-    """Run `todo`, calling `on_result` in this thread as each task finishes (in any order)."""
+    """Run `todo`, calling `on_result` in one thread as each task finishes (in any order)."""
     if not todo:
         return
     if client is not None:
@@ -598,24 +640,26 @@ def _execute(todo: list[Task], on_result: Callable[[Task, dict[str, np.ndarray]]
 
     n_workers = workers or os.cpu_count() or 1
     results: dict[str, Task] = {}
+    writer = _ResultQueue(on_result)
 
-    class _Writer(Callback):
+    class _Handover(Callback):
         def _posttask(self, key, result, dsk, state, worker_id):  # noqa: ARG002 (dask's signature)
-            on_result(results[key], result)
+            writer.put(results[key], result)
 
-    # batches bound the memory: the threaded scheduler keeps the results until its compute returns
-    batch = max(8 * n_workers, 64)
-    for start in range(0, len(todo), batch):
-        part = todo[start:start + batch]
-        graph = {}
-        for t in part:
-            key = f"{t.kind}-{t.index}"
-            results[key] = t
-            graph[key] = (run_task, t)
-        with _Writer():
-            dask.threaded.get(graph, list(graph), num_workers=n_workers)
-        for key in graph:
-            results.pop(key, None)
+    try:
+        for start in range(0, len(todo), THREADED_BATCH):
+            part = todo[start:start + THREADED_BATCH]
+            graph = {}
+            for t in part:
+                key = f"{t.kind}-{t.index}"
+                results[key] = t
+                graph[key] = (run_task, t)
+            with _Handover():
+                dask.threaded.get(graph, list(graph), num_workers=n_workers)
+            for key in graph:
+                results.pop(key, None)
+    finally:
+        writer.close()
 
 
 def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[str, float] | None = None,

@@ -13,6 +13,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -223,6 +224,57 @@ def test_resuming_a_finished_store_computes_nothing(tmp_path: Path) -> None:
     calls: list[tuple[str, int]] = []
     S.sweep(axes, kH=KH, store=store, gamma_c=False, progress=lambda kind, n: calls.append((kind, n)))
     assert _tree_digest(store) == before and calls == [("growth", 3)]  # reported as done, not recomputed
+
+
+def test_a_worker_computes_the_next_chunk_while_the_last_one_is_written(tmp_path: Path,
+                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """One worker thread: the first chunk's write waits until the worker has finished a second chunk. Had the
+    worker waited for the write (Dask runs its callbacks before it hands out more work), the wait would time out."""
+    computed = threading.Semaphore(0)
+    run_task = S.run_task
+
+    def counted(task: S.Task) -> dict[str, np.ndarray]:
+        out = run_task(task)
+        computed.release()
+        return out
+
+    seen: list[bool] = []
+    write = S._write
+
+    def slow_first_write(store: Path, task: S.Task, *args: object) -> None:
+        if not seen:
+            seen.append(computed.acquire(timeout=20) and computed.acquire(timeout=20))  # chunks 1 and 2 computed
+        write(store, task, *args)
+
+    monkeypatch.setattr(S, "run_task", counted)
+    monkeypatch.setattr(S, "_write", slow_first_write)
+    axes = {"gamma": np.geomspace(1, 10, 4)}
+    ds = S.sweep(axes, kH=KH, store=tmp_path / "a.zarr", gamma_c=False, chunk_points=1, workers=1)
+    assert seen == [True]
+    _assert_growth_equal(ds.load(), _expected(axes, {}))
+    assert not [t for t in threading.enumerate() if t.name == "asymslide-writer"]
+
+
+def test_an_error_while_writing_stops_the_sweep_and_keeps_what_was_written(tmp_path: Path,
+                                                                           monkeypatch: pytest.MonkeyPatch) -> None:
+    write = S._write
+
+    def failing_third(store: Path, task: S.Task, *args: object) -> None:
+        if task.index == 2:
+            raise OSError("disk full (simulated)")
+        write(store, task, *args)
+
+    monkeypatch.setattr(S, "_write", failing_third)
+    axes = {"gamma": np.geomspace(1, 10, 6)}
+    store = tmp_path / "a.zarr"
+    with pytest.raises(OSError, match="disk full"):
+        S.sweep(axes, kH=KH, store=store, gamma_c=False, chunk_points=1, workers=1)
+    assert not [t for t in threading.enumerate() if t.name == "asymslide-writer"]
+    done = S.done_chunks(store)["growth"]
+    assert not done[2] and done.sum() >= 2  # chunks 0 and 1 (and any finished before the error) are kept
+    monkeypatch.setattr(S, "_write", write)
+    ds = S.sweep(axes, kH=KH, store=store, gamma_c=False, chunk_points=1, workers=1)  # the rerun completes it
+    _assert_growth_equal(ds.load(), _expected(axes, {}))
 
 
 # ------------------------------------------------------------------------------------------------
