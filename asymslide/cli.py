@@ -3,7 +3,8 @@
 ``asymslide serve``  the web app, as ``make serve`` and the Docker image run it;
 ``asymslide sweep``  compute a stability atlas (Dask, stored in Zarr, resumable);
 ``asymslide info``   describe an atlas;
-``asymslide export`` write an atlas as one NetCDF file.
+``asymslide export`` write an atlas as one NetCDF file;
+``asymslide warmup`` compile the model's kernels into numba's cache (the launcher and the Docker build do).
 """
 
 from __future__ import annotations
@@ -119,6 +120,13 @@ def _export(args: argparse.Namespace) -> int:
     return 0
 
 
+def _warmup(args: argparse.Namespace) -> int:
+    from .warmup import compile_kernels
+
+    compile_kernels(log=print)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="asymslide", description=__doc__)
     parser.add_argument("--version", action="version", version=f"asymslide {__version__}")
@@ -178,6 +186,9 @@ def build_parser() -> argparse.ArgumentParser:
     export.add_argument("store")
     export.add_argument("netcdf", help="the .nc file to write")
     export.set_defaults(func=_export)
+
+    warm = sub.add_parser("warmup", help="compile the model's kernels into numba's cache (NUMBA_CACHE_DIR)")
+    warm.set_defaults(func=_warmup)
     return parser
 
 
