@@ -43,9 +43,9 @@ RUN apt-get update \
     && rm -rf /var/lib/apt/lists/*
 # the dependencies of asymslide[app] at the versions of requirements.lock (the requirements are read from
 # pyproject.toml): rebuilt only when pyproject.toml or the lock change, not when the code does. Left out of the image
-# (~110 MB, none of it used at run time): the packages' own test suites, JavaScript source maps, TypeScript and Python
-# type stubs, example notebooks. Compiled libraries lose their debugging symbols (~60 MB) where the stripped copy
-# still loads (vendored *.libs are left alone: stripping those patched by auditwheel breaks them)
+# (~170 MB, none of it used at run time): the packages' own test suites, JavaScript source maps, TypeScript and Python
+# type stubs, example notebooks. Compiled libraries lose their symbol tables and debugging sections (~70 MB) where
+# the stripped copy still loads (vendored *.libs are left alone: stripping those patched by auditwheel breaks them)
 RUN --mount=type=bind,from=tools,source=/opt/tools,target=/opt/tools \
     --mount=type=bind,source=pyproject.toml,target=/tmp/lock/pyproject.toml \
     --mount=type=bind,source=requirements.lock,target=/tmp/lock/requirements.lock \
