@@ -7,6 +7,10 @@ PYTHON   ?= python3
 VENV     := .venv
 PY       := $(VENV)/bin/python
 STAMP    := $(VENV)/.installed-stamp
+# every dependency pinned (all extras; CPython 3.11 on Linux): the .venv and the Docker image install from it
+LOCK     := requirements.lock
+# what make venv installs: the model, the atlas engine, the web app, and the test, bench and lock tools
+EXTRAS   := atlas,app,test,bench,dev
 CHROMIUM := /usr/bin/chromium
 PORT     ?= 5006
 ADDRESS  ?= 0.0.0.0
@@ -16,25 +20,34 @@ ALLOWED_ORIGIN ?= localhost:$(PORT)
 NUM_PROCS ?= 1
 # where the Atlas tab reads atlases (default: ~/.cache/asymslide/atlases)
 ATLAS_DIR ?=
-LINT_DIRS ?= $(wildcard model app tests benchmarks)
+LINT_DIRS ?= $(wildcard model app asymslide tests benchmarks .ci)
+SHELL_SCRIPTS := .ci/run .ci/docker-smoke docker/entrypoint.sh
 PYTEST_ARGS ?=
 
 # numba compiles once and keeps its machine code here (ignored by git)
 export NUMBA_CACHE_DIR := $(CURDIR)/.numba_cache
 
-.PHONY: help venv serve test screenshots bench lint check clean
+.PHONY: help venv lock serve test screenshots bench lint docker-smoke check clean
 
 help:  ## list the targets
-	@grep -E '^[a-z]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/' | expand -t 10
+	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/' | expand -t 10
 
-venv: $(STAMP)  ## create .venv and install the project with its test and bench extras
+venv: $(STAMP)  ## create .venv and install the project with every extra at the versions of requirements.lock
 
-# re-install only when pyproject.toml changes
-$(STAMP): pyproject.toml
+# re-install only when pyproject.toml or the lock changes; -c: each package at its locked version
+$(STAMP): pyproject.toml $(LOCK)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[test,bench]'
+	$(PY) -m pip install --quiet -c $(LOCK) -e '.[$(EXTRAS)]'
+	$(PY) -m pip check
 	touch $@
+
+# UPGRADE=1: every package at its newest version allowed by pyproject.toml (else the current pins are kept)
+UPGRADE ?=
+lock:  ## re-pin requirements.lock after a change of pyproject.toml (make lock UPGRADE=1: newest versions)
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet $(if $(wildcard $(LOCK)),-c $(LOCK)) uv
+	$(VENV)/bin/uv pip compile pyproject.toml --all-extras --python-version 3.11 --python-platform linux \
+	  --custom-compile-command 'make lock' --quiet $(if $(UPGRADE),--upgrade) -o $(LOCK)
 
 serve: venv  ## serve the app on http://localhost:5006 (Ctrl-C stops it, workers included)
 	$(VENV)/bin/asymslide serve --port $(PORT) --address $(ADDRESS) \
@@ -62,9 +75,13 @@ bench: venv  ## run the benchmarks (timings live here, not in tests)
 	$(PY) benchmarks/load_test.py  # 20 sessions for 60 s; exits 1 on errors, p95 > 1 s or unbounded memory
 	$(PY) -m asymslide.processes $$ASYMSLIDE_RUN_ID  # exits 1 if a benchmark left a process running
 
-lint: venv  ## ruff on the Python code, hadolint on the Dockerfile
+lint: venv  ## ruff on the Python code, hadolint on the Dockerfile, shellcheck on the shell scripts
 	$(VENV)/bin/ruff check $(LINT_DIRS)
 	$(VENV)/bin/hadolint --failure-threshold warning Dockerfile
+	$(VENV)/bin/shellcheck $(SHELL_SCRIPTS)
+
+docker-smoke: venv  ## build, run and stop the Docker image as CI does (as root; its own Docker daemon; ~8 min)
+	bash .ci/docker-smoke
 
 check: venv  ## check the public model API against ../shared/check_contract.py
 	$(PY) ../shared/check_contract.py

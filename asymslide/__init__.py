@@ -2,9 +2,9 @@
 stability-atlas engine.
 
 The physics lives in the :mod:`model` package, the web app in :mod:`app`. The distribution installs these three
-import names; ``model`` and ``app`` keep their short names (see the README's "Packaging" section for why), so
-asymslide belongs in its own environment (the Makefile's .venv, the Docker image): :func:`import_name_clashes`
-tells when another installed distribution provides one of them too.
+import names; ``model`` and ``app`` keep their short names (see the README's "Installation and packaging" section
+for why), so asymslide belongs in its own environment (the Makefile's .venv, the Docker image):
+:func:`import_name_clashes` tells when another installed distribution provides one of them too.
 """
 
 from __future__ import annotations

@@ -11,17 +11,33 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
+import signal
 import sys
 from collections.abc import Sequence
+from importlib import metadata
 from pathlib import Path
 
-from . import __version__
+from . import IMPORT_NAMES, __version__
 
 #: the engine's default (asymslide.sweep.CHUNK_POINTS), without importing it for --help
 CHUNK_POINTS = 8192
 
 
+#: exit codes besides 0 (done) and 2 (bad command line, as argparse)
+EXIT_SCHEDULER = 3  # the scheduler address did not answer
+EXIT_MISSING_EXTRA = 4  # the command needs an extra that is not installed (pip install 'asymslide[EXTRA]')
+EXIT_INTERRUPTED = 130  # Ctrl-C: the chunks written so far are kept; run the same command again to resume
+
+#: the extra each command needs besides the model (`pip install asymslide` installs only the model's dependencies)
+COMMAND_EXTRAS = {"serve": "app", "sweep": "atlas", "info": "atlas", "export": "atlas"}
+#: what each extra is, for the message
+EXTRA_PURPOSE = {"app": "the web app", "atlas": "the atlas engine"}
+
+
 def _serve(args: argparse.Namespace) -> int:
+    """Run the server until it exits or a stop signal arrives. SIGTERM (docker stop, systemctl stop) is the normal
+    way to stop a server: once every server process has stopped, that is exit 0, not 128 + 15."""
     from .serve import panel_command, run
 
     origins = args.allow_websocket_origin or [f"localhost:{args.port}", f"127.0.0.1:{args.port}"]
@@ -30,12 +46,56 @@ def _serve(args: argparse.Namespace) -> int:
     env = dict(os.environ)
     if args.atlas_dir:
         env["ASYMSLIDE_ATLAS_DIR"] = str(Path(args.atlas_dir).expanduser().resolve())
-    return run(cmd, env=env)
+    code = run(cmd, env=env)
+    return 0 if code == 128 + signal.SIGTERM else code
 
 
-#: exit codes besides 0 (done) and 2 (bad command line, as argparse)
-EXIT_SCHEDULER = 3  # the scheduler address did not answer
-EXIT_INTERRUPTED = 130  # Ctrl-C: the chunks written so far are kept; run the same command again to resume
+_REQUIREMENT = re.compile(r"^\s*([A-Za-z0-9][A-Za-z0-9._-]*)\s*(?:\[([^\]]*)\])?[^;]*(?:;(.*))?$")
+_EXTRA_MARKER = re.compile(r"""extra\s*==\s*["']([^"']+)["']""")
+
+
+def missing_requirements(extra: str, dist: str = "asymslide") -> list[str] | None:
+    """The distributions `dist[extra]` requires (through nested extras too) that are not installed, from the
+    installed metadata; None if `dist` itself is not installed (a source tree on sys.path)."""
+    missing: list[str] = []
+    seen: set[tuple[str, str]] = set()
+
+    def walk(name: str, wanted: str) -> bool:
+        if (name.lower(), wanted) in seen:
+            return True
+        seen.add((name.lower(), wanted))
+        try:
+            requires = metadata.requires(name) or []
+        except metadata.PackageNotFoundError:
+            return False
+        for line in requires:
+            match = _REQUIREMENT.match(line)
+            if match is None:
+                continue
+            req, extras, marker = match.groups()
+            extra_of = _EXTRA_MARKER.search(marker or "")
+            if extra_of is None or extra_of.group(1) != wanted:
+                continue  # the base requirements are installed with the distribution; other extras are not asked for
+            nested = [e.strip() for e in (extras or "").split(",") if e.strip()]
+            found = all([walk(req, e) for e in nested]) if nested else _installed(req)
+            if not found and req not in missing:
+                missing.append(req)
+        return True
+
+    return missing if walk(dist, extra) else None
+
+
+def _installed(name: str) -> bool:
+    try:
+        metadata.distribution(name)
+    except metadata.PackageNotFoundError:
+        return False
+    return True
+
+
+def _missing_extra_message(command: str, extra: str, missing: Sequence[str]) -> str:
+    return (f"'asymslide {command}' needs {EXTRA_PURPOSE[extra]}'s dependencies, which are not installed "
+            f"(missing: {', '.join(missing)}). Install them with: pip install 'asymslide[{extra}]'")
 
 
 def _fail(message: str, code: int = 2) -> int:
@@ -199,11 +259,21 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     for name, others in import_name_clashes().items():
         print(f"asymslide: warning: the import name '{name}' is also installed by {', '.join(others)}; one of them "
-              "overwrote the other's files. Install asymslide in its own environment (see README, Packaging).",
+              "overwrote the other's files. Install asymslide in its own environment (see the README, "
+              "'Installation and packaging').",
               file=sys.stderr)
     if args.command == "serve" and args.num_procs < 1:
         parser.error(f"--num-procs must be >= 1; got {args.num_procs}")
-    return args.func(args)
+    extra = COMMAND_EXTRAS.get(args.command)
+    if extra is not None and (missing := missing_requirements(extra)):
+        return _fail(_missing_extra_message(args.command, extra, missing), EXIT_MISSING_EXTRA)
+    try:
+        return args.func(args)
+    except ModuleNotFoundError as exc:  # a source tree that was never installed: no metadata to check beforehand
+        root = (exc.name or "").partition(".")[0]
+        if extra is None or not root or root in IMPORT_NAMES:
+            raise
+        return _fail(_missing_extra_message(args.command, extra, [root]), EXIT_MISSING_EXTRA)
 
 
 if __name__ == "__main__":

