@@ -16,8 +16,9 @@ t where G changes sign. There the maximising mode is neutral: z = x is real and 
    size consistent with the neutral mode's slope dG/dt (so it is no jump), and the maximising root there is the
    neutral mode (same kH and Re z to 1e-6: the continuation of the branch from kH = 1e4 reaches it);
 4. classifies what cannot be certified: a jump of G across zero where the masked part of the kH range changes or
-   where the branch is followed on both sides (the bracket narrowed to NARROW, no neutral mode), a neutral mode
-   among the poles (pole-dense), an undefined G inside the bracket, or a failed certificate.
+   where the branch is followed on both sides (the bracket narrowed until G changes across it JUMP_FACTOR times
+   more than its slopes allow, or to NARROW, with no neutral mode), a neutral mode among the poles (pole-dense), an
+   undefined G inside the bracket, or a failed certificate.
 
 Crossings are returned in increasing t with their kH, Re z, direction (+1 destabilising: G goes from < 0 to > 0
 as the parameter grows; -1 stabilising) and reason codes (:data:`CROSSING_STATUS`). The first certified crossing is
@@ -54,7 +55,9 @@ CERT_ERR = 4.0
 CERT_S = 1e-4  # the maximum at value (1 -/+ CERT_REL) lies within this of the neutral mode in ln kH ...
 CERT_X = 1e-6  # ... and its Re z within this relative to max(|x|, 1e-3)
 MIN_SLOPE_ERR = 10.0  # |dG/dt| CERT_REL must exceed this x the growth's error (else the sign test resolves nothing)
-NARROW = 1e-9  # a bracket narrower than this (in t, relative to max(1, |t|)) without a neutral mode is a jump
+NARROW = 1e-9  # a bracket narrower than this (in t, relative to max(1, |t|)) without a neutral mode is a jump ...
+JUMP_FACTOR = 1e5  # ... as is one across which G changes this many times more than its end slopes allow
+MIN_JUMP_SLOPE = 1e-3  # (the slopes' floor in that test: a flat G does not make every small step a jump)
 BRACKET_STEPS = 100  # narrowing steps per bracket (at least every second one halves it: NARROW comes first)
 NEUTRAL_TRIES = 3  # the neutral mode is tried at the first NEUTRAL_TRIES steps of a bracket, then every 4th step
 EDGE_S = 1e-12  # a maximum within this of an end of the kH range (in ln kH) is at that end
@@ -246,27 +249,37 @@ def _try_neutral(pt: _Point, a: _Eval, b: _Eval) -> _Crossing | None:
     return _certify(pt, x, s, t, slope, max(a.err, b.err), edge)
 
 
+def _is_jump(a: _Eval, b: _Eval) -> bool:
+    """The bracket [a, b] is narrow enough to call the sign change a jump: narrower than NARROW, or G changes across
+    it JUMP_FACTOR times more than its slopes at the ends allow (a smooth crossing changes G by ~ slope x width)."""
+    width = b.t - a.t
+    if width <= NARROW * max(1.0, abs(a.t)):
+        return True
+    slopes = [abs(e.slope) for e in (a, b) if math.isfinite(e.slope)]
+    return bool(slopes) and abs(b.g - a.g) > JUMP_FACTOR * max(max(slopes), MIN_JUMP_SLOPE) * width
+
+
 def _solve_bracket(pt: _Point, a: _Eval, b: _Eval) -> _Crossing:
     """The crossing in the bracket [a, b] of scan values with opposite signs (docstring of the module, steps 2-4).
 
-    Between neutral-mode attempts the bracket is narrowed by false position on G, or by bisection where the last
-    step did not halve it (a jump), so that NARROW is reached within BRACKET_STEPS."""
-    prev_width = math.inf
+    Between neutral-mode attempts the bracket is narrowed by false position on G until a step fails to halve it
+    twice (a jump, not a smooth zero), then by bisection, until it is a jump (_is_jump) or a neutral mode is
+    certified."""
+    fp_failures = 0
     for step in range(BRACKET_STEPS):
         if step < NEUTRAL_TRIES or step % 4 == 0:
             c = _try_neutral(pt, a, b)
             if c is not None:
                 return c
-        width = b.t - a.t
-        if width <= NARROW * max(1.0, abs(a.t)):
+        if step >= NEUTRAL_TRIES and _is_jump(a, b):
             reason = X_JUMP_MASKED if a.masked != b.masked else X_JUMP
             return _Crossing(reason, a.t, b.t, 0.5 * (a.t + b.t))
-        if width > 0.5 * prev_width:
+        width = b.t - a.t
+        if fp_failures >= 2:
             t = 0.5 * (a.t + b.t)
         else:
             t = a.t - a.g * width / (b.g - a.g)
             t = min(max(t, a.t + 0.01 * width), b.t - 0.01 * width)  # strictly inside
-        prev_width = width
         e = pt.ev(t)
         if not math.isfinite(e.g):
             return _Crossing(X_UNDEFINED, a.t, b.t, t)
@@ -274,6 +287,8 @@ def _solve_bracket(pt: _Point, a: _Eval, b: _Eval) -> _Crossing:
             a = e
         else:
             b = e
+        if fp_failures < 2 and b.t - a.t > 0.5 * width:
+            fp_failures += 1
     return _Crossing(X_NOT_CERTIFIED, a.t, b.t, 0.5 * (a.t + b.t))
 
 
