@@ -5,7 +5,8 @@ method in ln gamma; a jump of the max growth flagged by the masked kH points). A
 (the continuous max growth, every crossing solved as a neutral mode and certified twice). Both on the same points of
 the atlas grid (f in [0.1, 2], beta in [0.02, 0.7], Delta in [0.05, 1]; eta = inf, xi = 1; Sect. IV, Fig. 4c;
 docs/physics.md §9), DEFAULT_KH, gamma in [1e-2, 1e3]. Each point is solved alone, old and new alternately (the
-machine may be shared: compare the ratio), so the per-point times have a median. Then the whole 32^3 surface with
+machine may be shared: compare the ratio), so the per-point times have a median; the old revision runs in a
+process of its own (OldRevision). Then the whole 32^3 surface with
 this tree on --workers threads (chunks of 256 points, as critical_gamma and the sweep engine do).
 
     python benchmarks/bench_thresholds.py                 # 256 points A/B, then the 32^3 surface
@@ -15,8 +16,10 @@ this tree on --workers threads (chunks of 256 points, as critical_gamma and the 
 from __future__ import annotations
 
 import argparse
-import importlib.util
+import json
 import math
+import os
+import subprocess
 import sys
 import tempfile
 import time
@@ -44,33 +47,59 @@ def atlas_params(n: int) -> np.ndarray:
     return np.stack([f.ravel(), beta.ravel(), np.full(m, math.inf), delta.ravel(), np.ones(m)])
 
 
-def load_revision(rev: str, target: Path, name: str = "model_before_boundary"):
-    """The model/ package of git revision `rev`, imported under `name` (its kernels cached beside this tree's)."""
-    from benchmarks.bench_kernels_ab import export_revision
+#: the process that times the old revision: its own `model` package (numba's cache of one process must never see
+#: two packages with the same kernels: a cache entry written with the other's record types cannot be read back)
+OLD_WORKER = """
+import json, sys, time
+sys.path.insert(0, sys.argv[1])
+import numpy as np
+import model
+s = np.log(np.logspace(-4, 4, 161))
+for line in sys.stdin:
+    p = np.array(json.loads(line), dtype=float)[:, None]
+    t0 = time.perf_counter()
+    r = model.threshold_chunk("gamma", s, p)
+    t = time.perf_counter() - t0
+    print(json.dumps([t, float(r.value[0]), int(r.reason[0]), int(r.evaluations[0])]), flush=True)
+"""
 
-    export_revision(rev, target)
-    init = target / "model" / "__init__.py"
-    spec = importlib.util.spec_from_file_location(name, init, submodule_search_locations=[str(init.parent)])
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[name] = mod
-    spec.loader.exec_module(mod)
-    return mod
+
+class OldRevision:
+    """The thresholds of git revision `rev`, timed in a process of their own (see OLD_WORKER)."""
+
+    def __init__(self, rev: str, target: Path) -> None:
+        from benchmarks.bench_kernels_ab import export_revision
+
+        export_revision(rev, target)
+        env = dict(os.environ, PYTHONPATH="")
+        self.proc = subprocess.Popen([sys.executable, "-c", OLD_WORKER, str(target)], stdin=subprocess.PIPE,
+                                     stdout=subprocess.PIPE, text=True, env=env, cwd=target)
+
+    def threshold(self, p: np.ndarray) -> tuple[float, float, int, int]:
+        """(seconds, threshold, reason, evaluations) of one parameter set (column of (5, n) rows)."""
+        self.proc.stdin.write(json.dumps([float(x) for x in p]) + "\n")  # inf as Infinity
+        self.proc.stdin.flush()
+        t, value, reason, evals = json.loads(self.proc.stdout.readline())
+        return t, value, reason, evals
+
+    def close(self) -> None:
+        self.proc.stdin.close()
+        self.proc.wait(timeout=60)
 
 
-def per_point_ab(old, p: np.ndarray, rounds: int) -> dict:
+def per_point_ab(old: OldRevision, p: np.ndarray, rounds: int) -> dict:
     """Each point alone, old then new, `rounds` times: per-point times (ms, medians over rounds) and the results."""
     n = p.shape[1]
     t_old = np.zeros((rounds, n))
     t_new = np.zeros((rounds, n))
-    old.threshold_chunk("gamma", S, p[:, :1])  # compile / load both
+    old.threshold(p[:, 0])  # compile / load both
     thresholds.crossings_chunk("gamma", S, p[:, :1])
     r_old = r_new = None
     for k in range(rounds):
         r_old, r_new = [], []
         for i in range(n):
-            t0 = time.perf_counter()
-            r_old.append(old.threshold_chunk("gamma", S, p[:, i : i + 1]))
-            t_old[k, i] = time.perf_counter() - t0
+            t_old[k, i], *res = old.threshold(p[:, i])
+            r_old.append(res)
             t0 = time.perf_counter()
             r_new.append(thresholds.crossings_chunk("gamma", S, p[:, i : i + 1]))
             t_new[k, i] = time.perf_counter() - t0
@@ -80,8 +109,8 @@ def per_point_ab(old, p: np.ndarray, rounds: int) -> dict:
 
 def agreement(r_old: list, r_new: list) -> dict:
     """How the old and the new thresholds compare: both found, found by one only, relative differences."""
-    v_old = np.array([r.value[0] for r in r_old])
-    reason_old = np.array([int(r.reason[0]) for r in r_old])
+    v_old = np.array([r[0] for r in r_old])
+    reason_old = np.array([r[1] for r in r_old])
     v_new = np.array([r.first[0] for r in r_new])
     both = np.isfinite(v_old) & np.isfinite(v_new)
     diff = np.abs(v_new[both] / v_old[both] - 1)
@@ -90,7 +119,7 @@ def agreement(r_old: list, r_new: list) -> dict:
                 old_jumps=int((reason_old == 5).sum()), max_diff=float(diff.max(initial=0.0)),
                 median_diff=float(np.median(diff)) if diff.size else math.nan,
                 new_complete=int(sum(bool(r.complete[0]) for r in r_new)),
-                evals_old=float(np.mean([r.evaluations[0] for r in r_old])),
+                evals_old=float(np.mean([r[2] for r in r_old])),
                 evals_new=float(np.mean([r.evaluations[0] for r in r_new])))
 
 
@@ -111,8 +140,11 @@ def run(subset: int = 256, rounds: int = 3, n: int = 32, workers: int = 2, seed:
     full = atlas_params(32)
     pick = np.sort(np.random.default_rng(seed).choice(full.shape[1], size=subset, replace=False))
     with tempfile.TemporaryDirectory() as tmp:
-        old = load_revision(BEFORE_BOUNDARY, Path(tmp))
-        ab = per_point_ab(old, full[:, pick], rounds)
+        old = OldRevision(BEFORE_BOUNDARY, Path(tmp))
+        try:
+            ab = per_point_ab(old, full[:, pick], rounds)
+        finally:
+            old.close()
     agree = agreement(ab["r_old"], ab["r_new"])
     t_surface, c = surface(n, workers)
     return dict(ab=ab, agree=agree, n=n, workers=workers, t_surface=t_surface, surface=c, subset=subset,
