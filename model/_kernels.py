@@ -1322,6 +1322,27 @@ def _sample_at(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray,
     return w, dw, d2w
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _zslope_at(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray,
+               use_log: bool) -> tuple[complex, complex]:
+    """(z, dz/ds) of the path interpolant of interval j at s: Horner for the value and the first derivative only
+    (the samples of _sample_path; at the interval's first node its stored value and slope)."""
+    if s == cx[j, 0]:
+        w, dw = cf[j, 0], cf[j, 1]
+    else:
+        m = cm[j]
+        w = cf[j, m - 1]
+        dw = 0j
+        for k in range(m - 2, -1, -1):
+            t = s - cx[j, k]
+            dw = dw * t + w
+            w = w * t + cf[j, k]
+    if use_log:
+        z = cmath.exp(w)
+        return z, dw * z
+    return w, dw
+
+
 @kernel
 def _pole_margin(z: complex, dz: complex, s: float, eta: float) -> tuple[float, float]:
     """(phi, dphi/ds): phi > 0 where the root z (slope dz at s = ln kH) is pole-dense (docs/physics.md §9).
@@ -1373,7 +1394,7 @@ def _sample_path(lo: float, hi: float, ns: np.ndarray, cx: np.ndarray, cf: np.nd
         last = NSUB + 1 if j == j1 else NSUB
         for i in range(last):
             s = b if i == NSUB else a + (b - a) * (i / NSUB)
-            z, dz, _ = _sample_at(s, j, cx, cf, cm, use_log)
+            z, dz = _zslope_at(s, j, cx, cf, cm, use_log)
             xs[k] = s
             zs[k] = z
             gs[k] = dz.imag
@@ -1705,8 +1726,9 @@ def growth_one(s_grid: np.ndarray, z_r: float, p: Params, rtol: float) -> tuple[
 
     Returns NOUT floats: (growth, s_at_max, s_band_lo, s_band_hi, n_masked, Re z at max, error of growth,
     verdict code V_*, d growth/d ln gamma, d growth/d ln eta, 1.0 if a sample of the range is pole-dense else 0.0,
-    1.0 if the maximum is at an end of the followed part inside the range (where the branch is lost) else 0.0: the
-    maximum is then approached where the continuation stops, and its slopes are not those of the max growth).
+    1.0 if the maximum is at an end of the followed part inside the range (where the branch is lost) or at a boundary
+    of the pole-dense part, else 0.0: the maximum is then approached where the branch stops (being the Rayleigh
+    mode), and its slopes are not those of the max growth).
     The maximum is taken over the range
     [s_grid[0], s_grid[-1]] where the branch is followed and is not pole-dense (for finite eta, |Re z| <= 1),
     between grid points too: the path interpolant's slope is sampled NSUB times per path interval and every local
@@ -1728,6 +1750,13 @@ def growth_one(s_grid: np.ndarray, z_r: float, p: Params, rtol: float) -> tuple[
     xs, zs, gs, js, reg = _sample_path(lo, hi, ns, path.cx, path.cf, path.cm, nn, path.use_log, p.eta)
     g, s_max, z, err, kind, kbest = _best_peak(xs, zs, gs, js, reg, path, p, rtol)
     pd = 0.0 if np.all(reg) else 1.0
+    # at a boundary with the pole-dense part the maximum is approached where the branch stops being the Rayleigh
+    # mode; regular islands finer than the samples could lie beyond it: its error covers Im z's change to the
+    # neighbouring sample
+    m_s = xs.shape[0]
+    pd_edge = (kind == C_LEFT and kbest > 0) or (kind == C_RIGHT and kbest < m_s - 1)
+    if pd_edge and not math.isnan(g):
+        err = max(err, abs(zs[kbest].imag - zs[kbest - 1 if kind == C_LEFT else kbest + 1].imag))
     # masked below the cut's end of the branch (eta = inf) leaves no undetermined part: the branch does not exist there
     unknown = above + (0 if (below > 0 and _lost_at_cut(path.z[0], p.eta)) else below)
     verdict = float(_verdict(g, err, unknown, pd > 0.0))
@@ -1735,7 +1764,7 @@ def growth_one(s_grid: np.ndarray, z_r: float, p: Params, rtol: float) -> tuple[
         return nan, nan, nan, nan, float(n_masked), nan, nan, verdict, nan, nan, pd, 0.0
     b_lo, b_hi = _band(s_max, g, kind, kbest, xs, zs, reg, path, p, rtol)
     dg_gamma, dg_eta = _growth_slopes(z, s_max, p)
-    lost_end = (s_max == lo and below > 0) or (s_max == hi and above > 0)
+    lost_end = pd_edge or (s_max == lo and below > 0) or (s_max == hi and above > 0)
     return g, s_max, b_lo, b_hi, float(n_masked), z.real, err, verdict, dg_gamma, dg_eta, pd, 1.0 if lost_end else 0.0
 
 

@@ -101,9 +101,10 @@ def growth_chunk(s_grid: np.ndarray, params: np.ndarray, rtol: float | None = No
     Rows of the result (:data:`GROWTH_ROWS`): growth, ln kH at max, ln kH_min, ln kH_max, n_masked, Re z at the
     max, the growth's error estimate, the verdict reason code (:data:`VERDICT_STATUS`), the slopes of the max
     growth in ln gamma and ln eta (0 for eta = inf), 1 where the branch enters the pole-dense part of the range
-    (else 0), and 1 where the maximum is at an end of the followed part inside the range (the branch is lost
-    beyond it: the maximum is approached there) (else 0). No shared state, so a distributed backend can run chunks
-    anywhere. rtol as in :func:`growth_analysis`.
+    (else 0), and 1 where the maximum is at an end of the followed part inside the range or at a boundary of the
+    pole-dense part (the branch is lost, or not the Rayleigh mode, beyond it: the maximum is approached there, and
+    its error covers Im z's change to the next sample) (else 0). No shared state, so a distributed backend can run
+    chunks anywhere. rtol as in :func:`growth_analysis`.
     """
     tol = check_rtol(rtol)
     n = params.shape[1]
