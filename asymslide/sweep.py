@@ -503,9 +503,13 @@ def template(plan: Plan, command: str | None = None):
     data: dict[str, Any] = {}
     flags: dict[str, int] = {}
     if plan.growth:
+        meanings = {"verdict": model.VERDICTS, "verdict_reason": model.VERDICT_STATUS}
         for name, (dtype, fill, long_name, units) in GROWTH_VARS.items():
-            data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks),
-                          {"long_name": long_name, "units": units})
+            attrs = {"long_name": long_name, "units": units}
+            if name in meanings:
+                attrs.update(flag_values=sorted(meanings[name]),
+                             flag_meanings=json.dumps({str(k): v for k, v in sorted(meanings[name].items())}))
+            data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks), attrs)
         flags["growth"] = len(plan.growth_blocks())
     if plan.gamma_c:
         gdims = plan.gamma_c_names

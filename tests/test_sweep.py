@@ -86,6 +86,8 @@ def test_store_holds_the_same_numbers_and_says_what_they_are(tmp_path: Path) -> 
     np.testing.assert_array_equal(again.kH.values, KH)
     for name in GROWTH_VARS:
         assert again[name].attrs["long_name"] and again[name].attrs["units"] == "1"
+    assert json.loads(again.verdict.attrs["flag_meanings"]) == {"0": "stable", "1": "unstable", "2": "undetermined"}
+    assert "pole-dense" in json.loads(again.verdict_reason.attrs["flag_meanings"])["4"]
     assert again.beta.attrs["symbol"] == "β" and again.gamma.attrs["scale"] == "log"
     assert again.beta.attrs["scale"] == "linear" and "c_s/c_d" in again.beta.attrs["long_name"]
 
