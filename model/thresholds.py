@@ -132,8 +132,11 @@ class _Point:
     def ev(self, t: float) -> _Eval:
         q = list(self.p)
         q[self.which] = math.exp(t)
+        return self.from_row(t, K.growth_point(self.s_grid, *q, self.rtol))
+
+    def from_row(self, t: float, r) -> _Eval:
+        """The _Eval of one growth evaluation r (growth_one's NOUT values) at t (counted)."""
         self.evaluations += 1
-        r = K.growth_point(self.s_grid, *q, self.rtol)
         lost_end = r[11] > 0.0
         slope = math.nan if lost_end else (r[8] if self.which == K.P_GAMMA else r[9])
         return _Eval(t, r[0], r[1], r[5], int(r[4]), slope, r[6], r[10] > 0.0, lost_end,
@@ -171,6 +174,8 @@ def _hermite_dips(a: _Eval, b: _Eval) -> float:
     if not (math.isfinite(a.slope) and math.isfinite(b.slope)):
         return math.nan
     h = b.t - a.t
+    if min(abs(a.g), abs(b.g)) > 4 / 27 * h * (abs(a.slope) + abs(b.slope)):
+        return math.nan  # the model stays within 4/27 h (|G'_a| + |G'_b|) of the weights of G_a, G_b: no dip
     side = _sign(a.g)
     best, where = -math.inf, math.nan
     for i in range(1, HERMITE_PROBES + 1):
@@ -183,9 +188,21 @@ def _hermite_dips(a: _Eval, b: _Eval) -> float:
     return where
 
 
-def _scan(pt: _Point, t_lo: float, t_hi: float) -> list[_Eval]:
-    """G at SCAN_POINTS log-spaced values, plus values inserted where the Hermite model dips to the other sign."""
-    base = [pt.ev(t) for t in np.linspace(t_lo, t_hi, SCAN_POINTS)]
+def _scan_rows(which: int, s: np.ndarray, p: np.ndarray, ts: np.ndarray) -> np.ndarray:
+    """growth_one at every scan value ts of every parameter set (columns of p): (n, len(ts), NOUT), in one compiled
+    loop (the scan is most of a threshold's evaluations; each set's numbers are those of growth_point)."""
+    n, m = p.shape[1], ts.size
+    q = np.repeat(p, m, axis=1)
+    q[which] = np.exp(np.tile(ts, n))
+    out = np.empty((K.NOUT, n * m))
+    K.growth_many(s, *(np.ascontiguousarray(q[i]) for i in range(6)), 0.0, out)
+    return out.T.reshape(n, m, K.NOUT)
+
+
+def _scan(pt: _Point, ts: np.ndarray, rows: np.ndarray) -> list[_Eval]:
+    """G at the scan values ts (their growth evaluations rows, _scan_rows), plus values inserted where the Hermite
+    model dips to the other sign."""
+    base = [pt.from_row(float(t), row) for t, row in zip(ts, rows, strict=True)]
     budget = [MAX_INSERT]
     out = [base[0]]
     for a, b in zip(base[:-1], base[1:], strict=True):
@@ -292,9 +309,9 @@ def _solve_bracket(pt: _Point, a: _Eval, b: _Eval) -> _Crossing:
     return _Crossing(X_NOT_CERTIFIED, a.t, b.t, 0.5 * (a.t + b.t))
 
 
-def _point_crossings(pt: _Point, t_lo: float, t_hi: float) -> tuple[list[_Crossing], list[_Eval]]:
-    """Every sign change of G over [t_lo, t_hi] (scan values with opposite signs, or with only NaN between)."""
-    scan = _scan(pt, t_lo, t_hi)
+def _point_crossings(pt: _Point, ts: np.ndarray, rows: np.ndarray) -> tuple[list[_Crossing], list[_Eval]]:
+    """Every sign change of G over the scan values ts (scan values with opposite signs, or with only NaN between)."""
+    scan = _scan(pt, ts, rows)
     out: list[_Crossing] = []
     prev: _Eval | None = None  # the last finite scan value
     gap = False  # NaN scan values since prev
@@ -434,12 +451,13 @@ def crossings_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: t
     s = np.ascontiguousarray(s_grid, dtype=float)
     n = p.shape[1]
     res = _empty(n, int(max_crossings), name)
-    for i in range(n):
-        pt = _Point(THRESHOLD_ROWS[name], s, tuple(float(v) for v in p[:, i]), 0.0)
-        if np.isnan(np.delete(p[:, i], THRESHOLD_ROWS[name])).any():
-            res.evaluations[i] = 0  # NaN parameters: undefined (status T_UNDEFINED, as initialised)
-            continue
-        crossings, scan = _point_crossings(pt, math.log(lo), math.log(hi))
+    which = THRESHOLD_ROWS[name]
+    valid = np.flatnonzero(~np.isnan(np.delete(p, which, axis=0)).any(axis=0))  # NaN parameters: undefined
+    ts = np.linspace(math.log(lo), math.log(hi), SCAN_POINTS)
+    rows = _scan_rows(which, s, p[:, valid], ts)
+    for k, i in enumerate(valid):
+        pt = _Point(which, s, tuple(float(v) for v in p[:, i]), 0.0)
+        crossings, scan = _point_crossings(pt, ts, rows[k])
         _fill(res, i, pt, crossings, scan)
     return res
 

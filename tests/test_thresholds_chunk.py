@@ -239,7 +239,12 @@ def synthetic(monkeypatch: pytest.MonkeyPatch):
                     return x0, s0, t, True, it, 0.0, slope(t), 0.0
             return x0, s0, t, False, 60, math.nan, math.nan, math.nan
 
+        def fake_growth_many(s_grid, gamma, f, beta, eta, delta, xi, rtol, out):
+            for i in range(gamma.shape[0]):
+                out[:, i] = fake_growth_point(s_grid, gamma[i], f[i], beta[i], eta[i], delta[i], xi[i], rtol)
+
         monkeypatch.setattr(K, "growth_point", fake_growth_point)
+        monkeypatch.setattr(K, "growth_many", fake_growth_many)
         monkeypatch.setattr(K, "neutral_mode", fake_neutral)
 
     return install
