@@ -175,7 +175,7 @@ def _hermite_dips(a: _Eval, b: _Eval) -> float:
         return math.nan
     h = b.t - a.t
     if min(abs(a.g), abs(b.g)) > 4 / 27 * h * (abs(a.slope) + abs(b.slope)):
-        return math.nan  # the model stays within 4/27 h (|G'_a| + |G'_b|) of the weights of G_a, G_b: no dip
+        return math.nan  # the model is a mean of G_a and G_b plus at most 4/27 h (|G'_a| + |G'_b|): no dip
     side = _sign(a.g)
     best, where = -math.inf, math.nan
     for i in range(1, HERMITE_PROBES + 1):
