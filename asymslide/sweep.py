@@ -3,11 +3,19 @@
 The paper leaves the multi-dimensional stability phase diagram in (γ, f, β, η, Δ, ξ) to future work; an atlas is
 that diagram on a grid. The engine only distributes: every number is computed by the model (docs/physics.md §9),
 
-- ``growth``, ``kH_at_max``, ``kH_min``, ``kH_max``, ``n_masked``: :func:`model.growth_chunk` at every grid point,
-  bitwise what :func:`model.growth_analysis` gives at the same point;
-- ``gamma_c``, ``gamma_c_reason``: the exact threshold γ_c (:func:`model.critical_gamma_chunk`, as
-  :func:`model.critical_gamma`) over the grid of the other axes, so the 6-D boundary is stored as a 5-D function
-  (NaN plus a reason code where there is no crossing in the γ range);
+- ``growth``, ``kH_at_max``, ``kH_min``, ``kH_max``, ``n_masked``, ``verdict``, ``verdict_reason``:
+  :func:`model.growth_chunk` at every grid point, bitwise what :func:`model.growth_analysis` gives at the same point
+  (the continuous max growth over the kH range; the verdict 0 stable / 1 unstable / 2 undetermined and its reason
+  code, :data:`model.VERDICT_STATUS`);
+- ``gamma_c``, ``gamma_c_reason``: the threshold γ_c, the first certified crossing in γ (as
+  :func:`model.critical_gamma`), over the grid of the other axes, so the 6-D boundary is stored as a 5-D function
+  (NaN plus a reason code, :data:`model.THRESHOLD_STATUS`, where there is none in the γ range);
+- the whole boundary in γ (:func:`model.crossings_chunk`, as :func:`model.critical_gammas`), over the same grid
+  with a last dimension ``crossing`` of length :data:`CROSSINGS` (NaN-padded, in increasing γ): ``gamma_c_crossing``
+  (the threshold where certified), ``gamma_c_location`` (where the sign change is, certified or not),
+  ``gamma_c_kH`` and ``gamma_c_z`` (the neutral mode), ``gamma_c_direction`` (+1 destabilising, -1 stabilising as γ
+  grows), ``gamma_c_crossing_reason`` (:data:`model.CROSSING_STATUS`); per point ``gamma_c_n_crossings`` (may
+  exceed CROSSINGS) and ``gamma_c_complete`` (1 where every crossing is certified);
 - optionally ``unstable_count``: :func:`model.unstable_count` (all branches) in a stated window at each kH of a
   stated grid.
 
@@ -77,6 +85,26 @@ GROWTH_VARS = {
                "1"),
     "n_masked": (np.int16, -1, "kH grid points where the Rayleigh branch could not be followed (masked; -1: not "
                  "computed)", "1"),
+    "verdict": (np.int8, -1, "0 stable, 1 unstable, 2 undetermined (-1: not computed); why: verdict_reason", "1"),
+    "verdict_reason": (np.int8, -1, "the verdict's reason code (model.VERDICT_STATUS; -1: not computed)", "1"),
+}
+#: crossings in gamma stored per point (the ``crossing`` dimension; model.critical_gammas' max_crossings)
+CROSSINGS = model.thresholds.MAX_CROSSINGS
+#: the variables of the whole boundary in gamma (with the ``crossing`` dimension): dtype, fill, long name
+CROSSING_VARS = {
+    "gamma_c_crossing": (np.float64, np.nan, "gamma at each certified crossing of the max growth (a neutral mode; NaN: "
+                         "not certified or no such crossing)"),
+    "gamma_c_location": (np.float64, np.nan, "gamma where each sign change of the max growth is (certified or not)"),
+    "gamma_c_kH": (np.float64, np.nan, "kH of the neutral mode at each certified crossing"),
+    "gamma_c_z": (np.float64, np.nan, "z = c/c_s (real) of the neutral mode at each certified crossing"),
+    "gamma_c_direction": (np.int8, 0, "+1 destabilising (unstable above), -1 stabilising, 0 not certified or none"),
+    "gamma_c_crossing_reason": (np.int8, -1, "reason code of each crossing (model.CROSSING_STATUS; -1: none)"),
+}
+#: per-point summaries of the boundary in gamma: dtype, fill, long name
+CROSSING_SUMMARY_VARS = {
+    "gamma_c_n_crossings": (np.int16, -1, "sign changes of the max growth found in the gamma range (-1: not computed; "
+                            "may exceed the crossing dimension)"),
+    "gamma_c_complete": (np.int8, -1, "1 where every crossing found is certified, 0 where not (-1: not computed)"),
 }
 
 
@@ -353,12 +381,21 @@ def run_task(task: Task) -> dict[str, np.ndarray]:
     if task.kind == "growth":
         out = model.growth_chunk(s, params, task.rtol)
         # the same operations as model.growth_analysis, so the values are bitwise equal
+        reason = out[7].astype(np.int8)  # as model.growth_analysis (the kernel always gives a code)
         return {"growth": out[0].reshape(shape), "kH_at_max": np.exp(out[1]).reshape(shape),
                 "kH_min": np.exp(out[2]).reshape(shape), "kH_max": np.exp(out[3]).reshape(shape),
-                "n_masked": out[4].astype(np.int16).reshape(shape)}
+                "n_masked": out[4].astype(np.int16).reshape(shape),
+                "verdict": model.verdict_class(reason).reshape(shape), "verdict_reason": reason.reshape(shape)}
     if task.kind == "gamma_c":
-        value, reason = model.critical_gamma_chunk(s, params, gamma_range=task.gamma_range, rtol=task.rtol)
-        return {"gamma_c": value.reshape(shape), "gamma_c_reason": reason.astype(np.int8).reshape(shape)}
+        c = model.crossings_chunk("gamma", s, params, task.gamma_range, task.rtol, CROSSINGS)
+        k = (*shape, CROSSINGS)
+        return {"gamma_c": c.first.reshape(shape), "gamma_c_reason": c.status.astype(np.int8).reshape(shape),
+                "gamma_c_crossing": c.value.reshape(k), "gamma_c_location": c.location.reshape(k),
+                "gamma_c_kH": c.kH.reshape(k), "gamma_c_z": c.z.reshape(k),
+                "gamma_c_direction": c.direction.astype(np.int8).reshape(k),
+                "gamma_c_crossing_reason": c.reason.astype(np.int8).reshape(k),
+                "gamma_c_n_crossings": c.count.astype(np.int16).reshape(shape),
+                "gamma_c_complete": c.complete.astype(np.int8).reshape(shape)}
     if task.kind == "count":
         assert task.count is not None
         re_max, im_min, im_max = task.count.window
@@ -466,23 +503,41 @@ def template(plan: Plan, command: str | None = None):
     data: dict[str, Any] = {}
     flags: dict[str, int] = {}
     if plan.growth:
+        meanings = {"verdict": model.VERDICTS, "verdict_reason": model.VERDICT_STATUS}
         for name, (dtype, fill, long_name, units) in GROWTH_VARS.items():
-            data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks),
-                          {"long_name": long_name, "units": units})
+            attrs = {"long_name": long_name, "units": units}
+            if name in meanings:
+                attrs.update(flag_values=sorted(meanings[name]),
+                             flag_meanings=json.dumps({str(k): v for k, v in sorted(meanings[name].items())}))
+            data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks), attrs)
         flags["growth"] = len(plan.growth_blocks())
     if plan.gamma_c:
         gdims = plan.gamma_c_names
         gshape = tuple(len(plan.axes[n]) for n in gdims)
         gchunks = tuple(plan.chunks[f"gamma_c:{n}"] for n in gdims)
         data["gamma_c"] = (gdims, da.full(gshape, np.nan, chunks=gchunks or None),
-                           {"long_name": "the threshold gamma_c: max growth on the Rayleigh branch crosses zero "
-                                         f"(searched in gamma {plan.gamma_range[0]:g} to {plan.gamma_range[1]:g})",
-                            "units": "1"})
+                           {"long_name": "the threshold gamma_c: the first certified crossing of the max growth on the "
+                                         f"Rayleigh branch (searched in gamma {plan.gamma_range[0]:g} to "
+                                         f"{plan.gamma_range[1]:g})", "units": "1"})
         codes = sorted(model.THRESHOLD_STATUS)
         data["gamma_c_reason"] = (gdims, da.full(gshape, INT_FILL["gamma_c_reason"], dtype=np.int8,
                                                  chunks=gchunks or None),
                                   {"long_name": "why gamma_c is NaN (0: found)", "flag_values": codes,
                                    "flag_meanings": json.dumps({str(k): model.THRESHOLD_STATUS[k] for k in codes})})
+        coords["crossing"] = ("crossing", np.arange(CROSSINGS), {"long_name": "index of a sign change of the max "
+                                                                 "growth in gamma, in increasing gamma"})
+        xchunks = (*(gchunks or gshape), CROSSINGS)
+        for name, (dtype, fill, long_name) in CROSSING_VARS.items():
+            attrs = {"long_name": long_name, "units": "1"}
+            if name == "gamma_c_crossing_reason":
+                xcodes = sorted(model.CROSSING_STATUS)
+                attrs.update(flag_values=xcodes,
+                             flag_meanings=json.dumps({str(k): model.CROSSING_STATUS[k] for k in xcodes}))
+            data[name] = ((*gdims, "crossing"), da.full((*gshape, CROSSINGS), fill, dtype=dtype, chunks=xchunks),
+                          attrs)
+        for name, (dtype, fill, long_name) in CROSSING_SUMMARY_VARS.items():
+            data[name] = (gdims, da.full(gshape, fill, dtype=dtype, chunks=gchunks or None),
+                          {"long_name": long_name, "units": "1"})
         flags["gamma_c"] = len(plan.gamma_c_blocks())
     if plan.count is not None:
         coords["kH_count"] = ("kH_count", np.asarray(plan.count.kH), {"long_name": "kH of the all-branch count",
@@ -503,7 +558,8 @@ def template(plan: Plan, command: str | None = None):
 
 
 #: Zarr fill values (what a chunk not written yet reads as) of the integer variables; floats: NaN
-INT_FILL = {"n_masked": -1, "gamma_c_reason": -1, "unstable_count": -2}
+INT_FILL = {"n_masked": -1, "gamma_c_reason": -1, "unstable_count": -2, "verdict": -1, "verdict_reason": -1,
+            "gamma_c_direction": 0, "gamma_c_crossing_reason": -1, "gamma_c_n_crossings": -1, "gamma_c_complete": -1}
 
 
 def _encoding(ds) -> dict[str, dict]:
@@ -563,10 +619,13 @@ def _write(store: Path, task: Task, result: dict[str, np.ndarray], region_dims: 
     region = {n: slice(a, z) for n, (a, z) in zip(task.names, task.block, strict=True)}
     data = {}
     for name, arr in result.items():
-        var_dims = (*dims, "kH_count") if name == "unstable_count" else dims
+        var_dims = (*dims, "kH_count") if name == "unstable_count" else (
+            (*dims, "crossing") if name in CROSSING_VARS else dims)
         data[name] = (var_dims, arr)
     if task.kind == "count":
         region = {**region, "kH_count": slice(0, len(task.count.kH))}  # type: ignore[union-attr]
+    if task.kind == "gamma_c":
+        region = {**region, "crossing": slice(0, CROSSINGS)}
     xr.Dataset(data).to_zarr(store, region=region, consolidated=False)
     flag = np.ones(1, np.int8)
     xr.Dataset({f"done_{task.kind}": (f"{task.kind}_chunk", flag)}).to_zarr(
@@ -766,6 +825,8 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
     if finite.any():
         yield (f"  growth: {int(finite.sum())} of {g.size} points computed; unstable (growth > 0) at "
                f"{100 * float((g[finite] > 0).mean()):.1f} %; range {np.nanmin(g):.4g} .. {np.nanmax(g):.4g}")
+    if "verdict" in ds:
+        yield from _verdict_lines(ds["verdict"].values, ds["verdict_reason"].values)
     if "gamma_c" in ds:
         gc, reason = ds["gamma_c"].values, ds["gamma_c_reason"].values
         ok = reason == 0
@@ -775,11 +836,50 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
             n = int((reason == code).sum())
             if code and n:
                 yield f"    reason {code} at {n} points: {text}"
+    if "gamma_c_complete" in ds:
+        yield from _crossing_lines(ds)
     if "unstable_count" in ds:
         uc = ds["unstable_count"]
         yield (f"  unstable_count: window |Re z| <= {uc.attrs['re_max']:g}, {uc.attrs['im_min']:g} <= Im z <= "
                f"{uc.attrs['im_max']:g} on {ds.sizes['kH_count']} kH; max {int(uc.max())}, failed counts "
                f"{int((uc == -1).sum())}")
+
+
+def _verdict_lines(verdict: np.ndarray, reason: np.ndarray) -> Iterator[str]:
+    """Coverage of the verdict: the fraction of computed cells with a certified verdict, and why the rest are not."""
+    done = verdict >= 0
+    n = int(done.sum())
+    if not n:
+        yield "  verdict: no cell computed yet"
+        return
+    cert = np.isin(verdict, (0, 1)) & done
+    yield (f"  verdict coverage: {100 * cert.sum() / n:.1f} % of {n} computed cells certified (stable "
+           f"{100 * (verdict == 0).sum() / n:.1f} %, unstable {100 * (verdict == 1).sum() / n:.1f} %), undetermined "
+           f"{100 * (verdict == 2).sum() / n:.1f} %")
+    for code, text in model.VERDICT_STATUS.items():
+        k = int(((reason == code) & (verdict == 2)).sum())
+        if k:
+            yield f"    undetermined, reason {code} at {k} cells: {text.removeprefix('undetermined: ')}"
+
+
+def _crossing_lines(ds) -> Iterator[str]:
+    """Coverage of the boundary in gamma: points whose every crossing is certified, and the crossings' reasons."""
+    complete, count = ds["gamma_c_complete"].values, ds["gamma_c_n_crossings"].values
+    done = complete >= 0
+    n = int(done.sum())
+    if not n:
+        return
+    reasons = ds["gamma_c_crossing_reason"].values
+    hist = np.bincount(count[done].astype(int))
+    over = int((count > CROSSINGS).sum())
+    yield (f"  crossing coverage: every crossing in gamma certified at {100 * (complete == 1).sum() / n:.1f} % of {n} "
+           f"computed points; crossings per point: "
+           + ", ".join(f"{k}: {int(c)}" for k, c in enumerate(hist) if c)
+           + (f" ({over} points have more than the {CROSSINGS} stored)" if over else ""))
+    for code, text in model.CROSSING_STATUS.items():
+        k = int((reasons == code).sum())
+        if k:
+            yield f"    crossings with reason {code}: {k} ({text})"
 
 
 def export_netcdf(store: str | os.PathLike, out: str | os.PathLike) -> Path:

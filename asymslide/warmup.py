@@ -36,6 +36,10 @@ def _calls() -> list[tuple[str, Callable[[], object]]]:
         ("growth analysis", lambda: model.growth_analysis(kh, gamma=np.array([3.0, 1.0]), f=0.9, beta=0.3,
                                                           eta=np.array([math.inf, 10.0]), workers=1)),
         ("growth analysis, rtol", lambda: model.growth_analysis(kh, **base, rtol=1e-8, workers=1)),
+        ("thresholds (neutral modes), gamma", lambda: model.critical_gammas(f=0.9, beta=0.3, gamma_range=(1.0, 10.0),
+                                                                             workers=1)),
+        ("thresholds (neutral modes), eta", lambda: model.critical_etas(gamma=3.0, f=0.9, beta=0.3,
+                                                                         eta_range=(2.0, 20.0), workers=1)),
         ("all branches", lambda: model.unstable_modes(1.0, **base, eta=10.0)),
     ]
 

@@ -170,7 +170,7 @@ def markdown(quick: bool = False) -> str:
     t_gc, reasons = gamma_c_surface(n_gc)
     counts = {int(c): int((reasons == c).sum()) for c in np.unique(reasons)}
     lines += ["", f"gamma_c surface over {n_gc}^3 points (f, beta, Delta; eta = inf, xi = 1): {t_gc:.0f} s "
-                  f"(target <= 120 s); reason codes {counts} (0 found, 5 jump: see model.THRESHOLD_STATUS)."]
+                  f"(target <= 120 s); reason codes {counts} (0 found, 5 jump, 6 pole-dense: model.THRESHOLD_STATUS)."]
     lines += ["", host_line(host0, host_loop_seconds())]
     return "\n".join(lines) + "\n"
 

@@ -1,38 +1,41 @@
-"""Chunked stability thresholds against the per-point method (issue 13: the stability boundary of an atlas).
+"""Thresholds before and after issue 24 (certified neutral modes), interleaved in one run, and the 32^3 gamma_c surface.
 
-The chunk: gamma_c over an n x n x n grid of (f, beta, Delta) at eta = inf, xi = 1 (Sect. IV, Fig. 4c;
-docs/physics.md §9), solved by model.stability.critical_gamma_chunk (one growth_chunk call per step for
-every unresolved point). The per-point method is the one critical_gamma used before: a 17-value log
-scan of the max growth (growth_analysis), then scipy.optimize.brentq in ln gamma, one growth_analysis
-call per evaluation; it runs on a random subset, and the chunk solver on the same subset, in
-alternating rounds (the machine may be shared: compare the ratios); its time for the whole grid is
-estimated as that ratio times the chunk's time. The threaded run splits the grid into chunks of 256
-on --workers threads (the kernels release the GIL), as a sweep engine or critical_gamma would. kH grids:
-DEFAULT_KH (161 points over [1e-4, 1e4]) and logspace(-3, 3, 96).
+Before: revision BEFORE_BOUNDARY's threshold_chunk (a 17-value scan of the grid-refined max growth, then Brent's
+method in ln gamma; a jump of the max growth flagged by the masked kH points). After: this tree's crossings_chunk
+(the continuous max growth, every crossing solved as a neutral mode and certified twice). Both on the same points of
+the atlas grid (f in [0.1, 2], beta in [0.02, 0.7], Delta in [0.05, 1]; eta = inf, xi = 1; Sect. IV, Fig. 4c;
+docs/physics.md §9), DEFAULT_KH, gamma in [1e-2, 1e3]. Each point is solved alone, old and new alternately (the
+machine may be shared: compare the ratio), so the per-point times have a median; the old revision runs in a
+process of its own (OldRevision). Then the whole 32^3 surface with
+this tree on --workers threads (chunks of 256 points, as critical_gamma and the sweep engine do).
 
-    python benchmarks/bench_thresholds.py            # 8^3 grid; the 32^3 figures are extrapolated
-    python benchmarks/bench_thresholds.py --n 32     # the full 32^3 = 32768 points (minutes)
+    python benchmarks/bench_thresholds.py                 # 256 points A/B, then the 32^3 surface
+    python benchmarks/bench_thresholds.py --subset 64 --n 8
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
-import statistics
+import os
+import subprocess
 import sys
+import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
-from scipy import optimize
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
 
-from model import stability  # noqa: E402
+from model import thresholds  # noqa: E402
 
-GRIDS = {"DEFAULT_KH (161)": stability.DEFAULT_KH, "logspace(-3, 3, 96)": np.logspace(-3, 3, 96)}
-FULL = 32**3  # points of the atlas chunk the extrapolation is for
+#: the commit this work started from (issue 24): thresholds by Brent's method on the grid-refined max growth
+BEFORE_BOUNDARY = "b57a94c"
+S = np.log(thresholds.DEFAULT_KH)
 
 
 def atlas_params(n: int) -> np.ndarray:
@@ -44,114 +47,140 @@ def atlas_params(n: int) -> np.ndarray:
     return np.stack([f.ravel(), beta.ravel(), np.full(m, math.inf), delta.ravel(), np.ones(m)])
 
 
-def per_point(kH: np.ndarray, f: float, beta: float, eta: float, Delta: float, xi: float) -> tuple[float, int]:
-    """(gamma_c or NaN, evaluations): the per-point method (17-value scan + brentq on growth_analysis)."""
-    calls = 0
-
-    def growth(t: float) -> float:
-        nonlocal calls
-        calls += 1
-        return float(stability.growth_analysis(kH, gamma=math.exp(t), f=f, beta=beta, eta=eta, Delta=Delta,
-                                               xi=xi).growth)
-
-    ts = np.linspace(math.log(1e-2), math.log(1e3), 17)
-    vals = [growth(t) for t in ts]
-    for i in range(16):
-        a, b = vals[i], vals[i + 1]
-        if math.isfinite(a) and math.isfinite(b) and (a < 0) != (b < 0):
-            try:
-                t = optimize.brentq(growth, ts[i], ts[i + 1], xtol=1e-14, rtol=4 * np.finfo(float).eps, maxiter=200)
-            except ValueError:  # NaN met inside the bracket
-                return math.nan, calls
-            return math.exp(t), calls
-    return math.nan, calls
+#: the process that times the old revision: its own `model` package (numba's cache of one process must never see
+#: two packages with the same kernels: a cache entry written with the other's record types cannot be read back)
+OLD_WORKER = """
+import json, sys, time
+sys.path.insert(0, sys.argv[1])
+import numpy as np
+import model
+s = np.log(np.logspace(-4, 4, 161))
+for line in sys.stdin:
+    p = np.array(json.loads(line), dtype=float)[:, None]
+    t0 = time.perf_counter()
+    r = model.threshold_chunk("gamma", s, p)
+    t = time.perf_counter() - t0
+    print(json.dumps([t, float(r.value[0]), int(r.reason[0]), int(r.evaluations[0])]), flush=True)
+"""
 
 
-def threaded(s: np.ndarray, p: np.ndarray, workers: int, chunk: int = 256) -> stability.ThresholdChunk:
-    """threshold_chunk over chunks of `chunk` points on `workers` threads (as a sweep engine would)."""
-    parts = [p[:, i : i + chunk] for i in range(0, p.shape[1], chunk)]
-    with ThreadPoolExecutor(workers) as pool:
-        done = list(pool.map(lambda c: stability.threshold_chunk("gamma", s, c), parts))
-    return stability.ThresholdChunk(*(np.concatenate([getattr(d, k) for d in done], axis=-1)
-                                      for k in stability.ThresholdChunk.__dataclass_fields__))
+class OldRevision:
+    """The thresholds of git revision `rev`, timed in a process of their own (see OLD_WORKER)."""
+
+    def __init__(self, rev: str, target: Path) -> None:
+        from benchmarks.bench_kernels_ab import export_revision
+
+        export_revision(rev, target)
+        env = dict(os.environ, PYTHONPATH="")
+        self.proc = subprocess.Popen([sys.executable, "-c", OLD_WORKER, str(target)], stdin=subprocess.PIPE,
+                                     stdout=subprocess.PIPE, text=True, env=env, cwd=target)
+
+    def threshold(self, p: np.ndarray) -> tuple[float, float, int, int]:
+        """(seconds, threshold, reason, evaluations) of one parameter set (column of (5, n) rows)."""
+        self.proc.stdin.write(json.dumps([float(x) for x in p]) + "\n")  # inf as Infinity
+        self.proc.stdin.flush()
+        t, value, reason, evals = json.loads(self.proc.stdout.readline())
+        return t, value, reason, evals
+
+    def close(self) -> None:
+        self.proc.stdin.close()
+        self.proc.wait(timeout=60)
 
 
-def run(n: int, subset: int, rounds: int, workers: int) -> list[dict]:
+def per_point_ab(old: OldRevision, p: np.ndarray, rounds: int) -> dict:
+    """Each point alone, old then new, `rounds` times: per-point times (ms, medians over rounds) and the results."""
+    n = p.shape[1]
+    t_old = np.zeros((rounds, n))
+    t_new = np.zeros((rounds, n))
+    old.threshold(p[:, 0])  # compile / load both
+    thresholds.crossings_chunk("gamma", S, p[:, :1])
+    r_old = r_new = None
+    for k in range(rounds):
+        r_old, r_new = [], []
+        for i in range(n):
+            t_old[k, i], *res = old.threshold(p[:, i])
+            r_old.append(res)
+            t0 = time.perf_counter()
+            r_new.append(thresholds.crossings_chunk("gamma", S, p[:, i : i + 1]))
+            t_new[k, i] = time.perf_counter() - t0
+    ms_old, ms_new = 1e3 * np.median(t_old, axis=0), 1e3 * np.median(t_new, axis=0)
+    return dict(ms_old=ms_old, ms_new=ms_new, ratio=float(np.median(ms_new / ms_old)), r_old=r_old, r_new=r_new)
+
+
+def agreement(r_old: list, r_new: list) -> dict:
+    """How the old and the new thresholds compare: both found, found by one only, relative differences."""
+    v_old = np.array([r[0] for r in r_old])
+    reason_old = np.array([r[1] for r in r_old])
+    v_new = np.array([r.first[0] for r in r_new])
+    both = np.isfinite(v_old) & np.isfinite(v_new)
+    diff = np.abs(v_new[both] / v_old[both] - 1)
+    return dict(both=int(both.sum()), old_only=int((np.isfinite(v_old) & ~np.isfinite(v_new)).sum()),
+                new_only=int((~np.isfinite(v_old) & np.isfinite(v_new)).sum()),
+                old_jumps=int((reason_old == 5).sum()), max_diff=float(diff.max(initial=0.0)),
+                median_diff=float(np.median(diff)) if diff.size else math.nan,
+                new_complete=int(sum(bool(r.complete[0]) for r in r_new)),
+                evals_old=float(np.mean([r[2] for r in r_old])),
+                evals_new=float(np.mean([r.evaluations[0] for r in r_new])))
+
+
+def surface(n: int, workers: int) -> tuple[float, thresholds.Crossings]:
+    """Wall time of every crossing of the n^3 atlas grid on `workers` threads (chunks of 256 points)."""
     p = atlas_params(n)
-    m = p.shape[1]
-    sub = np.sort(np.random.default_rng(0).choice(m, size=min(subset, m), replace=False))
-    rows = []
-    for label, kH in GRIDS.items():
-        s = np.log(kH)
-        stability.threshold_chunk("gamma", s, p[:, :2])  # compile / warm up
-        t0 = time.perf_counter()
-        r = stability.threshold_chunk("gamma", s, p)
-        t_chunk = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        rt = threaded(s, p, workers)
-        t_thr = time.perf_counter() - t0
-        assert np.array_equal(rt.value, r.value, equal_nan=True)
-        jump = r.reason == 5  # a sign change where the masked kH points change: located, not a threshold
-        found = (r.reason == 0) | jump
-        # old and new on the same subset, alternating
-        t_old, t_new, diff = [], [], 0.0
-        ev_old = []
-        for _ in range(rounds):
-            t0 = time.perf_counter()
-            old = [per_point(kH, *p[:, i]) for i in sub]
-            t_old.append(time.perf_counter() - t0)
-            t0 = time.perf_counter()
-            new = stability.threshold_chunk("gamma", s, p[:, sub])
-            t_new.append(time.perf_counter() - t0)
-            ev_old = [c for _, c in old]
-            g_old = np.array([g for g, _ in old])
-            # brentq (the per-point method) locates a jump like a root: compare where each found a sign change
-            same = np.isfinite(g_old) == np.isin(new.reason, (0, 5))
-            assert same.all(), "per-point and chunk disagree on which points have a sign change"
-            ok = np.isfinite(g_old)
-            diff = float(np.max(np.abs(new.location[ok] / g_old[ok] - 1), initial=0.0))
-        ratio = statistics.median(o / w for o, w in zip(t_old, t_new, strict=True))
-        per_pt_new = t_chunk / m
-        rows.append(dict(
-            grid=label, points=m, reasons=np.bincount(r.reason, minlength=6).tolist(), jumps=int(jump.sum()),
-            evals_new=float(r.evaluations.mean()), evals_new_smooth=float(r.evaluations[found & ~jump].mean()),
-            evals_new_jump=float(r.evaluations[jump].mean()) if jump.any() else math.nan,
-            t_chunk=t_chunk, t_threaded=t_thr, workers=workers, ms_new=1e3 * per_pt_new,
-            subset=sub.size, evals_old=float(np.mean(ev_old)), evals_new_subset=float(new.evaluations.mean()),
-            ms_old=1e3 * statistics.median(t_old) / sub.size, ms_new_subset=1e3 * statistics.median(t_new) / sub.size,
-            ratio=ratio, max_rel_diff=diff,
-            full_1=per_pt_new * FULL, full_w=t_thr / m * FULL,
-            full_old=ratio * per_pt_new * FULL,
-        ))
-    return rows
+    parts = [p[:, i : i + thresholds.CHUNK] for i in range(0, p.shape[1], thresholds.CHUNK)]
+    t0 = time.perf_counter()
+    with ThreadPoolExecutor(workers) as pool:
+        done = list(pool.map(lambda c: thresholds.crossings_chunk("gamma", S, c), parts))
+    t = time.perf_counter() - t0
+    fields = {k: np.concatenate([getattr(d, k) for d in done]) for k in thresholds.Crossings.__dataclass_fields__
+              if k != "parameter"}
+    return t, thresholds.Crossings(**fields)
 
 
-def table(rows: list[dict]) -> str:
-    lines = [
-        "| kH grid | points | reasons 0/1/2/3/4/5 | jumps | evals/pt (smooth, jump) | chunk s (ms/pt) "
-        "| threads s | 32^3 est. 1 thread / threads / per-point [s] |",
-        "|---|---|---|---|---|---|---|---|",
-    ]
-    for r in rows:
-        lines.append(
-            f"| {r['grid']} | {r['points']} | {'/'.join(map(str, r['reasons']))} | {r['jumps']} "
-            f"| {r['evals_new']:.1f} ({r['evals_new_smooth']:.1f}, {r['evals_new_jump']:.1f}) "
-            f"| {r['t_chunk']:.2f} ({r['ms_new']:.2f}) | {r['t_threaded']:.2f} ({r['workers']}) "
-            f"| {r['full_1']:.0f} / {r['full_w']:.0f} / {r['full_old']:.0f} |")
-    lines += ["", "| kH grid | subset | per-point evals/pt, ms/pt | chunk evals/pt, ms/pt | time ratio per-point/chunk "
-              "| max rel. diff of the sign change's location |", "|---|---|---|---|---|---|"]
-    for r in rows:
-        lines.append(
-            f"| {r['grid']} | {r['subset']} | {r['evals_old']:.1f}, {r['ms_old']:.2f} "
-            f"| {r['evals_new_subset']:.1f}, {r['ms_new_subset']:.2f} | {r['ratio']:.2f} | {r['max_rel_diff']:.1e} |")
+def run(subset: int = 256, rounds: int = 3, n: int = 32, workers: int = 2, seed: int = 0) -> dict:
+    full = atlas_params(32)
+    pick = np.sort(np.random.default_rng(seed).choice(full.shape[1], size=subset, replace=False))
+    with tempfile.TemporaryDirectory() as tmp:
+        old = OldRevision(BEFORE_BOUNDARY, Path(tmp))
+        try:
+            ab = per_point_ab(old, full[:, pick], rounds)
+        finally:
+            old.close()
+    agree = agreement(ab["r_old"], ab["r_new"])
+    t_surface, c = surface(n, workers)
+    return dict(ab=ab, agree=agree, n=n, workers=workers, t_surface=t_surface, surface=c, subset=subset,
+                rounds=rounds)
+
+
+def table(res: dict) -> str:
+    ab, ag, c = res["ab"], res["agree"], res["surface"]
+    lines = [f"{res['subset']} random points of the 32^3 atlas grid (f, beta, Delta; eta = inf, xi = 1), DEFAULT_KH, "
+             f"gamma in [1e-2, 1e3]; each point alone, before (revision {BEFORE_BOUNDARY}: scan + Brent on the "
+             "grid-refined max growth) and after (certified neutral modes) alternately, medians of "
+             f"{res['rounds']} rounds.", "",
+             "| | before | after |", "|---|---|---|",
+             f"| per-point time, median [ms] | {np.median(ab['ms_old']):.2f} | {np.median(ab['ms_new']):.2f} |",
+             f"| per-point time, mean [ms] | {np.mean(ab['ms_old']):.2f} | {np.mean(ab['ms_new']):.2f} |",
+             f"| per-point time, 90th percentile [ms] | {np.percentile(ab['ms_old'], 90):.2f} "
+             f"| {np.percentile(ab['ms_new'], 90):.2f} |",
+             f"| growth evaluations per point, mean | {ag['evals_old']:.1f} | {ag['evals_new']:.1f} |",
+             "", f"Median of the per-point ratios after/before: {ab['ratio']:.2f} (target <= 1). Thresholds found by "
+                 f"both: {ag['both']}, max relative difference {ag['max_diff']:.1e} (median {ag['median_diff']:.1e}); "
+                 f"found before only {ag['old_only']}, after only {ag['new_only']}; jumps flagged before: "
+                 f"{ag['old_jumps']}; every crossing certified after: {ag['new_complete']} of {res['subset']}.",
+             "", f"Every crossing of the {res['n']}^3 surface on {res['workers']} threads: {res['t_surface']:.1f} s "
+                 f"(target <= 120 s); every crossing certified at {100 * c.complete.mean():.1f} % of the points, a "
+                 f"certified threshold at {100 * (c.status == 0).mean():.1f} %; crossings per point "
+                 f"{dict(enumerate(np.bincount(c.count).tolist()))}; reasons of the crossings "
+                 f"{dict(enumerate(np.bincount(c.reason[c.reason >= 0], minlength=7).tolist()))} "
+                 "(model.CROSSING_STATUS)."]
     return "\n".join(lines) + "\n"
 
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--n", type=int, default=8, help="grid points per axis (default 8; the atlas uses 32)")
-    ap.add_argument("--subset", type=int, default=64, help="points for the per-point comparison")
-    ap.add_argument("--rounds", type=int, default=3, help="alternating per-point / chunk rounds on the subset")
-    ap.add_argument("--workers", type=int, default=2, help="threads for the chunked run")
+    ap.add_argument("--subset", type=int, default=256, help="points of the A/B (default 256)")
+    ap.add_argument("--rounds", type=int, default=3, help="alternating rounds of the A/B")
+    ap.add_argument("--n", type=int, default=32, help="grid points per axis of the surface (default 32)")
+    ap.add_argument("--workers", type=int, default=2, help="threads for the surface")
     a = ap.parse_args()
-    print(table(run(a.n, a.subset, a.rounds, a.workers)))
+    print(table(run(a.subset, a.rounds, a.n, a.workers)))

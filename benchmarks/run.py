@@ -171,10 +171,14 @@ def main() -> None:
 
     text += ("\n## All unstable roots in |Re z| <= 5, im_min <= Im z <= 2 (model.unstable_modes vs cxroots)\n\n"
              + bench_modes.markdown(bench_modes.run()))
-    from benchmarks import bench_kernels_ab, bench_sweep, bench_thresholds
+    from benchmarks import bench_coverage, bench_kernels_ab, bench_sweep, bench_thresholds, threshold_accuracy
 
-    text += ("\n## Exact thresholds for whole chunks (model.threshold_chunk; `benchmarks/bench_thresholds.py`)\n\n"
-             + bench_thresholds.table(bench_thresholds.run(8, 64, 3, 2)))
+    text += ("\n## Thresholds as certified neutral modes, before and after (model.crossings_chunk; "
+             "`benchmarks/bench_thresholds.py`)\n\n" + bench_thresholds.table(bench_thresholds.run(256, 3, 32, 2)))
+    text += ("\n## Certified thresholds against the oracle's neutral modes (`benchmarks/threshold_accuracy.py`)\n\n"
+             + threshold_accuracy.markdown())
+    text += ("\n## Coverage of the stability boundary per eta (certified crossings and verdicts; "
+             "`benchmarks/bench_coverage.py`)\n\n" + bench_coverage.table(bench_coverage.run()))
     text += "\n## Stability atlases (asymslide sweep; `benchmarks/bench_sweep.py`)\n\n" + bench_sweep.markdown()
     import tempfile
 

@@ -17,11 +17,15 @@ Rayleigh branch of the spectrum (§3, §4, §8)
     reasons: :data:`STATUS`), :func:`linear_expansion` (Eq. S-dz).
 
 Stability (§4, §9)
-    :func:`growth_analysis` returning :class:`GrowthResult`, :func:`growth_chunk` (one chunk of a stability
-    map, for distributed sweeps), :func:`max_growth`, :func:`unstable_band`, :func:`critical_gamma`,
-    :func:`critical_eta` and, for whole chunks at once, :func:`threshold_chunk` returning
-    :class:`ThresholdChunk`, :func:`critical_gamma_chunk`, :func:`critical_eta_chunk` (reason codes
-    :data:`THRESHOLD_STATUS`); :func:`min_gy_at_rayleigh_speed`, :func:`criterion_chi`,
+    :func:`growth_analysis` returning :class:`GrowthResult` (the continuous max growth over the kH range and
+    its verdict: :data:`VERDICTS`, :data:`VERDICT_STATUS`, :func:`verdict_class`), :func:`growth_chunk` (one chunk
+    of a stability map, for distributed sweeps; rows :data:`GROWTH_ROWS`), :func:`max_growth`,
+    :func:`unstable_band`; thresholds as certified neutral modes: :func:`critical_gammas`, :func:`critical_etas`
+    (every crossing, :class:`Crossings`, reason codes :data:`CROSSING_STATUS`), :func:`critical_gamma`,
+    :func:`critical_eta` (the first certified crossing) and, for whole chunks at once, :func:`crossings_chunk`,
+    :func:`threshold_chunk` returning :class:`ThresholdChunk`, :func:`critical_gamma_chunk`,
+    :func:`critical_eta_chunk` (reason codes :data:`THRESHOLD_STATUS`); :func:`min_gy_at_rayleigh_speed`,
+    :func:`criterion_chi`,
     :func:`criterion_gy_level` (Eq. criterion), :func:`critical_chi` (Fig. 4c), :func:`stability_verdict`
     returning :class:`StabilityVerdict`, :func:`stable`.
 
@@ -127,25 +131,22 @@ from .rupture import (
 )
 from .spectrum import STATUS, SpectrumResult, linear_expansion, rayleigh_branch, spectrum
 from .stability import (
-    THRESHOLD_STATUS,
+    GROWTH_ROWS,
+    VERDICT_STATUS,
+    VERDICTS,
     GrowthResult,
     StabilityVerdict,
-    ThresholdChunk,
     criterion_chi,
     criterion_gy_level,
     critical_chi,
-    critical_eta,
-    critical_eta_chunk,
-    critical_gamma,
-    critical_gamma_chunk,
     growth_analysis,
     growth_chunk,
     max_growth,
     min_gy_at_rayleigh_speed,
     stability_verdict,
     stable,
-    threshold_chunk,
     unstable_band,
+    verdict_class,
 )
 from .thin_on_thick import (
     bessel_integral_B,
@@ -156,6 +157,20 @@ from .thin_on_thick import (
     normal_stress_change,
     one_minus_bessel_integral_B,
     thin_on_thick_response,
+)
+from .thresholds import (
+    CROSSING_STATUS,
+    THRESHOLD_STATUS,
+    Crossings,
+    ThresholdChunk,
+    critical_eta,
+    critical_eta_chunk,
+    critical_etas,
+    critical_gamma,
+    critical_gamma_chunk,
+    critical_gammas,
+    crossings_chunk,
+    threshold_chunk,
 )
 
 __all__ = [
@@ -169,7 +184,16 @@ __all__ = [
     "stable",
     "critical_chi",
     "critical_eta",
+    "critical_etas",
     "critical_gamma",
+    "critical_gammas",
+    "CROSSING_STATUS",
+    "Crossings",
+    "crossings_chunk",
+    "GROWTH_ROWS",
+    "VERDICT_STATUS",
+    "VERDICTS",
+    "verdict_class",
     "criterion_chi",
     "criterion_gy_level",
     "THRESHOLD_STATUS",

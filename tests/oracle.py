@@ -668,6 +668,117 @@ def rayleigh_branch_max_growth(
 
 
 # =============================================================================================
+# 4b. Neutral modes: the thresholds of the max growth (docs/physics.md §9)
+# =============================================================================================
+
+NEUTRAL_DPS = DPS + 20  # working digits of the neutral-mode Newton iteration
+NEUTRAL_H = mpmath.mpf("1e-22")  # central-difference step (relative) of F's derivatives at NEUTRAL_DPS digits
+NEUTRAL_HJ = mpmath.mpf("1e-14")  # central-difference step of the Newton Jacobian
+NEUTRAL_S_TOL = mpmath.mpf("1e-20")  # the Newton step in ln q at convergence (see neutral_mode)
+
+
+def _neutral_params(p: Params, which: str, t: mpmath.mpf) -> Params:
+    """p with gamma or eta set to e^t."""
+    return dataclasses.replace(p, **{which: mp.exp(t)})
+
+
+def _neutral_residual(p: Params, which: str, v: list, edge_s: mpmath.mpf | None) -> list:
+    """The three real equations of a neutral mode at v = (x, s, t) (or two at fixed s = edge_s for v = (x, t)):
+    Re F = Im F = 0 at the real z = x, q = e^s, and Im(dF/ds / dF/dz) = 0 (Im z stationary in s = ln q).
+    F = dispersion_core; its derivatives by central differences of relative step NEUTRAL_H."""
+    if edge_s is None:
+        x, s, t = v
+    else:
+        (x, t), s = v, edge_s
+    pp = _neutral_params(p, which, t)
+    q = mp.exp(s)
+    z = mp.mpc(x, 0)
+    fv = dispersion_core(z, q, pp)
+    if edge_s is not None:
+        return [mp.re(fv), mp.im(fv)]
+    hz = NEUTRAL_H * max(abs(x), mp.mpf("1e-3"))
+    fz = (dispersion_core(z + hz, q, pp) - dispersion_core(z - hz, q, pp)) / (2 * hz)
+    fs = (dispersion_core(z, mp.exp(s + NEUTRAL_H), pp) - dispersion_core(z, mp.exp(s - NEUTRAL_H), pp)) / (
+        2 * NEUTRAL_H)
+    return [mp.re(fv), mp.im(fv), mp.im(fs / fz)]
+
+
+def neutral_mode(
+    which: str,
+    x0: Num,
+    q0: Num,
+    value0: Num,
+    gamma: Num,
+    f: Num,
+    beta: Num,
+    eta: Num,
+    Delta: Num = 1,
+    xi: Num = 0,
+    edge: bool = False,
+    maxit: int = 30,
+) -> tuple[mpmath.mpf, mpmath.mpf, mpmath.mpf]:
+    """(x, q, value): a neutral mode of F(z; q) = 0 for the threshold parameter `which` ("gamma" or "eta"): real
+    z = x, Im z stationary in ln q (dIm z/d ln q = 0, i.e. Im(F_q/F_z) = 0), at the parameter value `value`
+    (docs/physics.md §9). With edge=True the kH is held at q0 (a maximum at an end of a kH range: two equations).
+
+    Newton's method on the real equations in (x, ln q, ln value) at NEUTRAL_DPS digits, from (x0, q0, value0), with a
+    central-difference Jacobian (step NEUTRAL_HJ); the parameter named by `which` is ignored in the arguments.
+    Converged when the step is below 10^-(DPS + 5) relative in x and the parameter (and NEUTRAL_S_TOL in ln q, to
+    which the parameter is stationary); ValueError otherwise. Rounded to DPS digits.
+    """
+    if which not in ("gamma", "eta"):
+        raise ValueError(f"which must be 'gamma' or 'eta'; got {which!r}")
+    p = Params.make(gamma, f, beta, eta, Delta, xi)
+    with mp.workdps(NEUTRAL_DPS):
+        edge_s = mp.log(_num(q0)) if edge else None
+        v = [mp.mpf(_num(x0)), mp.log(_num(q0)), mp.log(_num(value0))]
+        if edge:
+            v = [v[0], v[2]]
+        n = len(v)
+        tol = mp.mpf(10) ** (-(DPS + 5))
+        for _ in range(maxit):
+            r = _neutral_residual(p, which, v, edge_s)
+            jac = mp.matrix(n, n)
+            for k in range(n):
+                h = NEUTRAL_HJ * max(abs(v[k]), 1)
+                up, dn = list(v), list(v)
+                up[k] += h
+                dn[k] -= h
+                ru, rd = _neutral_residual(p, which, up, edge_s), _neutral_residual(p, which, dn, edge_s)
+                for i in range(n):
+                    jac[i, k] = (ru[i] - rd[i]) / (2 * h)
+            step = mp.lu_solve(jac, mp.matrix([-ri for ri in r]))
+            v = [v[k] + step[k] for k in range(n)]
+            # x and the parameter to DPS + 5 digits; ln q only to NEUTRAL_S_TOL: the slope equation is noisy at
+            # ~NEUTRAL_H^-1 10^-NEUTRAL_DPS, and the parameter is stationary in ln q there (its error is 2nd order)
+            tols = [tol, NEUTRAL_S_TOL, tol] if not edge else [tol, tol]
+            if all(abs(step[k]) <= tols[k] * max(abs(v[k]), 1) for k in range(n)):
+                x, s, t = (v[0], edge_s, v[1]) if edge else (v[0], v[1], v[2])
+                return _round(x), _round(mp.exp(s)), _round(mp.exp(t))
+    raise ValueError(f"neutral mode: Newton did not converge from x = {x0}, q = {q0}, {which} = {value0}")
+
+
+def neutral_curvature(which: str, x: Num, q: Num, value: Num, gamma: Num, f: Num, beta: Num, eta: Num,
+                      Delta: Num = 1, xi: Num = 0) -> tuple[mpmath.mpf, mpmath.mpf]:
+    """(d^2 Im z/d(ln q)^2, d Im z/d ln value) of the root z = x at the neutral mode: the first < 0 says the mode is a
+    maximum of Im z in kH (not a minimum); the second is the slope of the max growth across the threshold (its sign
+    is the crossing's direction). By central differences of the root (secant solves) at NEUTRAL_DPS digits."""
+    p = Params.make(gamma, f, beta, eta, Delta, xi)
+    with mp.workdps(NEUTRAL_DPS):
+        xx, s0, t0 = mp.mpf(_num(x)), mp.log(_num(q)), mp.log(_num(value))
+        h = mp.mpf("1e-6")
+
+        def root(s: mpmath.mpf, t: mpmath.mpf) -> mpmath.mpc:
+            pp = _neutral_params(p, which, t)
+            return _secant(lambda w: dispersion_core(w, mp.exp(s), pp), mp.mpc(xx, 0))
+
+        zc = root(s0, t0)
+        d2 = (mp.im(root(s0 + h, t0)) - 2 * mp.im(zc) + mp.im(root(s0 - h, t0))) / h**2
+        dt = (mp.im(root(s0, t0 + h)) - mp.im(root(s0, t0 - h))) / (2 * h)
+        return _round(d2), _round(dt)
+
+
+# =============================================================================================
 # 5. Linear expansion near z_R (Eq. S-dz) and the criterion (Eq. criterion)
 # =============================================================================================
 
@@ -898,6 +1009,8 @@ def normal_stress_change(v: Num, c: Num, c_s: Num, kW: Num, nu: Num, mu: Num) ->
 
 __all__: Sequence[str] = [
     "B",
+    "neutral_curvature",
+    "neutral_mode",
     "BranchLost",
     "C",
     "DPS",

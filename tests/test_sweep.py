@@ -27,7 +27,7 @@ from asymslide.cli import EXIT_SCHEDULER
 
 ROOT = Path(__file__).resolve().parent.parent
 KH = np.logspace(-3, 3, 49)
-GROWTH_VARS = ("growth", "kH_at_max", "kH_min", "kH_max", "n_masked")
+GROWTH_VARS = ("growth", "kH_at_max", "kH_min", "kH_max", "n_masked", "verdict", "verdict_reason")
 
 
 def _expected(axes: dict[str, np.ndarray], fixed: dict[str, float], kH: np.ndarray = KH) -> model.GrowthResult:
@@ -86,6 +86,8 @@ def test_store_holds_the_same_numbers_and_says_what_they_are(tmp_path: Path) -> 
     np.testing.assert_array_equal(again.kH.values, KH)
     for name in GROWTH_VARS:
         assert again[name].attrs["long_name"] and again[name].attrs["units"] == "1"
+    assert json.loads(again.verdict.attrs["flag_meanings"]) == {"0": "stable", "1": "unstable", "2": "undetermined"}
+    assert "pole-dense" in json.loads(again.verdict_reason.attrs["flag_meanings"])["4"]
     assert again.beta.attrs["symbol"] == "β" and again.gamma.attrs["scale"] == "log"
     assert again.beta.attrs["scale"] == "linear" and "c_s/c_d" in again.beta.attrs["long_name"]
 
@@ -105,6 +107,30 @@ def test_gamma_c_is_the_critical_gamma_of_the_model() -> None:
                 assert reason == 0 and gc == pytest.approx(want, rel=1e-11)
     # the check value of docs/physics.md §7 sits in this atlas: f = 0.9, beta = 0.3, eta = inf
     assert float(ds.gamma_c.sel(beta=0.3, f=0.9)) == pytest.approx(2.4149, rel=1e-4)
+
+
+def test_the_whole_boundary_in_gamma_is_critical_gammas() -> None:
+    """The crossing dimension holds every crossing of model.critical_gammas (values, kH, z, direction, reasons,
+    NaN-padded), the count and completeness per point; gamma_c is the first certified one. eta = 10 and Delta = 0.2
+    give certified crossings and refused jumps (the branch is lost on part of the range on one side)."""
+    axes = {"gamma": np.geomspace(0.1, 30, 6), "beta": np.array([0.08, 0.5085714285714286]),
+            "f": np.array([0.7714285714285714, 0.9])}
+    fixed = {"eta": 10.0, "Delta": 0.2, "xi": 1.0}
+    ds = S.sweep(axes, fixed=fixed, kH=KH, chunk_points=8)
+    assert ds.gamma_c_crossing.dims == ("beta", "f", "crossing") and ds.sizes["crossing"] == S.CROSSINGS
+    want = model.critical_gammas(f=axes["f"][None, :], beta=axes["beta"][:, None], **fixed, kH=KH,
+                                 gamma_range=(0.1, 30.0), max_crossings=S.CROSSINGS)
+    for var, field in (("gamma_c_crossing", "value"), ("gamma_c_location", "location"), ("gamma_c_kH", "kH"),
+                       ("gamma_c_z", "z"), ("gamma_c_direction", "direction"),
+                       ("gamma_c_crossing_reason", "reason"), ("gamma_c_n_crossings", "count")):
+        np.testing.assert_array_equal(ds[var].values, getattr(want, field), err_msg=var)
+    np.testing.assert_array_equal(ds.gamma_c_complete.values, want.complete.astype(np.int8))
+    np.testing.assert_array_equal(ds.gamma_c.values, want.first)
+    assert set(np.unique(ds.gamma_c_crossing_reason.values)) >= {-1, 0}
+    assert "certified" in json.loads(ds.gamma_c_crossing_reason.attrs["flag_meanings"])["0"]
+    # every certified crossing has its neutral mode; the padding is NaN with reason -1
+    cert = ds.gamma_c_crossing_reason.values == 0
+    assert np.all(np.isfinite(ds.gamma_c_kH.values[cert])) and np.all(np.isnan(ds.gamma_c_crossing.values[~cert]))
 
 
 def test_no_crossing_in_the_range_gives_nan_and_a_reason() -> None:
@@ -341,7 +367,8 @@ def test_cli_sweep_info_and_netcdf_export(tmp_path: Path) -> None:
     info = _cli("info", str(store))
     assert info.returncode == 0
     for needle in ("axis gamma (γ): 8 values from 0.5 to 20", "axis beta (β): 4 values", "f = 0.9",
-                   "gamma_c: found at", "unstable (growth > 0) at"):
+                   "gamma_c: found at", "unstable (growth > 0) at", "verdict coverage: ", "% of 32 computed cells "
+                   "certified", "crossing coverage: every crossing in gamma certified at 100.0 % of 4 computed points"):
         assert needle in info.stdout, (needle, info.stdout)
     import re
 
