@@ -513,3 +513,20 @@ def controls_column(widgets: dict[str, pn.widgets.Widget], readout) -> pn.Column
     """The left column of a scene: parameter widgets, then the readout."""
     return pn.Column(heading("Parameters"), *widgets.values(), pn.pane.Markdown(readout, sizing_mode="stretch_width"),
                      width=320)
+
+
+#: below this page width (px) a scene's controls stack above its plots and both take the whole width (phones)
+NARROW_PX = 800
+#: the controls column of a scene: full width on a narrow page
+NARROW_CONTROLS_CSS = (f"@media (max-width: {NARROW_PX}px) {{ :host {{ width: 100% !important; "
+                       "min-width: 0 !important; flex: 1 1 100% !important; }} }}")
+
+
+def scene_layout(controls: pn.layout.ListLike, plots: pn.layout.ListLike, name: str) -> pn.FlexBox:
+    """A scene's tab: its controls column (fixed width) left of its plots (the rest of the width); on a page
+    narrower than :data:`NARROW_PX` the plots wrap below the controls and both span the page."""
+    controls.stylesheets = [*controls.stylesheets, NARROW_CONTROLS_CSS]
+    controls.styles = {**controls.styles, "flex": "0 0 auto"}
+    plots.styles = {**plots.styles, "flex": "1 1 440px", "min-width": "0"}
+    return pn.FlexBox(controls, plots, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width",
+                      name=name)
