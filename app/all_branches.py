@@ -26,7 +26,17 @@ import param
 
 import model
 
-from .params import Physical, SpectrumParams, csv_download, fmt, from_log10, heading, make_widgets, physical_parameters
+from .params import (
+    Physical,
+    SpectrumParams,
+    csv_download,
+    fmt,
+    from_log10,
+    heading,
+    make_widgets,
+    physical_parameters,
+    scene_layout,
+)
 
 # --------------------------------------------------------------------------------------------
 # grids, window limits, labels
@@ -470,4 +480,4 @@ class AllBranchesScene(pn.viewable.Viewer):
             pn.pane.Markdown(HELP, sizing_mode="stretch_width"),
             sizing_mode="stretch_width",
         )
-        return pn.Row(controls, plots, sizing_mode="stretch_width", name="All branches")
+        return scene_layout(controls, plots, "All branches")

@@ -8,11 +8,12 @@ from __future__ import annotations
 
 import panel as pn
 import param
+from bokeh.models import Tooltip
 
 from app.all_branches import AllBranchesScene
 from app.atlas import AtlasScene
 from app.lab import LabScene
-from app.params import LabParams, RuptureParams, SpectrumParams, frozen_document, set_with_material
+from app.params import LabParams, RuptureParams, SpectrumParams, set_with_material
 from app.paths import CSS, FAVICON, LOGO
 from app.presets import Preset, load_presets, preset_args
 from app.rupture import RuptureScene
@@ -59,6 +60,11 @@ The parameters are kept in the page's URL: copy it to share what you see.
 > *Frictional sliding without geometrical reflection symmetry*,
 > [Phys. Rev. X **6**, 041023 (2016)](https://doi.org/10.1103/PhysRevX.6.041023).
 """
+
+
+def below(text: str) -> Tooltip:
+    """A button's description shown below it, at most 300 px wide."""
+    return Tooltip(content=text, position="bottom", stylesheets=[":host { white-space: initial; max-width: 300px; }"])
 
 
 def request_args() -> dict[str, list[bytes]]:
@@ -147,11 +153,11 @@ class App:
             location.search = query_string(self.param_objects(), tab, self.atlas.atlas if tab == "atlas" else None)
 
     def apply_preset(self, preset: Preset) -> None:
-        """Reset to the defaults, set the preset's values and family of curves, and show its tab."""
-        with frozen_document():  # one model-graph recompute for all the plots refreshed
-            self._apply_preset(preset)
+        """Reset to the defaults, set the preset's values and family of curves, and show its tab.
 
-    def _apply_preset(self, preset: Preset) -> None:
+        Not inside :func:`~app.params.frozen_document`: showing another tab takes the old tab's models out of the
+        page and puts the new tab's in, and with the model graph frozen meanwhile Bokeh sent some of them to the
+        browser as references it did not know ("reference pNNNN isn't known"; the tab then stayed empty)."""
         updates, _, messages = parse_query(preset_args(preset))
         defaults = {name: p.default for name, p in self.spectrum_params.param.objects().items() if name != "name"}
         self.spectrum_params.param.update(**{**defaults, **updates["spectrum"]})  # one change event
@@ -175,22 +181,24 @@ class App:
         self.write_url()  # also when the preset's values equal the current ones
 
     def clear_families(self, *_events) -> None:
-        with frozen_document():
-            self.spectrum.param.update(compare_key="", compare_values=[])
-            self.thin.compare_kW = []
+        self.spectrum.param.update(compare_key="", compare_values=[])
+        self.thin.compare_kW = []
         self.preset_info.object = ""
 
-    def preset_bar(self) -> pn.Row:
+    def preset_bar(self) -> pn.Column:
+        """The paper-figure buttons, wrapping onto more lines on a narrow page; a button's description shows below
+        it (to its right it covered the next button)."""
         buttons = []
         for preset in self.presets:
-            button = pn.widgets.Button(label=preset.label, description=preset.title, color="light", width=95)
+            button = pn.widgets.Button(label=preset.label, description=below(preset.title), color="light", width=95)
             button.on_click(lambda _e, p=preset: self.apply_preset(p))
             buttons.append(button)
         clear = pn.widgets.Button(label="Clear curves", color="light", width=110,
-                                  description="Remove the family of curves drawn by a preset")
+                                  description=below("Remove the family of curves drawn by a preset"))
         clear.on_click(self.clear_families)
         self.preset_info = pn.pane.Markdown("", sizing_mode="stretch_width")
-        return pn.Column(pn.Row(pn.pane.Markdown("**Paper figures:**", width=120), *buttons, clear),
+        return pn.Column(pn.FlexBox(pn.pane.Markdown("**Paper figures:**", width=120), *buttons, clear,
+                                    flex_wrap="wrap", align_items="center", sizing_mode="stretch_width"),
                          self.preset_info, sizing_mode="stretch_width")
 
     def template(self) -> pn.template.BootstrapTemplate:

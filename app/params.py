@@ -17,7 +17,7 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 import param
-from bokeh.models import CustomJSTickFormatter, Span
+from bokeh.models import CustomJSTickFormatter, GlyphRenderer, Span
 from param.parameterized import Undefined
 
 import model
@@ -58,6 +58,39 @@ def zero_line_hook(plot, _element) -> None:
     fig = plot.state
     if not any(getattr(r, "name", None) == ZERO_LINE for r in fig.center):
         fig.add_layout(Span(location=0, dimension="width", line_color="black", line_width=1, name=ZERO_LINE))
+
+
+#: fraction of the data's span added above and below it by :func:`fit_y_hook`
+Y_PADDING = 0.05
+
+
+def y_extent(fig) -> tuple[float, float] | None:
+    """(lowest, highest) finite y of what a Bokeh figure shows: its visible glyphs' y columns and its horizontal
+    lines (Spans: the zero line, a criterion level); None if it shows nothing."""
+    values = [np.array([s.location], dtype=float) for s in fig.center
+              if isinstance(s, Span) and s.dimension == "width" and s.visible and s.location is not None]
+    for r in fig.renderers:
+        if not isinstance(r, GlyphRenderer) or not r.visible:
+            continue
+        field = getattr(r.glyph, "y", None)
+        if isinstance(field, str) and field in r.data_source.data:
+            values.append(np.asarray(r.data_source.data[field], dtype=float).ravel())
+    finite = np.concatenate(values) if values else np.empty(0)
+    finite = finite[np.isfinite(finite)]
+    return (float(finite.min()), float(finite.max())) if finite.size else None
+
+
+def fit_y_hook(plot, _element) -> None:
+    """HoloViews plot hook: the y range spans every curve shown, with :data:`Y_PADDING`.
+
+    HoloViews computes an overlay's range from the layers of its first frame: the curves a preset adds later (a
+    family of γ, Δ or kW values) went off the plot. Hooks run after HoloViews' own range update, at every frame."""
+    extent = y_extent(plot.state)
+    if extent is None:
+        return
+    lo, hi = extent
+    pad = Y_PADDING * (hi - lo) if hi > lo else max(abs(lo) * 0.1, 1e-3)
+    plot.state.y_range.update(start=lo - pad, end=hi + pad)
 
 
 def csv_table(header: str, columns: Mapping[str, np.ndarray]) -> io.StringIO:
@@ -473,8 +506,11 @@ def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]
     """Widget -> parameter (sliders on release, `value_throttled`; other widgets on `value`) and back.
 
     A value the parameter refuses (an emptied number field, a number beyond the declared bounds) puts the
-    parameter's value back into the widget: the session never sees an invalid parameter.
+    parameter's value back into the widget: the session never sees an invalid parameter. The binding keeps its own
+    copy of `widgets`: a caller may take widgets out of its dict to lay them out (the lab panel's link checkbox was
+    popped, and every change of it raised KeyError 'link' here).
     """
+    widgets = dict(widgets)
 
     def to_param(event: param.parameterized.Event, name: str) -> None:
         try:

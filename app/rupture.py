@@ -22,7 +22,16 @@ import param
 
 import model
 
-from .params import PALETTE, RuptureParams, controls_column, csv_download, csv_table, fmt, follow_material
+from .params import (
+    PALETTE,
+    RuptureParams,
+    controls_column,
+    csv_download,
+    csv_table,
+    fmt,
+    follow_material,
+    scene_layout,
+)
 
 #: the plates of the experiment are thin: plane stress (model.PAPER_DEFAULTS.plane; Eq. dsigma's thin block is too)
 PLANE = model.PAPER_DEFAULTS.plane
@@ -399,4 +408,4 @@ class RuptureScene(pn.viewable.Viewer):
                     collapsed=True, sizing_mode="stretch_width"),
             sizing_mode="stretch_width",
         )
-        return pn.Row(controls, plots, sizing_mode="stretch_width", name="Rupture fronts")
+        return scene_layout(controls, plots, "Rupture fronts")

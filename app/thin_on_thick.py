@@ -18,7 +18,17 @@ import param
 
 import model
 
-from .params import PALETTE, ThinOnThickParams, controls_column, csv_download, csv_table, fmt, physical_parameters
+from .params import (
+    PALETTE,
+    ThinOnThickParams,
+    controls_column,
+    csv_download,
+    csv_table,
+    fit_y_hook,
+    fmt,
+    physical_parameters,
+    scene_layout,
+)
 
 #: kW grid of the effective-moduli plots (Fig. 3a and inset)
 KW = np.logspace(-2, 3, 400)
@@ -157,7 +167,7 @@ class ThinOnThickScene(pn.viewable.Viewer):
             color=PALETTE[i % len(PALETTE)], size=8, marker="square") for i, q in enumerate(self.family_points())]
         return hv.Overlay([one, curve, *fam, marker]).opts(
             hv.opts.Overlay(logx=True, responsive=True, height=320, title="(a) Effective shear modulus",
-                            show_legend=False, framewise=True, xlabel="kW", ylabel=MU_LABEL))
+                            show_legend=False, framewise=True, xlabel="kW", ylabel=MU_LABEL, hooks=[fit_y_hook]))
 
     @param.depends("nu_key", "point_key", "compare_kW")
     def nu_eff_plot(self) -> hv.Overlay:
@@ -169,7 +179,7 @@ class ThinOnThickScene(pn.viewable.Viewer):
             color=PALETTE[i % len(PALETTE)], size=6, marker="square") for i, q in enumerate(self.family_points())]
         return hv.Overlay([curve, *fam, marker]).opts(
             hv.opts.Overlay(logx=True, width=300, height=220, title="(a, inset) ν_eff",
-                            show_legend=False, framewise=True, xlabel="kW", ylabel=NU_LABEL))
+                            show_legend=False, framewise=True, xlabel="kW", ylabel=NU_LABEL, hooks=[fit_y_hook]))
 
     @param.depends("point_key", "compare_kW")
     def gy_plot(self) -> hv.Overlay:
@@ -186,7 +196,7 @@ class ThinOnThickScene(pn.viewable.Viewer):
         return hv.Overlay([zero, c_r, *fam, curve]).opts(
             hv.opts.Overlay(responsive=True, height=300, title=f"(b) G_y at kW = {fmt(pt['kW'], 4)}",
                             show_legend=bool(fam), legend_position="bottom_left", framewise=True,
-                            xlabel=Z_LABEL, ylabel=GY_LABEL))
+                            xlabel=Z_LABEL, ylabel=GY_LABEL, hooks=[fit_y_hook]))
 
     @param.depends("stress_key")
     def stress_plot(self) -> hv.Overlay:
@@ -246,4 +256,4 @@ class ThinOnThickScene(pn.viewable.Viewer):
                    csv_download(self.csv_stress, "thin_on_thick_stress.csv", "CSV (c)")),
             sizing_mode="stretch_width",
         )
-        return pn.Row(controls, plots, sizing_mode="stretch_width", name="Thin-on-thick")
+        return scene_layout(controls, plots, "Thin-on-thick")

@@ -192,10 +192,20 @@ class ServerLog(logging.Handler):
         self._seen: set[int] = set()
         self.setFormatter(logging.Formatter("%(name)s %(levelname)s: %(message)s"))
 
+    #: exceptions of a connection the browser closed (a test's page closing while the server still writes to it):
+    #: not the app's errors
+    DISCONNECTS = ("WebSocketClosedError", "StreamClosedError", "CancelledError")
+
     def emit(self, record: logging.LogRecord) -> None:
-        if (record.levelno >= logging.ERROR or record.exc_info) and id(record) not in self._seen:
-            self._seen.add(id(record))
-            self.errors.append(self.format(record))
+        if not (record.levelno >= logging.ERROR or record.exc_info) or id(record) in self._seen:
+            return
+        self._seen.add(id(record))
+        exc = record.exc_info[1] if record.exc_info else None
+        if exc is not None and type(exc).__name__ in self.DISCONNECTS:
+            return
+        if exc is None and any(name in record.getMessage() for name in self.DISCONNECTS):
+            return
+        self.errors.append(self.format(record))
 
     def __enter__(self) -> ServerLog:
         for name in self.LOGGERS:

@@ -171,14 +171,24 @@ def _read_csv(buffer: io.StringIO) -> tuple[list[str], np.ndarray]:
 
 
 def test_spectrum_csv_equals_the_plotted_data() -> None:
+    """One CSV per plot (issue 23 item 12: one button served three plots), each with what the plot shows, the
+    preset's family of curves included."""
     scene = sp.SpectrumScene()
-    names, data = _read_csv(scene.csv())
+    scene.param.update(compare_key="gamma", compare_values=[2.0, 10.0])
     d = scene.data()
-    assert names[:3] == ["kH", "Re_z", "Im_z"]
-    np.testing.assert_array_equal(data[:, 0], d["kH"])
-    np.testing.assert_array_equal(data[:, 1], d["z"].real)
-    np.testing.assert_array_equal(data[:, 2], d["z"].imag)
-    np.testing.assert_array_equal(data[:, names.index("status")], d["status"])
+    for csv, part, name in ((scene.csv_growth, "imag", "Im_z"), (scene.csv_phase, "real", "Re_z")):
+        names, data = _read_csv(csv())
+        assert names[:2] == ["kH", name] and names[-2:] == [f"{name}(gamma=2.0)", f"{name}(gamma=10.0)"]
+        np.testing.assert_array_equal(data[:, 0], d["kH"])
+        np.testing.assert_array_equal(data[:, 1], getattr(d["z"], part))
+        np.testing.assert_array_equal(data[:, names.index("status")], d["status"])
+        np.testing.assert_array_equal(data[:, -1], getattr(model.spectrum(d["kH"], gamma=10.0, f=0.9, beta=0.3), part))
+    names, data = _read_csv(scene.csv_gy())
+    assert names == ["kH", "G_y_at_z_R"]
+    z_r = float(model.rayleigh_speed(0.3))
+    np.testing.assert_array_equal(data[:, 1], np.real(model.response_functions(np.full(d["kH"].shape, z_r), d["kH"],
+                                                                                beta=0.3, eta=math.inf)[1]))
+    assert "criterion level" in scene.csv_gy().getvalue().splitlines()[0]
 
 
 def test_thin_on_thick_csv_equals_the_plotted_data() -> None:
