@@ -493,8 +493,9 @@ class AtlasScene(pn.viewable.Viewer):
         if "params" not in kwargs:
             kwargs["params"] = SpectrumParams()
         super().__init__(**kwargs)
-        self._requested = AtlasRequest(name=requested) if isinstance(requested, str) or requested is None \
-            else requested
+        if isinstance(requested, dict):
+            requested = AtlasRequest(**requested)
+        self._requested = requested if isinstance(requested, AtlasRequest) else AtlasRequest(name=requested)
         self.phases = {kind: (pn.pane.Markdown("", sizing_mode="stretch_width", margin=(0, 10)),
                               pn.indicators.Progress(value=0, max=100, bar_color="primary",
                                                      sizing_mode="stretch_width", height=18))
@@ -525,6 +526,16 @@ class AtlasScene(pn.viewable.Viewer):
         self.param.watch(self._sync_widgets, ["atlas", "data", "x_axis", "y_axis", "surface_axes"])
         self.param.watch(self._update_surface, ["data", "surface_axes", "indices", "surface_shown"])
         self.param.watch(lambda e: self._show(e.new), "message")
+
+    def url_state(self) -> dict[str, object]:
+        """What a URL needs to show this view again (app.urlstate.atlas_query): the atlas, the two axes, the other
+        axes' grid values and the 3-D axes; before an atlas is open, what was requested."""
+        d = self.data
+        if d is None:
+            r = self._requested
+            return {"name": r.name, "x": r.x, "y": r.y, "at": dict(r.at), "surface": r.surface}
+        at = {n: float(d.axes[n][self.indices.get(n, 0)]) for n in d.names if n not in (self.x_axis, self.y_axis)}
+        return {"name": d.name, "x": self.x_axis, "y": self.y_axis, "at": at, "surface": tuple(self.surface_axes)}
 
     # -- which atlas --------------------------------------------------------------------------
 

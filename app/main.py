@@ -6,14 +6,16 @@ Tests build the same page through :func:`create_app`.
 
 from __future__ import annotations
 
+import html
+
 import panel as pn
 import param
 from bokeh.models import Tooltip
 
 from app.all_branches import AllBranchesScene
-from app.atlas import AtlasScene
+from app.atlas import AtlasRequest, AtlasScene
 from app.lab import LabScene
-from app.params import LabParams, RuptureParams, SpectrumParams, set_with_material
+from app.params import CUSTOM, LabParams, RuptureParams, SpectrumParams, set_with_material
 from app.paths import CSS, FAVICON, LOGO
 from app.presets import Preset, load_presets, preset_args
 from app.rupture import RuptureScene
@@ -90,11 +92,12 @@ class App:
         self._apply(updates)
         self.lab = LabScene(params=self.lab_params, spectrum=self.spectrum_params)  # in Spectrum and Stability map
         self.spectrum = SpectrumScene(params=self.spectrum_params, lab=self.lab)
-        self.map = StabilityMapScene(params=self.spectrum_params, lab=self.lab)
-        self.thin = ThinOnThickScene(params=self.thin_params)
-        self.rupture = RuptureScene(params=self.rupture_params)
-        self.branches = AllBranchesScene(params=self.spectrum_params)
-        self.atlas = AtlasScene(params=self.spectrum_params, requested=updates["atlas"].get("name"))
+        self.map = StabilityMapScene(params=self.spectrum_params, lab=self.lab, **updates["map"])
+        # the page's one set of material constants (ρ, c_s, σ₀, the material) is the Lab-units panel's
+        self.thin = ThinOnThickScene(params=self.thin_params, material=self.lab_params)
+        self.rupture = RuptureScene(params=self.rupture_params, material=self.lab_params)
+        self.branches = AllBranchesScene(params=self.spectrum_params, **updates["branches"])
+        self.atlas = AtlasScene(params=self.spectrum_params, requested=AtlasRequest(**updates["atlas"]))
         # the Stability-map, Thin-on-thick and All-branches scenes are built when their tab is first shown: a new
         # session pays only for what it opens on (about half of create_app's cost), and parameter changes
         # update only the widgets that exist (StabilityMapScene.ensure_map defers its pane updates for this)
@@ -112,13 +115,19 @@ class App:
                 self._build_tab(index)
         self.tabs.param.watch(lambda e: self._build_tab(e.new), "active")
         self.presets = load_presets()
+        messages += self._refused(updates)
         self.show_messages(messages, "Some values in the URL were not used as given")
         self.spectrum_params.param.watch(self.write_url, list(self.spectrum_params.param))
         self.thin_params.param.watch(self.write_url, list(self.thin_params.param))
         self.lab_params.param.watch(self.write_url, list(self.lab_params.param))
         self.rupture_params.param.watch(self.write_url, list(self.rupture_params.param))
+        self.map.param.watch(self.write_url, ["plane", "resolution"])
+        self.branches.param.watch(self.write_url, ["log10_kH", "re_max", "im_min", "im_max"])
         self.tabs.param.watch(self.write_url, "active")
-        self.atlas.param.watch(self.write_url, "atlas")
+        self.atlas.param.watch(self.write_url, ["atlas", "data", "x_axis", "y_axis", "indices", "surface_axes"])
+        # the address bar shows what the page uses: values the banner reports as clamped or ignored are replaced
+        if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:
+            pn.state.onload(self.write_url)
         # a hidden All-branches tab defers its (up to ~1.5 s) recomputation until it is shown again
         branches_tab = TABS.index("branches")
         self.branches.active = self.tabs.active == branches_tab
@@ -134,12 +143,31 @@ class App:
         self.spectrum_params.param.update(**updates["spectrum"])
         self.thin_params.param.update(**updates["thin"])
         set_with_material(self.lab_params, updates["lab"])
-        set_with_material(self.rupture_params, updates["rupture"])
+        rupture = dict(updates["rupture"])
+        material = updates["lab"].get("material")
+        if material not in (None, CUSTOM) and "nu" not in rupture:  # a material named alone brings its ν too
+            rupture["nu"] = RuptureParams.material_nu(material)
+        self.rupture_params.param.update(**rupture)
+
+    def _refused(self, updates: Updates) -> list[str]:
+        """Messages for URL values that parse but that the model refuses (a negative height, c ≥ c_R, …): the
+        scenes say so too, but the lab panel is folded and the tabs may not be shown."""
+        out = []
+        if updates["lab"]:
+            error = self.lab.state().error
+            if error:
+                out.append(f"the lab values are not valid, the sliders do not follow them: {html.escape(error)}")
+        if updates["rupture"] or updates["lab"]:
+            out += [f"rupture fronts: {html.escape(m)} (empty: {', '.join(w)})"
+                    for m, w in self.rupture.errors().items()]
+        if updates["branches"] and self.branches.window_message:
+            out.append(f"All branches: {html.escape(self.branches.window_message)}")
+        return out
 
     def param_objects(self) -> dict[str, param.Parameterized]:
         """The parameter objects by URL target (app.urlstate.TARGETS)."""
         return {"spectrum": self.spectrum_params, "thin": self.thin_params, "lab": self.lab_params,
-                "rupture": self.rupture_params}
+                "rupture": self.rupture_params, "map": self.map, "branches": self.branches}
 
     def show_messages(self, messages: list[str], title: str) -> None:
         self.messages.object = f"**{title}:**\n\n" + "\n".join(f"- {m}" for m in messages) if messages else ""
@@ -150,7 +178,9 @@ class App:
         location = pn.state.location
         if location is not None:
             tab = TABS[self.tabs.active]
-            location.search = query_string(self.param_objects(), tab, self.atlas.atlas if tab == "atlas" else None)
+            search = query_string(self.param_objects(), tab, self.atlas.url_state() if tab == "atlas" else None)
+            if location.search != search:
+                location.search = search
 
     def apply_preset(self, preset: Preset) -> None:
         """Reset to the defaults, set the preset's values and family of curves, and show its tab.
@@ -167,7 +197,7 @@ class App:
         if preset.tab == "rupture":  # the rupture inputs start from the paper's, like the sliders from Fig. 4's
             rupture = {**{n: p.default for n, p in self.rupture_params.param.objects().items() if n != "name"},
                        **rupture}
-        set_with_material(self.rupture_params, rupture)
+        self.rupture_params.param.update(**rupture)
         if preset.compare_key == "kW":
             self.thin.compare_kW = list(preset.compare_values)
             self.spectrum.param.update(compare_key="", compare_values=[])

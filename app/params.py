@@ -204,15 +204,17 @@ class Physical(param.Number):
 
 class Choice(param.Selector):
     """A choice from a fixed list (a material preset, plane strain or stress), declared once like :class:`Physical`:
-    ``label`` is shown, ``url`` is its key in the URL query, where only the listed ``objects`` are accepted."""
+    ``label`` is shown, ``url`` is its key in the URL query, where only the listed ``objects`` are accepted, or the
+    ASCII ``words`` given for them (object -> word: "eta-gamma" for the plane "η-γ")."""
 
-    __slots__ = ["url"]
-    _slot_defaults = dict(param.Selector._slot_defaults, url=None)
+    __slots__ = ["url", "words"]
+    _slot_defaults = dict(param.Selector._slot_defaults, url=None, words=None)
 
     def __init__(self, default: Any = Undefined, *, objects: Any = Undefined, url: Any = Undefined,
-                 **params: Any) -> None:
+                 words: Any = Undefined, **params: Any) -> None:
         super().__init__(default=default, objects=objects, **params)
         self.url = url
+        self.words = words
 
 
 class Switch(param.Boolean):
@@ -297,18 +299,15 @@ class SpectrumParams(param.Parameterized):
 
 class ThinOnThickParams(param.Parameterized):
     """The parameters of the thin-on-thick scene (paper Sect. III; docs/physics.md §6). Defaults: the PMMA
-    experiment of Sect. S-V (kW = 5, ν = 0.33, c_s = 1345 m/s, σ₀ = 4.5 MPa; ρ = 1180 kg/m³ is assumed: the
-    paper does not state it)."""
+    experiment of Sect. S-V (kW = 5, ν = 0.33). Its material constants c_s, ρ and σ₀ are the shared ones of the
+    Lab-units panel (:class:`LabParams`: PMMA, c_s = 1345 m/s, ρ = 1180 kg/m³ assumed, σ₀ = 4.5 MPa)."""
 
     log10_kW = Physical(math.log10(5.0), bounds=(-2.0, 2.0), step=0.01, label="kW", url="kW", log10=True,
                         doc="kW: wavenumber k times the thin block's width W (slider: log10 kW)")
     nu = Physical(0.33, bounds=(0.0, 0.49), step=0.005, label="ν", url="nu", doc="Poisson ratio ν")
-    c_s = Physical(1345.0, bounds=(1.0, 1e4), step=1.0, label="c_s [m/s]", url="c_s", widget="input",
-                   doc="shear wave speed c_s [m/s] (PMMA: 1345)")
-    rho = Physical(1180.0, bounds=(1.0, 3e4), step=10.0, label="ρ [kg/m³]", url="rho", widget="input",
-                   doc="density ρ [kg/m³]; μ = ρ c_s²")
-    sigma0_MPa = Physical(4.5, bounds=(1e-3, 1e4), step=0.1, label="σ₀ [MPa]", url="sigma0", widget="input",
-                          doc="normal stress σ₀ [MPa]")
+
+    #: the URL holds only the values that differ from the defaults
+    URL_CHANGED_ONLY = True
 
     @property
     def kW(self) -> float:
@@ -331,6 +330,9 @@ CUSTOM = "custom"
 class LabParams(param.Parameterized):
     """A laboratory setting in lab units (docs/physics.md §12), mapped onto γ, f, β, η, Δ, ξ by
     :func:`model.dimensionless_parameters` (the Lab-units panel of the Spectrum and Stability-map scenes).
+
+    Its material constants (:data:`SHARED_MATERIAL`: the material, ρ, c_s, σ₀) are the page's one set: the
+    Thin-on-thick and Rupture-fronts scenes use them too and show widgets bound to them.
 
     Defaults: the PMMA preset (ρ = 1180 kg/m³, an assumption; c_s = 1345 m/s, c_d = 2700 m/s), plane strain (the
     paper's Sect. IV), H₁ = 10 mm on a half-space (η = ∞), σ₀ = 4.5 MPa, f = 0.9, and rate-and-state a = 0.01,
@@ -390,24 +392,17 @@ class LabParams(param.Parameterized):
 class RuptureParams(param.Parameterized):
     """The inputs of the steady mode-II cohesive-zone model of a rupture front (supplement S-V C; docs/physics.md
     §13) and of Eq. dsigma at its peak slip velocity. Defaults: the paper's (model.PAPER_DEFAULTS: Γ = 1.1 J/m²,
-    X_c0 = 2.5 mm, σ₀ = 4.5 MPa, PMMA c_s = 1345 m/s, ν = 0.33, assumed ρ = 1180 kg/m³; kW = 3, 4, 5), at c = 0.9 c_R.
+    X_c0 = 2.5 mm, ν = 0.33; kW = 3, 4, 5), at c = 0.9 c_R. Its material constants ρ, c_s and σ₀ are the shared ones
+    of the Lab-units panel (:class:`LabParams`; the paper's PMMA c_s = 1345 m/s, σ₀ = 4.5 MPa, assumed
+    ρ = 1180 kg/m³); ν follows the shared material's preset (the source's ν where it reports one) and can be edited.
     """
 
-    c_over_cR = Physical(0.9, bounds=(0.0, 2.0), softbounds=(0.01, 0.999), step=0.001, label="c/c_R", url="c_cR",
+    c_over_cR = Physical(0.9, bounds=(0.01, 0.999), step=0.001, label="c/c_R", url="c_cR",
                          doc="rupture speed c over the Rayleigh speed c_R (plane stress); the model needs 0 < c < c_R")
     Gamma = Physical(model.PAPER_DEFAULTS.Gamma, bounds=(-1e6, 1e6), step=0.1, label="Γ [J/m²]", url="Gamma",
                      widget="input", doc="fracture energy Γ [J/m²], constant in c")
     X_c0_mm = Physical(model.PAPER_DEFAULTS.X_c0 * 1e3, bounds=(-1e6, 1e6), step=0.1, label="X_c0 [mm]", url="Xc0",
                        widget="input", doc="cohesive zone size X_c0 = X_c(c → 0) [mm]")
-    sigma0_MPa = Physical(model.PAPER_DEFAULTS.sigma0 / 1e6, bounds=(-1e6, 1e6), step=0.1, label="σ₀ [MPa]",
-                          url="rup_sigma0", widget="input", doc="normal stress σ₀ [MPa]")
-    material = Choice("PMMA", objects=[*model.material_names(), CUSTOM], label="Material", url="rup_material",
-                      doc="material preset: fills in ρ, c_s and ν (the source's ν where it reports one: PMMA 0.33 "
-                          "as in the paper; else from the bulk speeds); editing them makes it custom")
-    rho = Physical(model.PAPER_DEFAULTS.rho, bounds=(-1e6, 1e6), step=10.0, label="ρ [kg/m³]", url="rup_rho",
-                   widget="input", doc="density ρ [kg/m³] (PMMA: an assumption, the paper gives none); μ = ρ c_s²")
-    c_s = Physical(model.PAPER_DEFAULTS.c_s, bounds=(-1e6, 1e6), step=1.0, label="c_s [m/s]", url="rup_cs",
-                   widget="input", doc="shear wave speed c_s [m/s]")
     nu = Physical(model.PAPER_DEFAULTS.nu, bounds=(-100.0, 100.0), step=0.01, label="ν", url="rup_nu",
                   widget="input", doc="Poisson ratio ν (3-D); the plates are in plane stress")
     kW1 = Physical(model.PAPER_DEFAULTS.kW[0], bounds=(-1e6, 1e6), step=0.5, label="kW₁", url="kW1", widget="input",
@@ -417,22 +412,37 @@ class RuptureParams(param.Parameterized):
     kW3 = Physical(model.PAPER_DEFAULTS.kW[2], bounds=(-1e6, 1e6), step=0.5, label="kW₃", url="kW3", widget="input",
                    doc="third kW of the Δσ_yy/σ₀ curves")
 
-    MATERIAL_FIELDS = ("rho", "c_s", "nu")
     URL_CHANGED_ONLY = True
 
     @staticmethod
-    def material_values(name: str) -> dict[str, float]:
-        """ρ, c_s and ν of the material preset `name`: ν as the source reports it where it does, else from the
-        bulk speeds (model.Material.nu)."""
+    def material_nu(name: str) -> float:
+        """ν of the material preset `name` as the source reports it where it does, else from the bulk speeds
+        (model.Material.nu)."""
         m = model.material(name)
-        return {"rho": m.rho, "c_s": m.c_s, "nu": m.reported.get("nu", m.nu)}
+        return float(m.reported.get("nu", m.nu))
 
     def make_widgets(self) -> dict[str, pn.widgets.Widget]:
         """Fresh widgets bound to this object (:func:`make_widgets`)."""
         return make_widgets(self)
 
 
-def set_with_material(obj: LabParams | RuptureParams, updates: dict[str, Any]) -> None:
+#: the material constants of :class:`LabParams` that every scene uses (one set per page)
+SHARED_MATERIAL = ("material", "rho", "c_s", "sigma0_MPa")
+
+
+def material_heading(used_by: str) -> pn.pane.Markdown:
+    """The heading of a scene's shared material widgets, saying where else they act."""
+    return pn.pane.Markdown(f"### Material and normal stress\n\nShared with {used_by}: a change here changes them "
+                            "there too.", stylesheets=[HEADING_CSS], sizing_mode="stretch_width")
+
+
+def material_readout(lab: LabParams) -> str:
+    """The shared material constants a scene uses, in one line."""
+    return (f"**Lab values used** (shared): {lab.material}, ρ = {fmt(lab.rho)} kg/m³, c_s = {fmt(lab.c_s)} m/s, "
+            f"σ₀ = {fmt(lab.sigma0_MPa)} MPa")
+
+
+def set_with_material(obj: LabParams, updates: dict[str, Any]) -> None:
     """Set `updates` on `obj`; a material named there brings its preset's values, except those `updates` sets
     itself (a URL or a preset naming only the material gets its values; values given with it win, and the material
     then reads custom if they differ from the preset's)."""
@@ -449,7 +459,7 @@ def set_with_material(obj: LabParams | RuptureParams, updates: dict[str, Any]) -
         obj.material = CUSTOM
 
 
-def follow_material(obj: LabParams | RuptureParams) -> None:
+def follow_material(obj: LabParams) -> None:
     """Keep `obj`'s material choice and its values consistent: picking a preset fills in its values (those not set
     in the same update), and values that differ from the preset make the choice custom."""
     fields = set(obj.MATERIAL_FIELDS)
@@ -488,13 +498,13 @@ def make_widget(p: param.Parameter, value: Any) -> pn.widgets.Widget:
                                   sizing_mode="stretch_width", **options)
 
 
-def make_widgets(obj: param.Parameterized) -> dict[str, pn.widgets.Widget]:
+def make_widgets(obj: param.Parameterized, names: tuple[str, ...] | None = None) -> dict[str, pn.widgets.Widget]:
     """Widgets for every user-facing parameter of `obj` (:class:`Physical`, :class:`Choice` and Boolean ones with a
-    non-negative precedence), in declaration order, built from the declarations and bound both ways
-    (:func:`bind_two_way`)."""
+    non-negative precedence), or for those in `names`, in declaration order, built from the declarations and bound
+    both ways (:func:`bind_two_way`)."""
     widgets = {}
     for name, p in obj.param.objects("existing").items():
-        if name == "name" or (p.precedence is not None and p.precedence < 0):
+        if name == "name" or (p.precedence is not None and p.precedence < 0) or (names and name not in names):
             continue
         if isinstance(p, Physical | Choice | param.Boolean):
             widgets[name] = make_widget(p, getattr(obj, name))
@@ -545,10 +555,17 @@ def heading(text: str) -> pn.pane.Markdown:
     return pn.pane.Markdown(f"### {text}", stylesheets=[HEADING_CSS])
 
 
-def controls_column(widgets: dict[str, pn.widgets.Widget], readout) -> pn.Column:
-    """The left column of a scene: parameter widgets, then the readout."""
-    return pn.Column(heading("Parameters"), *widgets.values(), pn.pane.Markdown(readout, sizing_mode="stretch_width"),
-                     width=320)
+def controls_column(widgets: dict[str, pn.widgets.Widget], readout, extra: tuple = ()) -> pn.Column:
+    """The left column of a scene: parameter widgets, `extra` components (e.g. the shared material's widgets), then
+    the readout."""
+    return pn.Column(heading("Parameters"), *widgets.values(), *extra,
+                     pn.pane.Markdown(readout, sizing_mode="stretch_width"), width=320)
+
+
+def shared_material_widgets(lab: LabParams, used_by: str) -> tuple:
+    """The heading and widgets of the page's shared material constants (:data:`SHARED_MATERIAL`) for a scene's
+    controls."""
+    return (material_heading(used_by), *make_widgets(lab, SHARED_MATERIAL).values())
 
 
 #: below this page width (px) a scene's controls stack above its plots and both take the whole width (phones)

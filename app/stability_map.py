@@ -43,7 +43,7 @@ import param
 import model
 
 from .common import COLOUR_LEGEND, GROWTH_CMAP, GROWTH_LABEL, MAP_POLL_MS, MARGINAL, NAN_COLOR, neutral_lines
-from .params import SpectrumParams, controls_column, csv_download, csv_table, fmt, frozen_document, scene_layout
+from .params import Choice, SpectrumParams, controls_column, csv_download, csv_table, fmt, frozen_document, scene_layout
 
 log = logging.getLogger(__name__)
 
@@ -121,6 +121,10 @@ class Axis:
 PLANE_ARGS = (("eta", "gamma"), ("Delta", "xi"), ("f", "gamma"), ("beta", "gamma"))
 PLANES: dict[str, tuple[Axis, Axis]] = {
     f"{Axis.of(x).label}-{Axis.of(y).label}": (Axis.of(x), Axis.of(y)) for x, y in PLANE_ARGS}
+
+
+#: the planes' URL words ("eta-gamma" for "η-γ")
+PLANE_WORDS = {f"{Axis.of(x).label}-{Axis.of(y).label}": f"{x}-{y}" for x, y in PLANE_ARGS}
 
 
 def plane_axes(plane: str, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -282,8 +286,8 @@ class StabilityMapScene(pn.viewable.Viewer):
     """Heat map of the maximal growth rate over a parameter plane, with Fig. 4c, for one :class:`SpectrumParams`."""
 
     params = param.ClassSelector(class_=SpectrumParams)
-    plane = param.Selector(objects=list(PLANES), default="η-γ", label="Plane (x-y)")
-    resolution = param.Selector(objects=list(RESOLUTIONS), default="medium", label="Resolution")
+    plane = Choice("η-γ", objects=list(PLANES), label="Plane (x-y)", url="map", words=PLANE_WORDS)
+    resolution = Choice("medium", objects=list(RESOLUTIONS), label="Resolution", url="map_res")
     #: what the map depends on (see :func:`key_for`); changes only when the map must be recomputed
     map_key = param.Tuple(default=None, length=3, allow_None=True, precedence=-1)
     #: the last finished map (possibly for an older key)
@@ -292,6 +296,9 @@ class StabilityMapScene(pn.viewable.Viewer):
     status = param.String("idle", precedence=-1)
     #: the Lab-units panel (an app.lab.LabScene, shared with the Spectrum scene) shown above the map; None: none
     lab = param.ClassSelector(class_=pn.viewable.Viewer, default=None, allow_None=True, precedence=-1)
+
+    #: the URL holds the plane and resolution only where they differ from the defaults
+    URL_CHANGED_ONLY = True
 
     def __init__(self, **kwargs):
         if "params" not in kwargs:

@@ -292,7 +292,7 @@ def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: P
     app = create_app({"tab": ["atlas"], "atlas": ["eta-gamma"]}).app
     assert app.tabs.active == TABS.index("atlas") and not app.messages.visible
     assert app.atlas.atlas == "eta-gamma" and app.atlas.data is not None  # built: the tab is the active one
-    assert "atlas=eta-gamma" in query_string(app.param_objects(), "atlas", app.atlas.atlas)
+    assert "atlas=eta-gamma" in query_string(app.param_objects(), "atlas", app.atlas.url_state())
     for bad in ("../eta-gamma", "/etc/passwd", "nope"):
         other = create_app({"tab": ["atlas"], "atlas": [bad]}).app
         assert other.messages.visible and "is not one of the atlases" in other.messages.object
@@ -351,3 +351,33 @@ def test_atlas_tab_in_the_browser(atlas_dir: Path, served_app: str, browser_page
     page.locator(".js-plotly-plot").first.wait_for(state="visible", timeout=60_000)  # rendered offline
     save_screenshot(page, "screenshot_atlas_3d.png", paint_ms=800)  # the 3-D plot's first paint
     # browser_page fails the test on any console error (e.g. plotly.js not served by this server)
+
+
+def test_a_shared_url_restores_the_atlas_view(atlas_dir: Path) -> None:
+    """Issue 23 item 10: the atlas, its heat-map axes, the other axes' values and the 3-D axes go into the URL, and
+    the URL brings them back; values that do not fit are reported and left as they were."""
+    import urllib.parse
+
+    from app.main import create_app
+    from app.urlstate import query_string
+
+    app = create_app({"tab": ["atlas"], "atlas": ["small"]}).app
+    scene = app.atlas
+    scene.x_select.value = "beta"  # the current y: the two swap
+    scene._set_index("f", 1)
+    scene.surface_axes = ["f", "beta", "gamma"]
+    query = query_string(app.param_objects(), "atlas", scene.url_state())
+    args = urllib.parse.parse_qs(query[1:])
+    assert args["atlas"] == ["small"] and args["ax"] == ["beta"] and args["ay"] == ["gamma"]
+    assert float(args["at_f"][0]) == pytest.approx(AXES["f"][1]) and args["surface"] == ["f,beta,gamma"]
+    again = create_app(args).app
+    restored = again.atlas
+    assert not again.messages.visible
+    assert (restored.atlas, restored.x_axis, restored.y_axis) == ("small", "beta", "gamma")
+    assert restored.indices["f"] == 1 and restored.surface_axes == ["f", "beta", "gamma"]
+    assert query_string(again.param_objects(), "atlas", restored.url_state()) == query
+    odd = create_app({"tab": ["atlas"], "atlas": ["eta-gamma"], "ax": ["beta"], "at_f": ["0.5"],
+                      "at_gamma": ["x"], "ay": ["../x"]}).app
+    assert "at_gamma = 'x' is not a finite number" in odd.messages.object and "ay = '../x'" in odd.messages.object
+    assert (odd.atlas.x_axis, odd.atlas.y_axis) == ("eta", "gamma")  # the atlas's own axes
+    assert "x axis beta is not an axis of atlas eta-gamma" in odd.atlas.message

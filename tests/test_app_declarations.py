@@ -16,24 +16,31 @@ from app.params import (
     declared_parameters,
     physical_parameters,
 )
+from app.all_branches import AllBranchesScene
 from app.spectrum import FAMILY
-from app.stability_map import PLANES
+from app.stability_map import PLANES, StabilityMapScene
 from app.urlstate import QUERY, TARGETS, parse_query
 
 CLASSES = (("spectrum", SpectrumParams), ("thin", ThinOnThickParams), ("lab", LabParams), ("rupture", RuptureParams))
+#: scenes whose own settings are in the URL too (issue 23 item 10: the map's plane and resolution, the All-branches
+#: kH and window)
+SCENES = (("map", StabilityMapScene), ("branches", AllBranchesScene))
 
 
 def test_every_url_key_is_a_declared_parameter_with_its_range_and_symbol() -> None:
-    assert tuple(TARGETS.items()) == CLASSES
-    declared = [(target, name, p) for target, cls in CLASSES for name, p in declared_parameters(cls).items() if p.url]
+    assert tuple(TARGETS.items()) == CLASSES + SCENES
+    declared = [(target, name, p) for target, cls in CLASSES + SCENES for name, p in declared_parameters(cls).items()
+                if p.url]
     assert [q.key for q in QUERY] == [p.url for _, _, p in declared]
     assert len({q.key for q in QUERY}) == len(QUERY)
     for q, (target, name, p) in zip(QUERY, declared, strict=True):
         assert (q.target, q.attribute, q.symbol) == (target, name, p.label)
         if isinstance(p, Physical):
-            assert (q.kind, q.log10, q.infinite, (q.lo, q.hi)) == ("number", p.log10, p.infinite, p.physical_bounds())
+            bounds = p.physical_bounds() if p.bounds is not None else (float("-inf"), float("inf"))
+            assert (q.kind, q.log10, q.infinite, (q.lo, q.hi)) == ("number", p.log10, p.infinite, bounds)
         elif isinstance(p, Choice):
-            assert (q.kind, q.choices) == ("choice", tuple(p.objects))
+            words = tuple((p.words or {}).get(o, o) for o in p.objects)
+            assert (q.kind, q.choices, q.words) == ("choice", tuple(p.objects), words)
         else:
             assert isinstance(p, Switch) and q.kind == "switch"
 
