@@ -26,6 +26,7 @@ import param
 
 import model
 
+from .docs import reference_card
 from .params import (
     Physical,
     SpectrumParams,
@@ -481,6 +482,7 @@ class AllBranchesScene(pn.viewable.Viewer):
             pn.pane.HoloViews(self.count_dmap, sizing_mode="stretch_width", linked_axes=False),
             self.count_download,
             pn.pane.Markdown(HELP, sizing_mode="stretch_width"),
+            reference_card("3"),
             sizing_mode="stretch_width",
         )
         return scene_layout(controls, plots, "All branches")

@@ -33,6 +33,7 @@ from bokeh.models import CustomJSTickFormatter, LinearAxis
 import model
 
 from . import spectrum as sp
+from .docs import reference_card
 from .params import (
     LabParams,
     SpectrumParams,
@@ -459,6 +460,7 @@ class LabScene(pn.viewable.Viewer):
         fields = pn.GridBox(*w.values(), ncols=3, sizing_mode="stretch_width")
         body: list[pn.viewable.Viewable] = [
             pn.pane.Markdown(ASSUMPTION, sizing_mode="stretch_width"),
+            reference_card("12.3"),
             fields,
             pn.Row(link, apply, sizing_mode="stretch_width"),
             pn.panel(self.status),

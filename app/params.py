@@ -25,7 +25,7 @@ import model
 hv.extension("bokeh", logo=False)
 # plotly.js with every page (served by this server from Panel's bundle): the Atlas tab's 3-D view is created after
 # the page has loaded (a lazily built tab), when it is too late to add a JavaScript library to the page
-pn.extension("plotly")
+pn.extension("plotly", "katex")  # katex: the equations of the Spectrum and All-branches tabs
 # Canvas, not WebGL: the plots hold at most a few thousand points, and copying the WebGL layer onto
 # the canvas (software GL without a GPU) was most of a browser update in Chromium's profile
 # (benchmarks/design_measurements.md). Image-based plots are unaffected.
@@ -291,9 +291,14 @@ class SpectrumParams(param.Parameterized):
         η = ∞ is ticked."""
         w = make_widgets(self)
         w["xi"].disabled = self.Delta == 1
-        w["log10_eta"].disabled = self.eta_infinite
+        finite_format, infinite_format = w["log10_eta"].format, CustomJSTickFormatter(code=INFINITE_TICKS)
+
+        def show_eta(infinite: bool) -> None:  # the slider reads ∞ while η = ∞ is ticked (not its last finite value)
+            w["log10_eta"].param.update(disabled=infinite, format=infinite_format if infinite else finite_format)
+
+        show_eta(self.eta_infinite)
         self.param.watch(lambda e: setattr(w["xi"], "disabled", e.new == 1), "Delta")
-        self.param.watch(lambda e: setattr(w["log10_eta"], "disabled", e.new), "eta_infinite")
+        self.param.watch(lambda e: show_eta(e.new), "eta_infinite")
         return w
 
 
@@ -479,13 +484,34 @@ def follow_material(obj: LabParams) -> None:
 
 #: tick labels of a log10 slider show the physical value
 LOG10_TICKS = "return Math.pow(10, tick).toPrecision(3)"
+#: a disabled slider whose value is ∞ (η = ∞ ticked) reads ∞
+INFINITE_TICKS = "return '∞'"
+
+
+class LabelledCheckbox(pn.widgets.CheckBoxGroup):
+    """A checkbox whose label toggles it as well (Bokeh's Checkbox draws its label as a separate element that
+    ignores clicks): a CheckBoxGroup of one option, the label, whose ``checked`` is True while it is ticked."""
+
+    checked = param.Boolean(default=False, doc="whether the box is ticked")
+
+    _rename = {**pn.widgets.CheckBoxGroup._rename, "checked": None}  # not a property of the Bokeh model
+
+    def __init__(self, *, label: str, checked: bool = False, **params: Any) -> None:
+        super().__init__(label=label, options=[label], value=[label] if checked else [], checked=checked, **params)
+        self.param.watch(lambda e: self.param.update(checked=bool(e.new)), "value")
+        self.param.watch(lambda e: self.param.update(value=[self.label] if e.new else []), "checked")
+
+
+def decimals(step: float) -> int:
+    """How many decimals a slider with this step shows (0.001: 3, so that 0.996 does not read 1)."""
+    return max(0, -math.floor(math.log10(step) + 1e-9)) if step > 0 else 2
 
 
 def make_widget(p: param.Parameter, value: Any) -> pn.widgets.Widget:
     """The widget of one declared parameter: a slider over its soft range (widened to include `value`, which a
-    URL or a preset may put outside), a number field, or a checkbox."""
+    URL or a preset may put outside) showing its step's decimals, a number field, or a checkbox."""
     if isinstance(p, param.Boolean):
-        return pn.widgets.Checkbox(label=p.label, value=value)
+        return LabelledCheckbox(label=p.label, checked=value)
     if isinstance(p, param.Selector):
         return pn.widgets.Select(label=p.label, options=list(p.objects), value=value, sizing_mode="stretch_width")
     if getattr(p, "widget", "slider") == "input":
@@ -493,7 +519,8 @@ def make_widget(p: param.Parameter, value: Any) -> pn.widgets.Widget:
         return pn.widgets.FloatInput(label=p.label, start=lo, end=hi, step=p.step, value=value,
                                      sizing_mode="stretch_width")
     lo, hi = p.softbounds if p.softbounds is not None else p.bounds
-    options: dict[str, Any] = {"format": CustomJSTickFormatter(code=LOG10_TICKS)} if getattr(p, "log10", False) else {}
+    options: dict[str, Any] = {"format": CustomJSTickFormatter(code=LOG10_TICKS) if getattr(p, "log10", False)
+                               else "0." + "0" * decimals(p.step) if decimals(p.step) else "0"}
     return pn.widgets.FloatSlider(label=p.label, start=min(lo, value), end=max(hi, value), step=p.step, value=value,
                                   sizing_mode="stretch_width", **options)
 
@@ -526,21 +553,25 @@ def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]
         try:
             set_frozen(obj, name, event.new)
         except ValueError:
-            event.obj.value = getattr(obj, name)
+            setattr(event.obj, event.name if event.name != "value_throttled" else "value", getattr(obj, name))
+
+    def attribute(widget: pn.widgets.Widget) -> str:
+        return "checked" if isinstance(widget, LabelledCheckbox) else "value"
 
     for name, widget in widgets.items():
-        event = "value_throttled" if isinstance(widget, pn.widgets.FloatSlider) else "value"
+        event = "value_throttled" if isinstance(widget, pn.widgets.FloatSlider) else attribute(widget)
         widget.param.watch(lambda e, n=name: to_param(e, n), event)
 
     def to_widget(*events: param.parameterized.Event) -> None:
         for event in events:
             widget = widgets[event.name]
-            if widget.value == event.new or (event.new != event.new and widget.value != widget.value):
+            shown = getattr(widget, attribute(widget))
+            if shown == event.new or (event.new != event.new and shown != shown):
                 continue  # already shown (NaN != NaN would otherwise loop)
             if isinstance(widget, pn.widgets.FloatSlider):  # a value set from the URL or a preset may lie
                 widget.start = min(widget.start, event.new)  # outside the slider's soft range: widen it
                 widget.end = max(widget.end, event.new)
-            widget.value = event.new
+            setattr(widget, attribute(widget), event.new)
 
     obj.param.watch(to_widget, list(widgets))
 

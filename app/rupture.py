@@ -22,6 +22,7 @@ import param
 
 import model
 
+from .docs import reference_card
 from .params import (
     CUSTOM,
     PALETTE,
@@ -422,6 +423,7 @@ class RuptureScene(pn.viewable.Viewer):
             pn.FlexBox(csv_download(self.csv_profile, "rupture_profile.csv", "CSV (a)"),
                        csv_download(self.csv_curves, "rupture_curves.csv", "CSV (b)-(d)"), flex_wrap="wrap"),
             pn.pane.Markdown(ASSUMPTIONS, sizing_mode="stretch_width"),
+            reference_card("13.1"),
             pn.Card(pn.pane.Markdown(_sources(), sizing_mode="stretch_width"), title="Defaults and sources",
                     collapsed=True, sizing_mode="stretch_width"),
             sizing_mode="stretch_width",

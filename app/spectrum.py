@@ -77,7 +77,7 @@ def band_legend_hook(plot, _element) -> None:
     """HoloViews plot hook: the legend lists the unstable band only while there is one."""
     for legend in plot.state.legend:
         for item in legend.items:
-            if item.label is not None and item.label.get("value") == BAND_LABEL:
+            if getattr(item.label, "value", None) == BAND_LABEL:
                 item.visible = any(len(next(iter(r.data_source.data.values()), [])) for r in item.renderers)
 
 

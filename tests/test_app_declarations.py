@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import pytest
 
+from app.all_branches import AllBranchesScene
 from app.params import (
     Choice,
     LabParams,
@@ -16,7 +17,6 @@ from app.params import (
     declared_parameters,
     physical_parameters,
 )
-from app.all_branches import AllBranchesScene
 from app.spectrum import FAMILY
 from app.stability_map import PLANES, StabilityMapScene
 from app.urlstate import QUERY, TARGETS, parse_query
@@ -97,3 +97,41 @@ def test_symbols_and_meanings_come_from_the_model() -> None:
     for name in SpectrumParams.MODEL_ARGS:
         decl, p = SpectrumParams.declaration(name), model.PARAMETERS[name]
         assert decl.label == p.symbol and decl.doc.startswith(p.description)
+
+
+def test_sliders_show_as_many_decimals_as_their_step() -> None:
+    """Issue 23 item 12: the c/c_R slider read "1" at 0.996."""
+    from app.params import decimals
+
+    assert [decimals(s) for s in (1.0, 0.5, 0.1, 0.01, 0.005, 0.001)] == [0, 1, 1, 2, 3, 3]
+    w = RuptureParams().make_widgets()
+    assert w["c_over_cR"].format == "0.000" and (w["c_over_cR"].start, w["c_over_cR"].end) == (0.01, 0.999)
+    assert SpectrumParams().make_widgets()["beta"].format == "0.000"
+
+
+def test_the_eta_slider_reads_infinity_while_eta_is_infinite() -> None:
+    """Issue 23 item 12: with η = ∞ ticked the slider still read 1.00e+8 (its last finite value)."""
+    p = SpectrumParams()
+    w = p.make_widgets()
+    assert w["log10_eta"].disabled and w["log10_eta"].format.code == "return '∞'"
+    w["eta_infinite"].checked = False
+    assert not p.eta_infinite and not w["log10_eta"].disabled
+    assert "Math.pow(10, tick)" in w["log10_eta"].format.code  # the finite value again
+    p.eta_infinite = True
+    assert w["eta_infinite"].value == ["η = ∞"] and w["log10_eta"].format.code == "return '∞'"
+
+
+def test_references_to_the_physics_notes_open_their_section() -> None:
+    """Issue 23 item 12: "docs/physics.md §12.3" was text, not something to follow. Each such reference in a scene is
+    a card that opens on that section."""
+    from app import all_branches, lab, rupture
+    from app.docs import reference_card, section
+
+    for text, number in ((lab.ASSUMPTION, "12.3"), (rupture.ASSUMPTIONS, "13.1"), (all_branches.HELP, "3")):
+        assert f"docs/physics.md §{number}" in text
+        title, body = section(number)
+        card = reference_card(number)
+        assert card.title == f"docs/physics.md §{number}: {title}" and card.collapsed and not card.objects
+        card.collapsed = False
+        assert card.objects[0].object == body and len(body) > 200
+    assert "Dieterich" in section("12.3")[1] or "rate-and-state" in section("12.3")[1].lower()
