@@ -15,7 +15,7 @@ from bokeh.models import Tooltip
 from app.all_branches import AllBranchesScene
 from app.atlas import AtlasRequest, AtlasScene
 from app.lab import LabScene
-from app.params import CUSTOM, LabParams, RuptureParams, SpectrumParams, set_with_material
+from app.params import CUSTOM, NARROW_PX, LabParams, RuptureParams, SpectrumParams, set_with_material
 from app.paths import CSS, FAVICON, LOGO
 from app.presets import Preset, load_presets, preset_args
 from app.rupture import RuptureScene
@@ -36,6 +36,18 @@ TAB_TITLES = ("Spectrum", "Stability map", "Thin-on-thick", "Rupture fronts", "A
 
 TITLE = "asymslide — frictional sliding without reflection symmetry"
 
+#: the page below NARROW_PX (phones): the header's title wraps in a smaller font instead of running off the screen
+PAGE_CSS = f"""
+@media (max-width: {NARROW_PX}px) {{
+  #header {{ padding-top: 4px; padding-bottom: 4px; flex-wrap: nowrap; }}
+  #header .title {{ font-size: 0.95rem; white-space: normal; line-height: 1.2; }}
+  #header .app-header {{ min-width: 0; flex: 1 1 auto; display: flex; align-items: center; }}
+  #header .app-logo {{ height: 26px; }}
+}}
+"""
+#: the tab titles wrap onto a second line where the page is narrower than they are (none is cut off)
+TABS_CSS = ":host .bk-headers-wrapper { flex-wrap: wrap; } :host .bk-headers-wrapper .bk-tab { white-space: nowrap; }"
+
 
 INTRO = """
 ## Frictional sliding without reflection symmetry
@@ -44,6 +56,8 @@ INTRO = """
 *same* material but *different* thicknesses can lose stability. Without a mirror symmetry
 across the interface, slip along it changes the normal stress on it, and through friction
 this feedback can make small perturbations grow.
+
+<div class="tab-list">
 
 **Spectrum**: the Rayleigh branch c(kH) of the linear stability spectrum (Sect. IV, Figs. 4a-b, 5).
 **Stability map**: where sliding is unstable in a parameter plane, and the threshold χ_c(β) (Fig. 4c).
@@ -57,6 +71,8 @@ threshold γ_c and the neutral surface in 3-D.
 **Lab units** (a panel in the Spectrum and Stability-map tabs): a lab setting (material, block heights, normal
 stress, rate-and-state friction) that sets the sliders and reads the spectrum back in mm, 1/s and ms.
 The parameters are kept in the page's URL: copy it to share what you see.
+
+</div>
 
 > E. Aldam, Y. Bar-Sinai, I. Svetlizky, E. A. Brener, J. Fineberg and E. Bouchbinder,
 > *Frictional sliding without geometrical reflection symmetry*,
@@ -109,6 +125,7 @@ class App:
             active=TABS.index(tab) if tab else 0,
             dynamic=True,  # only the visible scene is rendered (and computes)
             sizing_mode="stretch_width",
+            stylesheets=[TABS_CSS],
         )
         for index, key in enumerate(TABS):
             if key not in LAZY_TABS or index == self.tabs.active:
@@ -233,13 +250,16 @@ class App:
 
     def template(self) -> pn.template.BootstrapTemplate:
         intro = pn.pane.Markdown(INTRO, stylesheets=[CSS.read_text(encoding="utf-8")], sizing_mode="stretch_width")
-        return pn.template.BootstrapTemplate(
+        template = pn.template.BootstrapTemplate(
             title=TITLE,
             logo=str(LOGO),
             favicon=str(FAVICON),
             main=[intro, self.messages, self.preset_bar(), self.tabs],
             header_background="#1f4e79",
+            meta_viewport="width=device-width, initial-scale=1",  # phones lay the page out at their own width
         )
+        template.config.raw_css = [*template.config.raw_css, PAGE_CSS]
+        return template
 
 
 def create_app(args: dict[str, list[bytes]] | None = None) -> pn.template.BootstrapTemplate:

@@ -181,10 +181,11 @@ def unexpected(errors: list[str], patterns: list[re.Pattern[str]]) -> list[str]:
 
 class ServerLog(logging.Handler):
     """Collects what an in-process server logs as a failure: records at ERROR or above, or with a traceback (Bokeh
-    and Panel log callback errors, periodic-callback errors and failed messages this way). Attached to the root
-    logger and to Bokeh's, which does not propagate to the root when Bokeh installed its own handler."""
+    and Panel log callback errors, periodic-callback errors and failed messages this way), and warnings that report
+    a failure (a HoloViews plot hook that raised). Attached to the root logger, to Bokeh's (which does not propagate
+    to the root when Bokeh installed its own handler) and to param's (HoloViews' warnings)."""
 
-    LOGGERS = ("", "bokeh")
+    LOGGERS = ("", "bokeh", "param")
 
     def __init__(self) -> None:
         super().__init__(level=logging.DEBUG)
@@ -196,8 +197,13 @@ class ServerLog(logging.Handler):
     #: not the app's errors
     DISCONNECTS = ("WebSocketClosedError", "StreamClosedError", "CancelledError")
 
+    #: warnings that report a failure all the same (HoloViews: a plot hook that raised)
+    FAILURE_WARNINGS = ("could not be applied", "Traceback")
+
     def emit(self, record: logging.LogRecord) -> None:
-        if not (record.levelno >= logging.ERROR or record.exc_info) or id(record) in self._seen:
+        failed_warning = record.levelno >= logging.WARNING and any(w in record.getMessage()
+                                                                   for w in self.FAILURE_WARNINGS)
+        if not (record.levelno >= logging.ERROR or record.exc_info or failed_warning) or id(record) in self._seen:
             return
         self._seen.add(id(record))
         exc = record.exc_info[1] if record.exc_info else None
