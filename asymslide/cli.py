@@ -22,7 +22,7 @@ CHUNK_POINTS = 8192
 
 
 def _serve(args: argparse.Namespace) -> int:
-    from .serve import panel_command, run
+    from .serve import panel_command, run, warm_kernels
 
     origins = args.allow_websocket_origin or [f"localhost:{args.port}", f"127.0.0.1:{args.port}"]
     cmd = panel_command(port=args.port, address=args.address, origins=origins, num_procs=args.num_procs,
@@ -30,7 +30,10 @@ def _serve(args: argparse.Namespace) -> int:
     env = dict(os.environ)
     if args.atlas_dir:
         env["ASYMSLIDE_ATLAS_DIR"] = str(Path(args.atlas_dir).expanduser().resolve())
-    return run(cmd, env=env)
+    # kernels compiled before the server accepts a page: by each server process itself (--setup), and with several
+    # processes once before, by the launcher, so that they load the cache instead of compiling it side by side
+    stopped = warm_kernels(env) if args.num_procs > 1 else None
+    return stopped if stopped is not None else run(cmd, env=env)
 
 
 #: exit codes besides 0 (done) and 2 (bad command line, as argparse)
