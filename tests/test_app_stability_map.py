@@ -492,3 +492,13 @@ def test_progress_shows_the_last_chunk_when_the_worker_finishes_during_an_update
     scene._apply()
     assert job.applied and scene.status == job.error
     assert (scene.progress.value, scene.progress.max) == (4, 4)
+
+
+def test_the_progress_bar_is_labelled(small) -> None:
+    """Issue 23 item 13: every long phase has a labelled progress bar (the map's said nothing of what it counts)."""
+    scene = StabilityMapScene(plane="f-γ")
+    job = sm._Job(gen=scene._generation, key=scene.map_key, total=4, done=1)
+    scene._show_progress(job)
+    assert scene.progress_label.object == "Computing the f-γ map (8 × 8 points): 1 of 4 chunks"
+    _computed(scene)
+    assert scene.progress_label.object == "The f-γ map (8 × 8 points)" and scene.progress.value == scene.progress.max
