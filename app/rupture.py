@@ -296,8 +296,9 @@ class RuptureScene(pn.viewable.Viewer):
         if "error" not in front:
             layers.append(hv.Scatter(([self.front_key[0]], [front["v_m"]]), C_LABEL, VM_LABEL, label="current c").opts(
                 color="#b2182b", size=9))
+        # log y: v_m diverges at c_R, which the curve approaches to 0.999 c_R (where the slider ends)
         return _overlay(layers, height=300, title="(b) Peak slip velocity v_m vs c/c_R", legend_position="top_left",
-                        xlabel=C_LABEL, ylabel=VM_LABEL)
+                        xlabel=C_LABEL, ylabel=VM_LABEL, logy=True)
 
     def _stress_layers(self, against_vm: bool) -> list[hv.Element]:
         xlabel = VM_LABEL if against_vm else C_LABEL

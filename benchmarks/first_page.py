@@ -8,7 +8,8 @@ opens the page in headless Chromium as soon as the server answers. Times, from t
 
 - *kernels ready*: the launcher's "kernels ready" line (the warm-up, before the server starts);
 - *server up*: the server answers HTTP;
-- *first page*: the page has loaded and drawn its three Spectrum plots (what a user waits for);
+- *first page*: the page, requested as soon as the server answers in a browser that was open already, has loaded
+  and drawn its three Spectrum plots (what a user waits for);
 - *All branches*: then, from the click on its tab until its plots are drawn (the first opening in that process).
 
 Twice: with the cache (``NUMBA_CACHE_DIR`` = the project's ``.numba_cache``, filled by ``asymslide warmup`` first)
@@ -64,14 +65,15 @@ def measure(cache_dir: str) -> dict[str, float]:
     with tempfile.TemporaryDirectory(prefix="asymslide-atlases-") as atlases:
         os.environ["NUMBA_CACHE_DIR"], os.environ["ASYMSLIDE_ATLAS_DIR"] = cache_dir, atlases
         try:
-            t0 = time.monotonic()
-            server = ServedApp()
-            server.start_timeout = 900.0
-            with server, sync_playwright() as pw:
-                up = time.monotonic() - t0
+            with sync_playwright() as pw:  # the user's browser is open before the server starts
                 browser = pw.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
+                page = browser.new_context(viewport={"width": 1280, "height": 1500}).new_page()
+                t0 = time.monotonic()
+                server = ServedApp()
+                server.start_timeout = 900.0
                 try:
-                    page = browser.new_context(viewport={"width": 1280, "height": 1500}).new_page()
+                    server.__enter__()
+                    up = time.monotonic() - t0
                     page.goto(server.url, wait_until="load", timeout=600_000)
                     page.wait_for_function(_PAGE_READY_JS, timeout=600_000, polling=50)
                     first = time.monotonic() - t0
@@ -81,6 +83,7 @@ def measure(cache_dir: str) -> dict[str, float]:
                     branches = time.monotonic() - t1
                 finally:
                     browser.close()
+                    server.stop()
                 ready = _line_time(server, "kernels ready", t0)
                 errors = list(server.error_lines)
         finally:
