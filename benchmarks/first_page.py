@@ -81,9 +81,9 @@ def measure(cache_dir: str) -> dict[str, float]:
                     page.locator(".bk-tab", has_text="All branches").first.click()
                     page.wait_for_function(_BRANCHES_READY_JS, timeout=600_000, polling=50)
                     branches = time.monotonic() - t1
-                finally:
-                    browser.close()
+                finally:  # the server first: a page closed under it made Tornado log the closed websocket
                     server.stop()
+                    browser.close()
                 ready = _line_time(server, "kernels ready", t0)
                 errors = list(server.error_lines)
         finally:
