@@ -122,7 +122,33 @@ def test_colours_are_the_legend_and_the_stability_map(atlas_dir: Path) -> None:
     stability_map = process_cmap("RdBu_r", len(mapper.palette))  # app/stability_map.py's colour map
     assert _rgb(stability_map[-1])[0] > _rgb(stability_map[-1])[2] and _rgb(stability_map[0])[2] > \
         _rgb(stability_map[0])[0]
-    assert A.COLOURS.startswith("Red: unstable, blue: stable")
+    assert A.COLOURS.startswith("Red: unstable (max growth > 0), blue: stable")
+
+
+def _lab(color: str) -> np.ndarray:
+    """CIE L*a*b* (D65) of an sRGB colour '#rrggbb'."""
+    c = np.array(_rgb(color)) / 255
+    lin = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    xyz = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]]) @ lin
+    t = xyz / np.array([0.95047, 1.0, 1.08883])
+    f = np.where(t > (6 / 29) ** 3, np.cbrt(t), t / (3 * (6 / 29) ** 2) + 4 / 29)
+    return np.array([116 * f[1] - 16, 500 * (f[0] - f[1]), 200 * (f[1] - f[2])])
+
+
+def test_not_computable_never_looks_like_nearly_neutral_growth() -> None:
+    """Item 9 of issue 23: the grey of 'not computable' must not look like the palette's centre (growth ~ 0) nor
+    like any other growth colour, in both heat maps (CIE76 colour difference; ~2 is just noticeable)."""
+    from holoviews.plotting.util import process_cmap
+
+    from app import common
+
+    palettes = {"atlas": list(common.GROWTH_PALETTE), "stability map": process_cmap(common.GROWTH_CMAP, 64)}
+    nan = _lab(common.NAN_COLOR)
+    for name, palette in palettes.items():
+        centre = palette[len(palette) // 2]
+        assert np.linalg.norm(nan - _lab(centre)) > 40, name
+        assert min(np.linalg.norm(nan - _lab(c)) for c in palette) > 20, name
+    assert "dark grey: not computable" in common.COLOUR_LEGEND and "white: nearly neutral" in common.COLOUR_LEGEND
 
 
 def test_click_sets_all_six_shared_parameters(atlas_dir: Path) -> None:
@@ -140,16 +166,43 @@ def test_click_sets_all_six_shared_parameters(atlas_dir: Path) -> None:
     assert not params.eta_infinite and params.log10_eta == pytest.approx(3.0) and params.gamma == pytest.approx(0.5)
 
 
-def test_surface_figure_is_the_neutral_isosurface(atlas_dir: Path) -> None:
+def test_neutral_surface_is_exact_for_a_linear_field_and_skips_masked_cells() -> None:
+    x, y, z = np.linspace(0, 1, 6), np.linspace(-1, 2, 7), np.geomspace(0.1, 3, 5)
+    X, Y, Z = np.meshgrid(x, y, z, indexing="ij")
+    field = 0.4 * X + 0.3 * Y - 0.5 * Z - 0.1234  # no grid value within MARGINAL of 0
+    vertices, triangles = A.neutral_surface(x, y, z, field)
+    assert len(triangles) > 20 and triangles.max() < len(vertices)
+    plane = 0.4 * vertices[:, 0] + 0.3 * vertices[:, 1] - 0.5 * vertices[:, 2] - 0.1234
+    np.testing.assert_allclose(plane, 0.0, atol=1e-12)  # linear interpolation on tetrahedron edges is exact here
+    # a masked grid point: no triangle in the eight cells around it (the boundary is not guessed there)
+    masked = field.copy()
+    masked[2, 3, 2] = np.nan
+    v2, t2 = A.neutral_surface(x, y, z, masked)
+    centroids = v2[t2].mean(axis=1)
+    around = ((centroids[:, 0] > x[1]) & (centroids[:, 0] < x[3]) & (centroids[:, 1] > y[2]) & (centroids[:, 1] < y[4])
+              & (centroids[:, 2] > z[1]) & (centroids[:, 2] < z[3]))
+    assert 0 < len(t2) < len(triangles) and not around.any()
+    assert len(A.neutral_surface(x, y, z, np.abs(field) + 1)[1]) == 0  # no sign change: no surface
+
+
+def test_surface_figure_is_the_neutral_surface_over_the_atlas_ranges(atlas_dir: Path) -> None:
     scene = A.AtlasScene(requested="small")
     scene.refresh()
     fig = scene.surface_figure()
-    iso = fig["data"][0]
-    assert iso["type"] == "isosurface" and iso["isomin"] == iso["isomax"] == 0.0
-    assert len(iso["x"]) == len(iso["value"]) == math.prod(len(v) for v in AXES.values())
-    stored = xr.open_zarr(atlas_dir / "small.zarr", consolidated=False).growth.values
-    np.testing.assert_array_equal(np.array(iso["value"], dtype=float), stored.ravel())
+    mesh = fig["data"][0]
+    assert mesh["type"] == "mesh3d" and len(mesh["x"]) > 0 and len(mesh["i"]) == len(mesh["x"]) // 3
+    stored = xr.open_zarr(atlas_dir / "small.zarr", consolidated=False).growth
+    assert (stored > 0).any() and (stored < 0).any()
+    shown = [np.log10(AXES["gamma"]), AXES["beta"], AXES["f"]]
+    for axis, values, coords in zip("xyz", shown, (mesh["x"], mesh["y"], mesh["z"]), strict=True):
+        lo, hi = fig["layout"]["scene"][f"{axis}axis"]["range"]
+        assert (lo, hi) == pytest.approx((values.min(), values.max()), rel=1e-12)  # the atlas's grid, not -1..1
+        assert lo - 1e-12 <= np.min(coords) and np.max(coords) <= hi + 1e-12
     assert fig["layout"]["scene"]["xaxis"]["title"]["text"] == "γ (log10)"
+    n_nan = int(np.isnan(stored.values).sum())
+    assert len(fig["data"]) == (2 if n_nan else 1)
+    if n_nan:
+        assert len(fig["data"][1]["x"]) == n_nan
     scene.surface_shown = True
     assert scene.surface_pane.object is not None
     scene.surface_axes = ["gamma", "beta"]
@@ -175,6 +228,52 @@ def test_default_atlas_is_computed_on_first_use(tmp_path: Path, monkeypatch: pyt
     assert again.data is not None and A.CALLS["default_sweep"] == 1
 
 
+def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 23 item 1: the tab is built while the default atlas does not exist yet (as on first use: the selects are
+    on the page, empty); when the computation ends, the poll opens it: the selects show the atlas and two different
+    axes, the sliders the other axes, and the heat map a 2-D slice -- without a reload."""
+    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
+    axes = {"gamma": np.geomspace(0.5, 10, 4), "eta": np.geomspace(2, 100, 3), "f": np.array([0.5, 0.9])}
+    monkeypatch.setattr(A, "DEFAULT_AXES", axes)
+    monkeypatch.setattr(A, "DEFAULT_KH", KH)
+    monkeypatch.setattr(A, "_default_job", None)
+    monkeypatch.setattr(A, "default_ready", lambda: False)
+    monkeypatch.setattr(A, "ensure_default", lambda: A._DefaultJob(totals={"growth": 24}, done={"growth": 5}))
+    scene = A.AtlasScene()
+    scene.__panel__()
+    assert scene.data is None and scene.x_select.value is None and scene.progress.visible
+    label, bar = scene.phases["growth"]
+    assert "Growth rates" in label.object and "5 of 24" in label.object and bar.value == 20
+    S.sweep(axes, kH=KH, store=tmp_path / f"{A.default_name()}.zarr")
+    monkeypatch.setattr(A, "default_ready", lambda: True)
+    monkeypatch.setattr(A, "ensure_default", lambda: A._DefaultJob(finished=True))
+    scene._poll()
+    assert scene.data is not None and not scene.progress.visible
+    assert scene.atlas_select.value == A.default_name() and scene.atlas_select.options == [A.default_name()]
+    assert (scene.x_select.value, scene.y_select.value) == ("gamma", "eta")
+    assert [w.label for w in scene.sliders.objects] == ["f"]
+    heat = scene.heat_map()
+    assert scene.image_pane.object is heat.figure and heat.cells.data["image"][0].shape == (3, 4)
+
+
+def test_x_and_y_axes_cannot_be_the_same(atlas_dir: Path) -> None:
+    scene = A.AtlasScene(requested="small")
+    scene.refresh()
+    assert (scene.x_axis, scene.y_axis) == ("gamma", "beta")
+    assert "gamma" not in scene.y_select.options.values() and set(scene.y_select.options.values()) == {"beta", "f"}
+    scene.y_select.value = "f"  # the user picks another y
+    assert (scene.x_axis, scene.y_axis) == ("gamma", "f") and scene.heat_map().y_axis == "f"
+    scene.x_select.value = "f"  # x = the current y: the two swap
+    assert (scene.x_axis, scene.y_axis) == ("f", "gamma") and scene.y_select.value == "gamma"
+    assert "f" not in scene.y_select.options.values()
+    assert [w.label for w in scene.sliders.objects] == ["β"]
+    x, y, g = scene.slice2d()
+    assert g.shape == (y.size, x.size) == (len(AXES["gamma"]), len(AXES["f"]))
+    scene.param.update(x_axis="beta", y_axis="beta")  # forced from code: nothing is drawn for it
+    assert scene.heat_map() is None
+
+
 def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: Path,
                                                   monkeypatch: pytest.MonkeyPatch) -> None:
     import shutil
@@ -193,7 +292,7 @@ def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: P
     app = create_app({"tab": ["atlas"], "atlas": ["eta-gamma"]}).app
     assert app.tabs.active == TABS.index("atlas") and not app.messages.visible
     assert app.atlas.atlas == "eta-gamma" and app.atlas.data is not None  # built: the tab is the active one
-    assert "atlas=eta-gamma" in query_string(app.param_objects(), "atlas", app.atlas.atlas)
+    assert "atlas=eta-gamma" in query_string(app.param_objects(), "atlas", app.atlas.url_state())
     for bad in ("../eta-gamma", "/etc/passwd", "nope"):
         other = create_app({"tab": ["atlas"], "atlas": [bad]}).app
         assert other.messages.visible and "is not one of the atlases" in other.messages.object
@@ -252,3 +351,33 @@ def test_atlas_tab_in_the_browser(atlas_dir: Path, served_app: str, browser_page
     page.locator(".js-plotly-plot").first.wait_for(state="visible", timeout=60_000)  # rendered offline
     save_screenshot(page, "screenshot_atlas_3d.png", paint_ms=800)  # the 3-D plot's first paint
     # browser_page fails the test on any console error (e.g. plotly.js not served by this server)
+
+
+def test_a_shared_url_restores_the_atlas_view(atlas_dir: Path) -> None:
+    """Issue 23 item 10: the atlas, its heat-map axes, the other axes' values and the 3-D axes go into the URL, and
+    the URL brings them back; values that do not fit are reported and left as they were."""
+    import urllib.parse
+
+    from app.main import create_app
+    from app.urlstate import query_string
+
+    app = create_app({"tab": ["atlas"], "atlas": ["small"]}).app
+    scene = app.atlas
+    scene.x_select.value = "beta"  # the current y: the two swap
+    scene._set_index("f", 1)
+    scene.surface_axes = ["f", "beta", "gamma"]
+    query = query_string(app.param_objects(), "atlas", scene.url_state())
+    args = urllib.parse.parse_qs(query[1:])
+    assert args["atlas"] == ["small"] and args["ax"] == ["beta"] and args["ay"] == ["gamma"]
+    assert float(args["at_f"][0]) == pytest.approx(AXES["f"][1]) and args["surface"] == ["f,beta,gamma"]
+    again = create_app(args).app
+    restored = again.atlas
+    assert not again.messages.visible
+    assert (restored.atlas, restored.x_axis, restored.y_axis) == ("small", "beta", "gamma")
+    assert restored.indices["f"] == 1 and restored.surface_axes == ["f", "beta", "gamma"]
+    assert query_string(again.param_objects(), "atlas", restored.url_state()) == query
+    odd = create_app({"tab": ["atlas"], "atlas": ["eta-gamma"], "ax": ["beta"], "at_f": ["0.5"],
+                      "at_gamma": ["x"], "ay": ["../x"]}).app
+    assert "at_gamma = 'x' is not a finite number" in odd.messages.object and "ay = '../x'" in odd.messages.object
+    assert (odd.atlas.x_axis, odd.atlas.y_axis) == ("eta", "gamma")  # the atlas's own axes
+    assert "x axis beta is not an axis of atlas eta-gamma" in odd.atlas.message
