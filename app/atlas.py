@@ -36,6 +36,7 @@ import panel as pn
 import param
 from bokeh.models import CustomJSTickFormatter
 
+import model
 from asymslide import sweep as engine
 
 from .common import (
@@ -228,6 +229,13 @@ class Atlas:
     gamma_c_reason: object | None
     attrs: dict
     clim: float  # symmetric colour range of the growth over the whole atlas
+    #: the verdict class (0 stable, 1 unstable, 2 undetermined, -1 not computed) and its reason code
+    #: (model.VERDICT_STATUS), as the growth; None in atlases written before verdicts existed
+    verdict: object | None = None
+    verdict_reason: object | None = None
+    #: the whole boundary in γ (over the axes without gamma, last dimension `crossing`): gamma_c_crossing,
+    #: gamma_c_location, gamma_c_direction, gamma_c_crossing_reason; empty in atlases written before crossings existed
+    crossings: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def names(self) -> list[str]:
@@ -247,6 +255,30 @@ def _is_log(values: np.ndarray, attrs: dict) -> bool:
         return attrs["scale"] == "log"
     return bool(values.size > 2 and values[0] > 0 and np.allclose(np.diff(np.log(values)),
                                                                     math.log(values[1] / values[0])))
+
+
+#: the crossing variables the heat map draws (asymslide/sweep.py; docs/physics.md §9)
+CROSSING_VARIABLES = ("gamma_c_crossing", "gamma_c_location", "gamma_c_direction", "gamma_c_crossing_reason")
+#: verdict class of an undetermined point (model.VERDICTS)
+UNDETERMINED = 2
+
+
+#: the refused sign changes of the boundary in a few words (the full texts: model.CROSSING_STATUS)
+REFUSED_CROSSING = {2: "a jump where the masked part of the kH range changes",
+                    3: "a jump: the branch changes route (branch exchange)",
+                    4: "a pole-dense neutral mode",
+                    5: "the max growth is undefined in the bracket",
+                    6: "not certified"}
+
+
+def short_reason(code: int, texts: dict[int, str]) -> str:
+    """The reason of a verdict or crossing code in a few words: its text up to the first colon or parenthesis after
+    the class ("undetermined: pole-dense: ..." -> "pole-dense")."""
+    text = texts.get(int(code), f"reason {int(code)}")
+    head, _, rest = text.partition(": ")
+    if head in ("stable", "unstable", "undetermined") and rest:
+        text = rest
+    return re.split(r": | \(", text, maxsplit=1)[0]
 
 
 @functools.lru_cache(maxsize=4)
@@ -270,7 +302,10 @@ def _load(name: str, path: Path, stamp: str) -> Atlas:
     gc = reason = None
     if "gamma_c" in ds:
         gc, reason = ds["gamma_c"].values, ds["gamma_c_reason"].values
-    return Atlas(name, path, axes, log_axes, fixed, g, gc, reason, dict(ds.attrs), max(clim, 1e-12))
+    verdicts = {v: (ds[v].values if small else ds[v]) if v in ds else None for v in ("verdict", "verdict_reason")}
+    crossings = {v: ds[v].values for v in CROSSING_VARIABLES if v in ds}
+    return Atlas(name, path, axes, log_axes, fixed, g, gc, reason, dict(ds.attrs), max(clim, 1e-12),
+                 crossings=crossings if len(crossings) == len(CROSSING_VARIABLES) else {}, **verdicts)
 
 
 def load(name: str) -> Atlas:
@@ -361,7 +396,13 @@ HEIGHT = 480
 
 
 #: the heat map's legend (HeatMap's colour mapper: growth > 0 red, as in the Stability map)
-COLOURS = f"{COLOUR_LEGEND}; green dashes: the exact threshold γ_c (where γ is an axis)."
+COLOURS = (f"{COLOUR_LEGEND}; hatched: undetermined verdict (the reason on hover; the colour is the growth where the "
+           "branch is resolved). Where γ is an axis: every certified threshold γ_c, green where sliding becomes "
+           "unstable as γ grows, orange where it becomes stable; ×: a sign change of the max growth that is not a "
+           "threshold (a jump or a pole-dense mode, docs/physics.md §9).")
+#: colours of the certified crossings by direction (+1 destabilising, -1 stabilising as γ grows) and of the refused ones
+CROSSING_COLORS = {1: "#1b7837", -1: "#e08214", 0: "#2ca25f"}
+REFUSED_COLOR = "#404040"
 
 
 class HeatMap:
@@ -412,28 +453,103 @@ class HeatMap:
                             fill_color={"field": "growth", "transform": self.mapper})
             field = "@growth"
         fig.add_tools(HoverTool(renderers=[heat], tooltips=[(atlas.label(x_axis), "$x"), (GROWTH_LABEL, field)]))
+        xc, yc = np.meshgrid((xr[:-1] + xr[1:]) / 2, (yr[:-1] + yr[1:]) / 2)
+        w, h = np.meshgrid(np.diff(xr), np.diff(yr))
+        self._cell_geometry = {"x": xc.ravel(), "y": yc.ravel(), "w": w.ravel(), "h": h.ravel()}
+        self.undetermined = ColumnDataSource({"x": [], "y": [], "w": [], "h": [], "why": []})
+        hatched = fig.rect(x="x", y="y", width="w", height="h", source=self.undetermined, fill_alpha=0, line_alpha=0,
+                           hatch_pattern="/", hatch_color="#252525", hatch_alpha=0.7, hatch_scale=8,
+                           legend_label="undetermined (hatched)")
+        fig.add_tools(HoverTool(renderers=[hatched], tooltips=[("verdict", "undetermined: @why")]))
         self.contour = ColumnDataSource({"xs": [], "ys": []})
         fig.multi_line(xs="xs", ys="ys", source=self.contour, line_color="black", line_width=2,
                        legend_label="neutral curve (growth = 0)")
-        self.gamma_c = ColumnDataSource({"x": [], "y": []})
-        fig.line(x="x", y="y", source=self.gamma_c, line_color="#2ca25f", line_width=3, line_dash="dashed",
-                 legend_label="γ_c (exact threshold)")
+        self.thresholds = {}
+        for direction, label in ((1, "γ_c: unstable above (certified)"), (-1, "γ_c: stable above (certified)"),
+                                 (0, "γ_c (an older atlas: the first threshold, direction not stored)")):
+            self.thresholds[direction] = ColumnDataSource({"xs": [], "ys": []})
+            fig.multi_line(xs="xs", ys="ys", source=self.thresholds[direction], line_color=CROSSING_COLORS[direction],
+                           line_width=3, line_dash="dashed", legend_label=label)
+        self.refused = ColumnDataSource({"x": [], "y": [], "why": []})
+        crosses = fig.scatter(x="x", y="y", source=self.refused, marker="x", size=9, line_width=2,
+                              line_color=REFUSED_COLOR, legend_label="sign change, not a threshold")
+        fig.add_tools(HoverTool(renderers=[crosses], tooltips=[("not a threshold", "@why")]))
         fig.legend.location = "top_left"
         fig.legend.background_fill_alpha = 0.8
         fig.add_layout(ColorBar(color_mapper=self.mapper, title=GROWTH_LABEL), "right")
         fig.on_event(Tap, lambda event: on_tap(x=event.x, y=event.y))
         self.figure = fig
 
-    def update(self, x: np.ndarray, y: np.ndarray, g: np.ndarray, gamma_c: tuple | None) -> None:
-        """Draw the slice g[y, x] (plotted coordinates) and the γ_c line (x, y) or none."""
+    def update(self, x: np.ndarray, y: np.ndarray, g: np.ndarray, why: np.ndarray | None,
+               boundary: Boundary | None) -> None:
+        """Draw the slice g[y, x] (plotted coordinates), hatch the cells whose `why` (the short reason of an
+        undetermined verdict, same shape as g; "" elsewhere) is set, and draw the γ boundary's slice (or none).
+        Legend entries of what the slice does not have are hidden."""
         if self.regular:
             self.cells.data.update(image=[g])
         else:
             self.cells.data.update(growth=g.ravel())
         lines = neutral_lines(x, y, g)
         self.contour.data = {"xs": [line[:, 0] for line in lines], "ys": [line[:, 1] for line in lines]}
-        gx, gy = gamma_c if gamma_c is not None else (np.empty(0), np.empty(0))
-        self.gamma_c.data = {"x": gx, "y": gy}
+        flat = np.asarray(why).ravel() if why is not None else np.empty(0, dtype=str)
+        hit = np.flatnonzero(flat != "") if flat.size else np.empty(0, dtype=int)
+        self.undetermined.data = {**{k: v[hit] for k, v in self._cell_geometry.items()}, "why": flat[hit]}
+        b = boundary or Boundary()
+        for direction, source in self.thresholds.items():
+            source.data = {"xs": [p[0] for p in b.lines.get(direction, [])],
+                           "ys": [p[1] for p in b.lines.get(direction, [])]}
+        self.refused.data = {"x": b.refused[0], "y": b.refused[1], "why": b.refused[2]}
+        for item in self.figure.legend[0].items:
+            source = item.renderers[0].data_source
+            item.visible = bool(len(next(iter(source.data.values()), []))) or source is self.contour
+
+
+@dataclass
+class Boundary:
+    """The slice of an atlas's boundary in γ, in plotted coordinates: the certified thresholds as polylines by
+    direction (+1 destabilising, -1 stabilising as γ grows; {direction: [(x, y), ...]}) and the refused sign changes
+    as points (x, y, why)."""
+
+    lines: dict[int, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
+    refused: tuple[np.ndarray, np.ndarray, np.ndarray] = (np.empty(0), np.empty(0), np.empty(0, dtype=str))
+
+
+def _runs(values: np.ndarray, along: np.ndarray, keep: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The polylines (values[i], along[i]) over the runs of consecutive indices where `keep` holds (a point alone is
+    a run too: drawn as a dot-sized segment by its neighbours' absence, so it is still seen on hover)."""
+    out = []
+    idx = np.flatnonzero(keep)
+    if not idx.size:
+        return out
+    for run in np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1):
+        out.append((values[run], along[run]))
+    return out
+
+
+def verdict_coverage(verdict: np.ndarray, reason: np.ndarray) -> str:
+    """The readout line of an atlas's verdicts: how many points are certified stable or unstable, and why the others
+    are undetermined."""
+    v, r = np.asarray(verdict), np.asarray(reason)
+    computed = v >= 0
+    certified = int(np.isin(v, (0, 1)).sum())
+    why = ", ".join(f"{short_reason(code, model.VERDICT_STATUS)} {int(((v == UNDETERMINED) & (r == code)).sum())}"
+                    for code in np.unique(r[v == UNDETERMINED]))
+    share = f"{100 * certified / max(int(computed.sum()), 1):.1f} %"
+    return (f"**Verdict** certified (stable or unstable) at {certified} of {int(computed.sum())} points ({share})"
+            + (f"; undetermined (hatched): {why}" if why else ""))
+
+
+def crossing_coverage(reason: np.ndarray) -> str:
+    """The readout line of an atlas's boundary in γ: certified thresholds and refused sign changes by reason."""
+    r = np.asarray(reason)
+    points = r.reshape(-1, r.shape[-1])
+    certified = int(np.isin(r, (0, 1)).sum())
+    complete = int(np.all((points < 0) | np.isin(points, (0, 1)), axis=1).sum())
+    refused = ", ".join(f"{REFUSED_CROSSING.get(int(code), f'reason {int(code)}')} {int((r == code).sum())}"
+                        for code in np.unique(r[(r >= 0) & ~np.isin(r, (0, 1))]))
+    return (f"**Thresholds in γ** {certified} certified crossing(s); every sign change certified at {complete} of "
+            f"{points.shape[0]} points of the other axes" + (f"; refused (×, not thresholds): {refused}" if refused
+                                                             else ""))
 
 
 def _uniform(t: np.ndarray) -> bool:
@@ -716,8 +832,11 @@ class AtlasScene(pn.viewable.Viewer):
         assert d is not None and self.x_axis is not None
         names = d.names
         index = tuple(slice(None) if n in (self.x_axis, self.y_axis) else self.indices.get(n, 0) for n in names)
-        if variable is None:
-            cube = d.growth[index]
+        held = {None: d.growth, "verdict": d.verdict, "verdict_reason": d.verdict_reason}
+        if held.get(variable) is not None:
+            cube = held[variable][index]
+        elif variable is None:
+            return None
         else:
             import xarray as xr
 
@@ -733,18 +852,56 @@ class AtlasScene(pn.viewable.Viewer):
             values = values.T
         return d.display(self.x_axis), d.display(self.y_axis), values
 
-    def gamma_c_line(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """(x, y) of the gamma_c surface's slice in display coordinates, where γ is one of the image axes."""
+    def undetermined_reasons(self) -> np.ndarray | None:
+        """The short reason (model.VERDICT_STATUS) of every undetermined point of the current slice, "" elsewhere
+        (same shape as the slice's growth); None for an atlas without verdicts."""
+        verdict, reason = self.slice2d("verdict"), self.slice2d("verdict_reason")
+        if verdict is None or reason is None:
+            return None
+        codes = reason[2]
+        out = np.full(codes.shape, "", dtype=object)
+        for code in np.unique(codes[verdict[2] == UNDETERMINED]):
+            out[(verdict[2] == UNDETERMINED) & (codes == code)] = short_reason(code, model.VERDICT_STATUS)
+        return out
+
+    def boundary(self) -> Boundary | None:
+        """The slice of the atlas's boundary in γ where γ is one of the image axes: every certified crossing as a
+        polyline per crossing index and direction, and the refused sign changes (jumps, pole-dense modes) as points.
+        An atlas without the crossing variables draws its γ_c (the first certified crossing) with direction 0."""
         d = self.data
-        if d is None or d.gamma_c is None or "gamma" not in (self.x_axis, self.y_axis) or self.y_axis is None:
+        if d is None or "gamma" not in (self.x_axis, self.y_axis) or self.y_axis is None:
             return None
         other = self.y_axis if self.x_axis == "gamma" else self.x_axis
         gnames = [n for n in d.names if n != "gamma"]
         index = tuple(slice(None) if n == other else self.indices.get(n, 0) for n in gnames)
-        gc = np.asarray(d.gamma_c[index], dtype=float)
-        gc_disp = np.log10(gc) if d.log["gamma"] else gc
         along = d.display(other)
-        return (gc_disp, along) if self.x_axis == "gamma" else (along, gc_disp)
+
+        def shown(gamma: np.ndarray) -> np.ndarray:
+            return np.log10(gamma) if d.log["gamma"] else gamma
+
+        def xy(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            return (a, b) if self.x_axis == "gamma" else (b, a)
+
+        out = Boundary()
+        if not d.crossings:
+            if d.gamma_c is None:
+                return None
+            gc = np.asarray(d.gamma_c[index], dtype=float)
+            out.lines[0] = [xy(*run) for run in _runs(shown(gc), along, np.isfinite(gc))]
+            return out
+        c = {k: np.asarray(v[index]) for k, v in d.crossings.items()}  # (other, crossing)
+        for k in range(c["gamma_c_crossing"].shape[-1]):
+            value, direction = c["gamma_c_crossing"][:, k].astype(float), c["gamma_c_direction"][:, k]
+            for sign in (1, -1):
+                runs = _runs(shown(value), along, np.isfinite(value) & (direction == sign))
+                out.lines.setdefault(sign, []).extend(xy(*run) for run in runs)
+        reason, location = c["gamma_c_crossing_reason"], c["gamma_c_location"].astype(float)
+        bad = np.isfinite(location) & (reason >= 0) & ~np.isin(reason, (0, 1))
+        rows = np.nonzero(bad)
+        px, py = xy(shown(location[bad]), along[rows[0]])
+        why = np.array([REFUSED_CROSSING.get(int(r), f"reason {int(r)}") for r in reason[bad]], dtype=object)
+        out.refused = (px, py, why)
+        return out
 
     def heat_map(self) -> HeatMap | None:
         """The figure of the current atlas and pair of axes (one per pair, kept: switching back is instant); None
@@ -770,7 +927,7 @@ class AtlasScene(pn.viewable.Viewer):
     def _draw(self, heat: HeatMap) -> None:
         CALLS["image"] += 1
         x, y, g = self.slice2d()
-        heat.update(x, y, g, self.gamma_c_line())
+        heat.update(x, y, g, self.undetermined_reasons(), self.boundary())
 
     def _slice_changed(self, *_events) -> None:
         heat = self.heat_map()
@@ -900,10 +1057,16 @@ class AtlasScene(pn.viewable.Viewer):
         _, _, g = self.slice2d()
         finite = np.isfinite(g)
         n_nan = int((~finite).sum())
-        unstable = int((g[finite] > MARGINAL).sum())
         largest = fmt(float(np.max(g[finite])) if finite.any() else math.nan)
-        return (f"**This slice** {unstable} of {int(finite.sum())} points unstable (growth > {MARGINAL:g}); "
-                f"largest growth {largest}; not computable (dark grey) {n_nan}")
+        verdict = self.slice2d("verdict")
+        if verdict is None:
+            unstable = int((g[finite] > MARGINAL).sum())
+            return (f"**This slice** {unstable} of {int(finite.sum())} points unstable (growth > {MARGINAL:g}); "
+                    f"largest growth {largest}; not computable (dark grey) {n_nan}")
+        v = verdict[2]
+        return (f"**This slice** ({v.size} points) unstable {int((v == 1).sum())}, stable {int((v == 0).sum())}, "
+                f"undetermined (hatched) {int((v == UNDETERMINED).sum())}; largest growth {largest}; not computable "
+                f"(dark grey) {n_nan}")
 
     @param.depends("data")
     def readout(self) -> str:
@@ -920,12 +1083,13 @@ class AtlasScene(pn.viewable.Viewer):
         if masked is not None:
             lines.append(f"**Not computable** {masked} point(s) of the atlas (dark grey): {NOT_COMPUTABLE}"
                          if masked else "**Not computable** none")
-        if d.gamma_c_reason is not None:
+        if isinstance(d.verdict, np.ndarray):
+            lines.append(verdict_coverage(d.verdict, d.verdict_reason))
+        if d.crossings:
+            lines.append(crossing_coverage(d.crossings["gamma_c_crossing_reason"]))
+        elif d.gamma_c_reason is not None:
             r = np.asarray(d.gamma_c_reason)
-            jumps = int((r == 5).sum())
-            lines.append(f"**γ_c** found at {int((r == 0).sum())} of {r.size} points of the other axes"
-                         + (f"; {jumps} are jumps of the max growth where the branch's masked kH points change "
-                            "(no threshold, not drawn)" if jumps else ""))
+            lines.append(f"**γ_c** found at {int((r == 0).sum())} of {r.size} points of the other axes")
         return "\n\n".join(lines)
 
     def slice_description(self) -> str:
@@ -948,11 +1112,16 @@ class AtlasScene(pn.viewable.Viewer):
         _, _, g = self.slice2d()
         xs, ys = d.axes[self.x_axis], (d.axes[self.y_axis] if self.y_axis else np.array([math.nan]))
         columns = {self.x_axis: np.tile(xs, ys.size), str(self.y_axis): np.repeat(ys, xs.size), "max_growth": g.ravel()}
-        for name, column in (("kH_at_max", "kH_at_max"), ("n_masked", "n_masked_kH")):
+        for name, column in (("kH_at_max", "kH_at_max"), ("n_masked", "n_masked_kH"), ("verdict", "verdict"),
+                             ("verdict_reason", "verdict_reason")):
             extra = self.slice2d(variable=name)
             if extra is not None:
                 columns[column] = extra[2].ravel()
-        return csv_table(f"asymslide atlas slice: {self.slice_description()}. {NAN_ROWS}", columns)
+        codes = "; ".join(f"{k} " + (model.VERDICT_STATUS[k].split(":")[0] if model.VERDICT_STATUS[k].startswith(
+            ("stable", "unstable")) else f"undetermined, {short_reason(k, model.VERDICT_STATUS)}")
+                          for k in model.VERDICT_STATUS)
+        return csv_table(f"asymslide atlas slice: {self.slice_description()}. {NAN_ROWS}. verdict: 0 stable, 1 "
+                         f"unstable, 2 undetermined; verdict_reason: {codes} (docs/physics.md §9)", columns)
 
     # -- layout -------------------------------------------------------------------------------
 

@@ -29,6 +29,19 @@ def atlas_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return directory
 
 
+#: a finite-η atlas with every kind of boundary: undetermined (pole-dense) cells at small γ, certified thresholds and a
+#: refused sign change (a jump at Δ = 0.2)
+BOUNDARY_AXES = {"gamma": np.geomspace(0.1, 10, 9), "Delta": np.linspace(0.2, 1, 5)}
+BOUNDARY_FIXED = {"eta": 10.0, "xi": 1.0}
+
+
+@pytest.fixture(scope="module")
+def boundary_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    directory = tmp_path_factory.mktemp("boundary")
+    S.sweep(BOUNDARY_AXES, fixed=BOUNDARY_FIXED, kH=KH, store=directory / "boundary.zarr")
+    return directory
+
+
 @pytest.fixture
 def atlas_dir(atlas_store: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(atlas_store))
@@ -75,17 +88,25 @@ def test_slice_is_the_stored_cube_and_a_slice_change_calls_no_model_function(atl
         np.testing.assert_array_equal(heat.cells.data["image"][0], want)  # Bokeh's image: row 0 at the bottom
         assert heat.cells.data["x"][0] == pytest.approx(np.log10(0.3) - 1 / 7)
         assert heat.cells.data["dw"][0] == pytest.approx(2 + 2 / 7)
-        line = scene.gamma_c_line()
-        np.testing.assert_allclose(10 ** line[0], stored.gamma_c.isel(f=i).values, rtol=1e-15)  # γ_c(β)
-        np.testing.assert_array_equal(line[1], AXES["beta"])
-        np.testing.assert_array_equal(heat.gamma_c.data["x"], line[0])
+        drawn = _drawn_thresholds(heat)
+        stored_c = stored.gamma_c_crossing.isel(f=i).transpose("beta", "crossing").values
+        want = {(round(float(np.log10(g)), 12), float(b)) for b, row in zip(AXES["beta"], stored_c, strict=True)
+                for g in row[np.isfinite(row)]}
+        assert want and {(round(x, 12), y) for x, y in drawn} == want  # every certified γ_c(β), nothing else
     scene.x_axis, scene.y_axis = "f", "gamma"
     heat = _heat(scene)
     want = stored.growth.isel(beta=scene.indices["beta"]).values  # rows: gamma, columns: f
     np.testing.assert_array_equal(heat.cells.data["image"][0], want)
-    assert heat.gamma_c.data["y"].size == len(AXES["f"])  # γ on y: the γ_c(f) line
+    stored_c = stored.gamma_c_crossing.isel(beta=scene.indices["beta"]).values
+    assert len(_drawn_thresholds(heat)) == int(np.isfinite(stored_c).sum())  # γ on y: the γ_c(f) lines
     assert A.CALLS["load"] == 1  # read once; the slices come from memory
     assert [w.label for w in scene.sliders.objects] == ["β"]
+
+
+def _drawn_thresholds(heat: A.HeatMap) -> list[tuple[float, float]]:
+    """Every vertex of the drawn threshold lines (both directions), in plotted coordinates."""
+    return [(float(x), float(y)) for source in heat.thresholds.values()
+            for xs, ys in zip(source.data["xs"], source.data["ys"], strict=True) for x, y in zip(xs, ys, strict=True)]
 
 
 def test_neutral_curve_separates_the_signs(atlas_dir: Path) -> None:
@@ -381,3 +402,61 @@ def test_a_shared_url_restores_the_atlas_view(atlas_dir: Path) -> None:
     assert "at_gamma = 'x' is not a finite number" in odd.messages.object and "ay = '../x'" in odd.messages.object
     assert (odd.atlas.x_axis, odd.atlas.y_axis) == ("eta", "gamma")  # the atlas's own axes
     assert "x axis beta is not an axis of atlas eta-gamma" in odd.atlas.message
+
+
+def test_undetermined_cells_are_hatched_with_their_reason_and_every_crossing_is_drawn(
+        boundary_store: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 24: the heat map hatches the undetermined cells (a pole-dense one tells so on hover), draws every certified
+    crossing by direction and marks the refused sign changes; the readouts count them."""
+    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(boundary_store))
+    stored = xr.open_zarr(boundary_store / "boundary.zarr", consolidated=False)
+    scene = A.AtlasScene(requested="boundary")
+    scene.refresh()
+    assert (scene.x_axis, scene.y_axis) == ("gamma", "Delta")
+    heat = _heat(scene)
+    verdict = stored.verdict.transpose("Delta", "gamma").values  # rows: Delta (y), columns: gamma (x)
+    reason = stored.verdict_reason.transpose("Delta", "gamma").values
+    undetermined = verdict == 2
+    assert undetermined.any() and (verdict != 2).any()
+    drawn = set(zip(np.round(heat.undetermined.data["x"], 12), np.round(heat.undetermined.data["y"], 12), strict=True))
+    gx, dy = np.meshgrid(np.log10(BOUNDARY_AXES["gamma"]), BOUNDARY_AXES["Delta"])
+    assert drawn == set(zip(np.round(gx[undetermined], 12), np.round(dy[undetermined], 12), strict=True))
+    pole_dense = {model.VERDICT_STATUS[int(c)].split(": ")[1] for c in reason[undetermined]}
+    assert pole_dense == {"pole-dense"} and set(heat.undetermined.data["why"]) == {"pole-dense"}
+    # every certified crossing, with its direction; the refused ones as markers
+    crossing = stored.gamma_c_crossing.values  # (Delta, crossing)
+    direction = stored.gamma_c_direction.values
+    for sign in (1, -1):
+        want = {(round(float(np.log10(g)), 12), float(d)) for d, row, dirs in
+                zip(BOUNDARY_AXES["Delta"], crossing, direction, strict=True) for g, s in zip(row, dirs, strict=True)
+                if np.isfinite(g) and s == sign}
+        source = heat.thresholds[sign].data
+        got = {(round(float(x), 12), float(y)) for xs, ys in zip(source["xs"], source["ys"], strict=True)
+               for x, y in zip(xs, ys, strict=True)}
+        assert got == want
+    assert heat.thresholds[1].data["xs"], "no destabilising threshold drawn"
+    reasons = stored.gamma_c_crossing_reason.values
+    refused = (reasons >= 0) & ~np.isin(reasons, (0, 1))
+    assert refused.any()
+    np.testing.assert_allclose(10 ** np.asarray(heat.refused.data["x"]), stored.gamma_c_location.values[refused])
+    assert set(heat.refused.data["why"]) == {A.REFUSED_CROSSING[int(r)] for r in reasons[refused]}
+    # legend: what the slice has, nothing else (no older-atlas γ_c entry, no stabilising one here)
+    shown = {item.label["value"] for item in heat.figure.legend[0].items if item.visible}
+    assert "undetermined (hatched)" in shown and "γ_c: unstable above (certified)" in shown
+    assert "sign change, not a threshold" in shown
+    assert not any("older atlas" in label for label in shown)
+    assert "γ_c: stable above (certified)" not in shown
+    # readouts
+    assert f"undetermined (hatched) {int(undetermined.sum())}" in scene.slice_readout()
+    text = scene.readout()
+    assert f"certified (stable or unstable) at {int((verdict != 2).sum())} of {verdict.size} points" in text
+    assert f"pole-dense {int(undetermined.sum())}" in text
+    assert "refused (×, not thresholds): a jump: the branch changes route (branch exchange) 1" in text
+    # the CSV has the verdict and its reason per point
+    lines = scene.csv().getvalue().splitlines()
+    header = next(line for line in lines if not line.startswith("#"))
+    assert "verdict" in header.split(",") and "verdict_reason" in header.split(",")
+
+
+def test_refused_crossing_labels_are_model_codes() -> None:
+    assert set(A.REFUSED_CROSSING) <= set(model.CROSSING_STATUS) - {0, 1}
