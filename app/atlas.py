@@ -191,11 +191,22 @@ def _compute_default(job: _DefaultJob) -> None:
             CALLS["default_sweep"] += 1
             engine.sweep(DEFAULT_AXES, kH=DEFAULT_KH, store=path, progress=progress,
                          command="the Atlas tab's default atlas (app/atlas.py)")
+    except PermissionError as exc:  # a folder this server may read but not write (a mounted volume, say)
+        log.warning("the default atlas cannot be written: %s", exc)
+        job.error = read_only_message(directory, exc)
     except Exception as exc:  # the tab shows it; the session keeps working
         log.exception("computing the default atlas failed")
         job.error = f"{type(exc).__name__}: {exc}"
     finally:
         job.finished = True
+
+
+def read_only_message(directory: Path, exc: OSError) -> str:
+    """What the tab says when the atlas directory cannot be written: why, what still works, and how to fix it."""
+    return (f"the atlas directory {directory} is not writable by this server (user id {os.getuid()}; "
+            f"{exc.strerror or exc}), so the default atlas cannot be computed there. Atlases already in it still "
+            "open (choose one above). To fix it, make the folder writable for this user (e.g. `chown` it), or serve "
+            "with `--atlas-dir` (Docker: mount) a folder this user can write.")
 
 
 def _points_done(path: Path, plan: engine.Plan) -> dict[str, int]:
@@ -631,6 +642,7 @@ class AtlasScene(pn.viewable.Viewer):
         self.y_select.param.watch(lambda e: self._from_widget("y", e.new), "value")
         self.surface_select.param.watch(lambda e: self._from_widget("surface", e.new), "value")
         self._poller: pn.io.PeriodicCallback | None = None
+        self._job: _DefaultJob | None = None
         self._surface_key: tuple | None = None
         self._figures: dict[tuple, HeatMap] = {}
         self.image_pane = pn.pane.Bokeh(None, sizing_mode="stretch_width", height=HEIGHT)
@@ -680,7 +692,7 @@ class AtlasScene(pn.viewable.Viewer):
         """Compute the default atlas if needed (called when the tab is shown), with visible progress."""
         if self.data is not None or (self.atlas is not None and self.atlas != default_name()):
             return
-        job = ensure_default()
+        job = self._job = ensure_default()
         if job.finished and not job.error:
             self.refresh()
             return
@@ -696,7 +708,8 @@ class AtlasScene(pn.viewable.Viewer):
 
     def _poll(self) -> None:
         """Show the default atlas's progress, one labelled bar per phase; open it when it is done."""
-        job = ensure_default()
+        job = self._job  # the job this session follows (a failed one is retried only when the tab is shown again)
+        assert job is not None
         for kind, (label, bar) in self.phases.items():
             total, done = job.totals.get(kind, 0), min(job.done.get(kind, 0), job.totals.get(kind, 0))
             bar.value = int(100 * done / total) if total else 0

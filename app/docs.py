@@ -1,8 +1,8 @@
 """The project's physics reference (docs/physics.md) inside the app: a reference such as "docs/physics.md §12.3" in a
 scene is a card that opens on that section's text, rendered, instead of a path the user cannot follow.
 
-The file is read from the source tree (``docs/`` beside ``app/``); an installation without it says where the text
-lives instead.
+The file is read from the source tree (``docs/`` beside ``app/``) or, installed, from the copy inside the app package
+(``app/reference/physics.md``, pyproject.toml); where neither exists the card says where the text lives instead.
 """
 
 from __future__ import annotations
@@ -13,8 +13,10 @@ from pathlib import Path
 
 import panel as pn
 
-#: the physics reference of the source tree
-PHYSICS = Path(__file__).resolve().parent.parent / "docs" / "physics.md"
+#: the physics reference: the source tree's, else the one installed with the app
+PHYSICS = next((p for p in (Path(__file__).resolve().parent.parent / "docs" / "physics.md",
+                            Path(__file__).resolve().parent / "reference" / "physics.md") if p.is_file()),
+               Path(__file__).resolve().parent.parent / "docs" / "physics.md")
 
 _HEADING = re.compile(r"^(#+) §(\d+(?:\.\d+)*)\b(.*)$")
 

@@ -93,7 +93,9 @@ def panel_command(*, port: int, address: str, origins: Sequence[str], num_procs:
         raise ValueError("allowed websocket origins must be host[:port] names, not '*' or empty")
     cmd = [sys.executable, "-m", "panel", "serve", str(app_main()), "--port", str(port), "--address", address,
            *(f"--allow-websocket-origin={o}" for o in origins), "--static-dirs", f"assets={static_dir()}",
-           "--num-procs", str(num_procs), "--reuse-sessions", "--setup", str(setup_script())]
+           "--num-procs", str(num_procs), "--reuse-sessions", "--setup", str(setup_script()),
+           # the app at / too (not a redirect to /main, which drops the query: a shared /?tab=atlas&... link keeps it)
+           "--index", app_main().stem]
     if liveness:
         cmd.append("--liveness")
     return [*cmd, *extra]

@@ -249,6 +249,27 @@ def test_default_atlas_is_computed_on_first_use(tmp_path: Path, monkeypatch: pyt
     assert again.data is not None and A.CALLS["default_sweep"] == 1
 
 
+def test_a_folder_the_server_cannot_write_is_explained_and_its_atlases_still_open(
+        atlas_store: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 26: a mounted atlas folder the server's user cannot write (simulated: tests run as root, who may write
+    anything) -> the tab says why the default atlas is not computed and how to fix it; the folder's atlases open."""
+    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(atlas_store))
+    monkeypatch.setattr(A, "_default_job", None)
+
+    def read_only(path, *args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(path))
+
+    monkeypatch.setattr(A, "open", read_only, raising=False)
+    scene = A.AtlasScene()
+    scene.refresh()
+    scene.start_default()
+    assert "is not writable by this server" in scene.status.object and "--atlas-dir" in scene.status.object
+    assert "Permission denied" in scene.status.object and "Traceback" not in scene.status.object
+    scene.atlas = "small"  # what the folder has still opens
+    assert scene.data is not None and scene.data.name == "small"
+    monkeypatch.setattr(A, "_default_job", None)
+
+
 def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """Issue 23 item 1: the tab is built while the default atlas does not exist yet (as on first use: the selects are
@@ -260,7 +281,8 @@ def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects
     monkeypatch.setattr(A, "DEFAULT_KH", KH)
     monkeypatch.setattr(A, "_default_job", None)
     monkeypatch.setattr(A, "default_ready", lambda: False)
-    monkeypatch.setattr(A, "ensure_default", lambda: A._DefaultJob(totals={"growth": 24}, done={"growth": 5}))
+    job = A._DefaultJob(totals={"growth": 24}, done={"growth": 5})
+    monkeypatch.setattr(A, "ensure_default", lambda: job)
     scene = A.AtlasScene()
     scene.__panel__()
     assert scene.data is None and scene.x_select.value is None and scene.progress.visible
@@ -268,7 +290,7 @@ def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects
     assert "Growth rates" in label.object and "5 of 24" in label.object and bar.value == 20
     S.sweep(axes, kH=KH, store=tmp_path / f"{A.default_name()}.zarr")
     monkeypatch.setattr(A, "default_ready", lambda: True)
-    monkeypatch.setattr(A, "ensure_default", lambda: A._DefaultJob(finished=True))
+    job.done, job.finished = {"growth": 24}, True
     scene._poll()
     assert scene.data is not None and not scene.progress.visible
     assert scene.atlas_select.value == A.default_name() and scene.atlas_select.options == [A.default_name()]

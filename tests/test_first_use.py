@@ -10,6 +10,7 @@ from __future__ import annotations
 import io
 import runpy
 import time
+import urllib.request
 from unittest import mock
 
 import pytest
@@ -39,6 +40,10 @@ def test_the_log_says_compiling_kernels_then_ready_before_the_server_accepts_a_p
         while (sum("kernels ready" in line and "server process" in line for line in server.log) < num_procs
                and time.monotonic() < deadline):
             time.sleep(0.2)
+        # a shared link to the root keeps its query: / is the app itself, not a redirect to /main that drops it
+        root = server.url.rsplit("/", 1)[0] + "/?tab=atlas&gamma=5"
+        with urllib.request.urlopen(root, timeout=120) as answer:
+            assert answer.status == 200 and answer.url == root
         log = list(server.log)
         assert server.error_lines == []
     running = next(i for i, line in enumerate(log) if "Bokeh app running" in line)
