@@ -642,11 +642,15 @@ Progress = Callable[[str, int], None]
 class _ResultQueue:
     """Hands finished chunks to one thread that calls `on_result` on them in order of completion, so that a worker
     thread starts its next chunk at once instead of waiting while the last one is written (Dask's threaded
-    scheduler runs its callbacks before it gives a worker new work). An error of `on_result` stops the sweep."""
+    scheduler runs its callbacks before it gives a worker new work). An error of `on_result` stops the sweep.
 
-    def __init__(self, on_result: Callable[[Task, dict[str, np.ndarray]], None]) -> None:
+    At most `backlog` finished chunks wait: beyond that :meth:`put` blocks, and with it the scheduler's next task,
+    so that the workers never run far ahead of a slow writer (many small chunks, a slow disk). The backlog is what a
+    Ctrl-C still writes before the sweep stops, and what memory holds."""
+
+    def __init__(self, on_result: Callable[[Task, dict[str, np.ndarray]], None], backlog: int) -> None:
         self._on_result = on_result
-        self._queue: queue.SimpleQueue = queue.SimpleQueue()
+        self._queue: queue.Queue = queue.Queue(maxsize=backlog)
         self._error: BaseException | None = None
         self._thread = threading.Thread(target=self._run, name="asymslide-writer", daemon=True)
         self._thread.start()
@@ -699,7 +703,7 @@ def _execute(todo: list[Task], on_result: Callable[[Task, dict[str, np.ndarray]]
 
     n_workers = workers or os.cpu_count() or 1
     results: dict[str, Task] = {}
-    writer = _ResultQueue(on_result)
+    writer = _ResultQueue(on_result, backlog=2 * n_workers)
 
     class _Handover(Callback):
         def _posttask(self, key, result, dsk, state, worker_id):  # noqa: ARG002 (dask's signature)

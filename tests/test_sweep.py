@@ -179,12 +179,23 @@ def test_local_cluster_of_two_processes_gives_the_same_atlas(tmp_path: Path) -> 
 #: a sweep of ~5-10 s on one thread: 192 chunks at finite eta
 RESUME_ARGS = ["sweep", "--axis", "gamma=0.5:20:16:log", "--axis", "eta=2:1e4:8", "--axis", "f=0.5:1.0:6",
                "--kH", "1e-3:1e3:33:log", "--chunk-points", "4", "--workers", "1", "--no-gamma-c", "--quiet"]
+#: a sweep that is only ever interrupted: large (~2 s of chunks on a quiet host, more under load) so that it is still
+#: running when the test, which polls the store, has seen its first chunks and sends the signal
+INTERRUPT_ARGS = ["sweep", "--axis", "gamma=0.5:20:128:log", "--axis", "eta=2:1e4:8", "--axis", "f=0.5:1.0:6",
+                  "--kH", "1e-3:1e3:33:log", "--chunk-points", "4", "--workers", "1", "--no-gamma-c", "--quiet"]
 
 
-def _sweep_until(store: Path, chunks: int) -> subprocess.Popen:
-    """Start the RESUME_ARGS sweep into `store` and return once `chunks` of its chunks are written."""
-    proc = subprocess.Popen([sys.executable, "-m", "asymslide", *RESUME_ARGS, "--out", str(store)], cwd=ROOT,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+def _interruptible() -> None:
+    """In the child before it runs: Ctrl-C's default action, as in a terminal (a test run started in the background
+    by a shell ignores SIGINT, and the child would inherit that)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def _sweep_until(store: Path, chunks: int, args: list[str] = RESUME_ARGS) -> subprocess.Popen:
+    """Start the sweep `args` into `store` and return once `chunks` of its chunks are written."""
+    proc = subprocess.Popen([sys.executable, "-m", "asymslide", *args, "--out", str(store)], cwd=ROOT,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=_interruptible)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
         if (store / "done_growth" / "zarr.json").exists() and S.done_chunks(store)["growth"].sum() >= chunks:
@@ -426,7 +437,7 @@ def test_the_command_line_default_chunk_is_the_engines() -> None:
 
 def test_ctrl_c_keeps_the_chunks_written_and_says_how_to_resume(tmp_path: Path) -> None:
     store = tmp_path / "interrupted.zarr"
-    proc = _sweep_until(store, 5)
+    proc = _sweep_until(store, 5, INTERRUPT_ARGS)
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)  # the chunk in flight finishes, nothing more starts
     assert proc.returncode == 130, err
