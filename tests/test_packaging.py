@@ -39,6 +39,9 @@ def test_wheel_installs_three_import_names_and_the_data_files(wheel: zipfile.Zip
                    "model/materials.json", "app/main.py", "asymslide/cli.py", "asymslide/sweep.py"):
         assert needed in names, needed
     assert not [n for n in names if n.startswith(("tests/", "benchmarks/"))]
+    # every module of the model, its subpackages' included (pyproject.toml lists the packages one by one)
+    modules = {p.relative_to(ROOT).as_posix() for p in (ROOT / "model").rglob("*.py") if "__pycache__" not in p.parts}
+    assert modules - set(names) == set()
     entry = next(n for n in names if n.endswith("entry_points.txt"))
     assert "asymslide = asymslide.cli:main" in wheel.read(entry).decode()
 
@@ -196,7 +199,7 @@ def _canonical(name: str) -> str:
 
 #: the import names each layer may use, besides the standard library and the project's own packages
 LAYER_FILES = {
-    "core": ["model/*.py", "asymslide/__init__.py", "asymslide/__main__.py", "asymslide/warmup.py",
+    "core": ["model/**/*.py", "asymslide/__init__.py", "asymslide/__main__.py", "asymslide/warmup.py",
              "asymslide/processes.py"],
     "atlas": ["asymslide/sweep.py", "asymslide/cli.py"],
     "app": ["app/*.py", "asymslide/serve.py"],
