@@ -176,6 +176,27 @@ def _seeds(t0, t1, h0, geo0, lad_y, poles, half):
     return u[lo:hi]
 
 
+@jitted(inline="always")
+def _sample_at(t: float, c: float, horizontal: bool, q: float, gamma: float, f: float, beta: float, eta: float,
+               delta: float, xi: float) -> tuple[complex, complex, int]:
+    """F and F' at the point t of a line (see _sample_line) and a status: 0, 1 (a root: |F| <= TINY x scale) or 3 (F
+    or F' not finite)."""
+    fv, dfv, sc = dispersion_eval(_point(t, c, horizontal), q, gamma, f, beta, eta, delta, xi)
+    if not (cmath.isfinite(fv) and cmath.isfinite(dfv)):
+        return fv, dfv, 3
+    if abs(fv) <= TINY * sc:
+        return fv, dfv, 1
+    return fv, dfv, 0
+
+
+@jitted
+def _doubled(a: np.ndarray, n: int, size: int) -> np.ndarray:
+    """A buffer of `size` elements of a's dtype holding a[:n] (a full buffer of _sample_line grown)."""
+    new = np.empty(size, dtype=a.dtype)
+    new[:n] = a[:n]
+    return new
+
+
 @jitted
 def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta, eta, delta, xi, h_min,
                  tol_phase, tol_trap, tol_lin):
@@ -197,13 +218,10 @@ def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, 
     # evaluate the initial points and push them (right to left) on the stack
     sp = 0
     for k in range(n0 - 1, -1, -1):
-        z = _point(ts[k], c, horizontal)
-        fv, dfv, sc = dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
+        fv, dfv, status = _sample_at(ts[k], c, horizontal, q, gamma, f, beta, eta, delta, xi)
         nev += 1
-        if not (cmath.isfinite(fv) and cmath.isfinite(dfv)):
-            return out_t[:0], out_f[:0], out_l[:0], 3, ts[k], nev
-        if abs(fv) <= TINY * sc:
-            return out_t[:0], out_f[:0], out_l[:0], 1, ts[k], nev
+        if status != 0:
+            return out_t[:0], out_f[:0], out_l[:0], status, ts[k], nev
         st_t[sp] = ts[k]
         st_f[sp] = fv
         st_d[sp] = dfv
@@ -227,13 +245,9 @@ def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, 
             if n >= out_t.shape[0]:
                 if n >= CAP:
                     return out_t[:n], out_f[:n], out_l[: n - 1], 2, ta, nev
-                grow_t = np.empty(2 * n)
-                grow_f = np.empty(2 * n, dtype=np.complex128)
-                grow_l = np.empty(2 * n, dtype=np.complex128)
-                grow_t[:n] = out_t[:n]
-                grow_f[:n] = out_f[:n]
-                grow_l[: n - 1] = out_l[: n - 1]
-                out_t, out_f, out_l = grow_t, grow_f, grow_l
+                out_t = _doubled(out_t, n, 2 * n)
+                out_f = _doubled(out_f, n, 2 * n)
+                out_l = _doubled(out_l, n - 1, 2 * n)
             out_t[n] = tb
             out_f[n] = fb
             out_l[n - 1] = lg
@@ -244,21 +258,14 @@ def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, 
         if tb - ta <= h_min:
             return out_t[:n], out_f[:n], out_l[: n - 1], 1, 0.5 * (ta + tb), nev
         tm = 0.5 * (ta + tb)
-        zm = _point(tm, c, horizontal)
-        fm, dfm, scm = dispersion_eval(zm, q, gamma, f, beta, eta, delta, xi)
+        fm, dfm, status = _sample_at(tm, c, horizontal, q, gamma, f, beta, eta, delta, xi)
         nev += 1
-        if not (cmath.isfinite(fm) and cmath.isfinite(dfm)):
-            return out_t[:n], out_f[:n], out_l[: n - 1], 3, tm, nev
-        if abs(fm) <= TINY * scm:
-            return out_t[:n], out_f[:n], out_l[: n - 1], 1, tm, nev
+        if status != 0:
+            return out_t[:n], out_f[:n], out_l[: n - 1], status, tm, nev
         if sp >= st_t.shape[0]:
-            grow_t = np.empty(2 * sp)
-            grow_f = np.empty(2 * sp, dtype=np.complex128)
-            grow_d = np.empty(2 * sp, dtype=np.complex128)
-            grow_t[:sp] = st_t[:sp]
-            grow_f[:sp] = st_f[:sp]
-            grow_d[:sp] = st_d[:sp]
-            st_t, st_f, st_d = grow_t, grow_f, grow_d
+            st_t = _doubled(st_t, sp, 2 * sp)
+            st_f = _doubled(st_f, sp, 2 * sp)
+            st_d = _doubled(st_d, sp, 2 * sp)
         st_t[sp] = tm
         st_f[sp] = fm
         st_d[sp] = dfm

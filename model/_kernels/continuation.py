@@ -141,13 +141,8 @@ def _continue(z0: complex, dz0: complex, e0: float, s0: float, s_stop: float, ex
     o_e[0] = e0
     cap = o_s.shape[0]
     use_log = z0 != 0
-    # predictor data of the previous and the current node (ln z and d ln z/ds, or z and dz/ds)
-    wq = 0j
-    dq = 0j
-    wp = 0j
-    dp = 0j
-    wc = _clog(z0) if use_log else z0
-    dc = dz0 / z0 if use_log else dz0
+    # predictor data (ln z and d ln z/ds, or z and dz/ds) of the last three nodes, the current one last
+    pred = (0j, 0j, 0j, 0j, _clog(z0) if use_log else z0, dz0 / z0 if use_log else dz0)
     n = 1
     h = H_START if mode == LN_KH else TAU_H_START * abs(s_stop - s0)
     h_cap = H_MAX if mode == LN_KH else abs(s_stop - s0)
@@ -169,56 +164,88 @@ def _continue(z0: complex, dz0: complex, e0: float, s0: float, s_stop: float, ex
             out = _grown(out, n, min(2 * cap, max_nodes))
             o_s, o_z, o_d, o_c, o_e = out
             cap = o_s.shape[0]
-        accepted = False
-        while not accepted:
-            if h_try < H_MIN:
-                return n, True, out
-            s_new = s_cur + direction * h_try
-            if n == 1:
-                wpred = wc + dc * (s_new - s_cur)
-            elif n >= 3 and cut:
-                wpred = _hermite3(o_s[n - 3], wq, dq, o_s[n - 2], wp, dp, s_cur, wc, dc, s_new)
-            else:
-                wpred = _hermite2(o_s[n - 2], wp, dp, s_cur, wc, dc, s_new)
-            zp = cmath.exp(wpred) if use_log else wpred
-            r = _newton(zp, mode, s_new, q, p, NODE_ITERS, node_tol, 0.0, SHRINK_PATH, 1.0, NO_BOX)
-            err = _cabs(r.z - zp) / _local_scale(r.z)
-            # predictor error O(h^2) from one node, O(h^4) from two, O(h^6) from three (eta = inf)
-            order = 2.0 if n == 1 else (6.0 if (n >= 3 and cut) else 4.0)
-            certified = r.ok and err <= PRED_REJECT and r.theta <= THETA_MAX and cmath.isfinite(r.dzds)
-            if certified and r.evals <= NODE_EVALS and err <= PRED_OVERSHOOT * pred_tol:
-                accepted = True
-                z = r.z
-                o_s[n] = s_new
-                o_z[n] = z
-                o_d[n] = r.dzds
-                o_c[n] = r.theta / r.first if (r.first > 0.0 and r.theta > 0.0) else 0.0
-                o_e[n] = r.err / max(_cabs(z), ABS_FLOOR)
-                wq = wp
-                dq = dp
-                wp = wc
-                dp = dc
-                if use_log and z == 0:
-                    return n + 1, True, out  # cannot happen on a followable branch (z = 0 is no root for kH > 0)
-                wc = _unwrap(_clog(z), wc) if use_log else z
-                dc = r.dzds * _cinv(z) if use_log else r.dzds
-                n += 1
-                if extra > 0 and direction * (s_new - s_stop) > 0.0:
-                    beyond += 1
-                fac = STEP_GROW if err == 0.0 else STEP_SAFETY * _root(pred_tol / err, order)
-                fac = min(STEP_GROW, max(STEP_CUT, fac))
-                h = min(h_cap, h_try * fac)
-                if cut:
-                    rate = direction * r.dzds.imag
-                    if abs(z.real) >= 1.0 and z.imag * rate < 0.0:
-                        h = min(h, CUT_APPROACH * (-z.imag / rate))
-            elif certified:
-                # certified but too far from the prediction for the target: shorten by the error model
-                h_try *= min(RETRY_CUT_MAX, max(RETRY_CUT_MIN, STEP_SAFETY * _root(pred_tol / err, order)))
-                h = h_try
-            else:
-                h_try *= RETRY_HALVE
-                h = h_try
+        found, s_new, z, dzds, conv, rel_err, h_try, err, order = _corrected(
+            s_cur, h_try, direction, o_s, n, pred, use_log, cut, mode, q, p, pred_tol, node_tol)
+        if not found:
+            return n, True, out
+        o_s[n] = s_new
+        o_z[n] = z
+        o_d[n] = dzds
+        o_c[n] = conv
+        o_e[n] = rel_err
+        if use_log and z == 0:
+            return n + 1, True, out  # cannot happen on a followable branch (z = 0 is no root for kH > 0)
+        pred = (pred[2], pred[3], pred[4], pred[5], _unwrap(_clog(z), pred[4]) if use_log else z,
+                dzds * _cinv(z) if use_log else dzds)
+        n += 1
+        if extra > 0 and direction * (s_new - s_stop) > 0.0:
+            beyond += 1
+        h = _next_step(h_try, err, order, pred_tol, h_cap, cut, z, dzds, direction)
+
+
+@jitted(inline="always")
+def _predict(o_s: np.ndarray, n: int, cut: bool, pred: tuple[complex, complex, complex, complex, complex, complex],
+             s_cur: float, s_new: float) -> complex:
+    """The predictor of ln z (or z) at s_new from the n nodes so far (positions o_s, predictor data pred, see
+    _continue): linear from one node, the cubic Hermite extrapolant from two, for eta = inf (cut) the quintic one
+    from three."""
+    wq, dq, wp, dp, wc, dc = pred
+    if n == 1:
+        return wc + dc * (s_new - s_cur)
+    if n >= 3 and cut:
+        return _hermite3(o_s[n - 3], wq, dq, o_s[n - 2], wp, dp, s_cur, wc, dc, s_new)
+    return _hermite2(o_s[n - 2], wp, dp, s_cur, wc, dc, s_new)
+
+
+@jitted
+def _corrected(s_cur: float, h_try: float, direction: float, o_s: np.ndarray, n: int,
+               pred: tuple[complex, complex, complex, complex, complex, complex], use_log: bool, cut: bool, mode: int,
+               q: float, p: Params, pred_tol: float,
+               node_tol: float) -> tuple[bool, float, complex, complex, float, float, float, float, float]:
+    """The node after s_cur (see _continue): predictor, then Newton's method as corrector; a step whose root is not
+    accepted is retried shorter (by the error model where the root was certified, else halved).
+
+    Returns (found, s, z, dz/ds, convergence constant, relative error of z, the step taken, the predictor error
+    relative to _local_scale, that error's order in the step); found is False (the branch is lost) once the step
+    falls below H_MIN.
+    """
+    nanz = complex(math.nan, math.nan)
+    while True:
+        if h_try < H_MIN:
+            return False, math.nan, nanz, nanz, 0.0, 0.0, h_try, 0.0, 0.0
+        s_new = s_cur + direction * h_try
+        wpred = _predict(o_s, n, cut, pred, s_cur, s_new)
+        zp = cmath.exp(wpred) if use_log else wpred
+        r = _newton(zp, mode, s_new, q, p, NODE_ITERS, node_tol, 0.0, SHRINK_PATH, 1.0, NO_BOX)
+        err = _cabs(r.z - zp) / _local_scale(r.z)
+        # predictor error O(h^2) from one node, O(h^4) from two, O(h^6) from three (eta = inf)
+        order = 2.0 if n == 1 else (6.0 if (n >= 3 and cut) else 4.0)
+        certified = r.ok and err <= PRED_REJECT and r.theta <= THETA_MAX and cmath.isfinite(r.dzds)
+        if certified and r.evals <= NODE_EVALS and err <= PRED_OVERSHOOT * pred_tol:
+            conv = r.theta / r.first if (r.first > 0.0 and r.theta > 0.0) else 0.0
+            return True, s_new, r.z, r.dzds, conv, r.err / max(_cabs(r.z), ABS_FLOOR), h_try, err, order
+        if certified:
+            # certified but too far from the prediction for the target: shorten by the error model
+            h_try *= min(RETRY_CUT_MAX, max(RETRY_CUT_MIN, STEP_SAFETY * _root(pred_tol / err, order)))
+        else:
+            h_try *= RETRY_HALVE
+
+
+@jitted(inline="always")
+def _next_step(h_try: float, err: float, order: float, pred_tol: float, h_cap: float, cut: bool, z: complex,
+               dzds: complex, direction: float) -> float:
+    """The step after a node accepted with step h_try and predictor error err of the given order: aimed at
+    pred_tol by the error model (growing at most STEP_GROW, shrinking at most STEP_CUT times), at most h_cap, and
+    for eta = inf (cut) at most CUT_APPROACH of the linear distance to the branch cut where the root moves towards
+    it."""
+    fac = STEP_GROW if err == 0.0 else STEP_SAFETY * _root(pred_tol / err, order)
+    fac = min(STEP_GROW, max(STEP_CUT, fac))
+    h = min(h_cap, h_try * fac)
+    if cut:
+        rate = direction * dzds.imag
+        if abs(z.real) >= 1.0 and z.imag * rate < 0.0:
+            h = min(h, CUT_APPROACH * (-z.imag / rate))
+    return h
 
 
 @jitted

@@ -33,7 +33,7 @@ from .continuation import (
 from .elementary import ABS_FLOOR, _cinv, _clog
 from .newton import FULL_TOL, LN_KH, SHRINK_PATH, _local_scale, _newton
 from .rayleigh import rayleigh_z
-from .records import NO_BOX, Params, Path
+from .records import NO_BOX, Nodes, Params, Path
 
 # status codes of a point of the branch (model.spectrum.STATUS)
 OK = 0
@@ -187,6 +187,13 @@ def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float,
         nu, _, up = _continue(z0, dz0, e0, S_TOP, max(s_hi, S_TOP), EXTRA_NODES, 1.0, LN_KH, 1.0, p, pred_tol,
                               node_tol, _nodes(NODES_INITIAL), MAX_NODES)
     nd -= top
+    return _path_on(_ascending(dn, nd, top, up, nu), nd + nu - 1), OK
+
+
+@jitted
+def _ascending(dn: Nodes, nd: int, top: int, up: Nodes, nu: int) -> Nodes:
+    """The nodes of a path ascending in s: the downward nodes dn[top:top + nd] in reverse order, then up[1:nu] (node 0
+    of both is the start)."""
     nn = nd + nu - 1
     ns = np.empty(nn)
     nz = np.empty(nn, dtype=np.complex128)
@@ -207,6 +214,14 @@ def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float,
         ndz[k] = up.dzds[i]
         nc[k] = up.conv[i]
         ne[k] = up.err[i]
+    return Nodes(ns, nz, ndz, nc, ne)
+
+
+@jitted
+def _path_on(nodes: Nodes, nn: int) -> Path:
+    """The path on nn ascending nodes: the interpolation table of ln z (of z if a node is exactly 0) built on them
+    (their slopes are overwritten with those of ln z)."""
+    ns, nz, ndz, nc, ne = nodes
     use_log = True
     for i in range(nn):
         use_log = use_log and nz[i] != 0
@@ -220,7 +235,7 @@ def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float,
         cx, cf, cm = _interp_table(ns, nw, ndz, nn)
     else:
         cx, cf, cm = _interp_table(ns, nz, ndz, nn)
-    return Path(ns, nz, nc, ne, cx, cf, cm, nn, use_log), OK
+    return Path(ns, nz, nc, ne, cx, cf, cm, nn, use_log)
 
 
 @jitted(inline="always")
