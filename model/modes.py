@@ -8,7 +8,6 @@ pole correction,
 
     N = (1 / 2 pi i) closed-integral_{dR} F'(z)/F(z) dz = (1 / 2 pi) [change of arg F along dR].
 
-
 Method
 ------
 *Counting.* Each edge (a horizontal or vertical line segment) is sampled adaptively by a compiled routine.
@@ -18,7 +17,6 @@ For every pair of neighbouring samples a, b (step h = z_b - z_a) it accepts the 
 - the trapezoidal estimate T = h/2 (F'_a/F_a + F'_b/F_b) of the integral of F'/F agrees with L to 0.3,
 - the linear predictions F_a + h F'_a and F_b - h F'_b agree with F_b and F_a to 0.7 of their size
   (this catches a pair of roots straddling the edge, whose phase changes cancel),
-
 
 and otherwise bisects it. The increment of log F along an accepted segment is then L (the true increment
 differs from L by a multiple of 2 pi i, and the checks keep it far below pi), so the winding number is an

@@ -64,7 +64,7 @@ class Nodes(NamedTuple):
 class Path(NamedTuple):
     """A followed Rayleigh branch (build_path): nodes ascending in s = ln kH and the interpolant through them.
 
-    Functions that loop over points (branch_solve, growth_one, _refine_max, _crossing) unpack the record once,
+    Functions that loop over points (branch_solve, _refine_peak, _zero_on_path) unpack the record once,
     ``ns, nz, nc, ne, cx, cf, cm, nn, use_log = path``, and pass the fields to the per-point helpers (_interval,
     _interp, _im_at, _solve_at, inlined into the loop): every read of an array field of a record costs an atomic
     reference-count increment and decrement, which inside a loop is a third of the time of an interpolated point.

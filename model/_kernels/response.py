@@ -9,7 +9,6 @@ P = g1 + g2, so that T1_j + T2_j = alpha_j P(u_j). Eq. S-G_gen becomes
     G_x = 4 (1 - beta^2) P[u_s, u_d] / (P_s P_d) + z^2 / (u_s P_s)
     G_y = 2 (2 - z^2) (1 - beta^2) (g1_s g2[u_s, u_d] - g2_s g1[u_s, u_d]) / (P_s P_d)
 
-
 where h[u_s, u_d] is the divided difference (h(u_d) - h(u_s))/(u_d - u_s); u_d - u_s = (1-beta^2) z^2
 cancelled the z^-2 prefactor analytically. Divided differences are computed without cancellation
 (:mod:`model._kernels.elementary`). G_y is exactly 0 for eta = 1.
@@ -20,7 +19,6 @@ Rayleigh function over z^2, Rt = z^2 - 4 + 4 (1 + beta^2 - beta^2 z^2)/(1 + alph
     G_x = Rt h_s / alpha_s + 4 alpha_d Hd,      G_y = -2 (2 - z^2) Hd,
     Hd  = (h_s - h_d)/z^2 = q (1-beta^2) e^{-2 q alpha_s} psi(t) / (alpha_s + alpha_d),
     t   = -2 q (1-beta^2) z^2/(alpha_s + alpha_d),  psi(t) = expm1(t)/t.
-
 
 Where eta q Re(alpha_j) > HALF_SPACE_ARG the lower block is a half-space to rounding (tanh = 1 in
 double precision) and the finite-eta kernel hands over to the eta = inf one. Every kernel also gives
