@@ -16,8 +16,8 @@ import pytest
 from scipy import optimize
 
 import model
-from model import _kernels as K
 from model import stability, thresholds
+from model._kernels import growth as K
 from model.thresholds import (
     CROSSING_STATUS,
     THRESHOLD_STATUS,
