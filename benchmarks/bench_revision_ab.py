@@ -1,6 +1,9 @@
 """Interleaved A/B of this tree's model against a git revision's, each in a process of its own; bit-identity checked.
 
-    python benchmarks/bench_revision_ab.py --old-rev 8252cca [--rounds 5] [--quick]
+    python benchmarks/bench_revision_ab.py [--old-rev 8252cca] [--rounds 5] [--quick]
+
+(`make bench` runs it against BEFORE_SPLIT, main before the kernels were split by algorithm, and
+benchmarks/bit_identity.py against the same revision.)
 
 The old revision's model/ is exported (``git archive``) into a temporary folder and imported there by a worker
 process with its own numba cache folder (so it compiles once per run); this tree's model runs in a second worker
@@ -173,32 +176,47 @@ def ab(old: Worker, new: Worker, rounds: int) -> list[tuple]:
     return rows
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--old-rev", required=True, help="git revision of this repository to compare with")
-    ap.add_argument("--rounds", type=int, default=5)
-    ap.add_argument("--quick", action="store_true", help="smaller atlas grids (6^3 instead of 12^3)")
-    args = ap.parse_args()
+#: the revision of main before the kernels were split by algorithm (issue 25): `make bench` compares with it
+BEFORE_SPLIT = "8252cca"
+
+
+def measure(old_rev: str, rounds: int = 5, quick: bool = False) -> list[tuple]:
+    """The rows of :func:`ab` for `old_rev`'s model against this tree's (each in a worker process of its own)."""
     cache = Path(os.environ.get("NUMBA_CACHE_DIR", ROOT / ".numba_cache"))
     with tempfile.TemporaryDirectory() as tmp:
-        old_root = export_revision(args.old_rev, Path(tmp) / "old")
-        old = Worker(old_root, Path(tmp) / "numba_cache", args.quick)
-        new = Worker(ROOT, cache, args.quick)
+        old_root = export_revision(old_rev, Path(tmp) / "old")
+        old = Worker(old_root, Path(tmp) / "numba_cache", quick)
+        new = Worker(ROOT, cache, quick)
         try:
-            rows = ab(old, new, args.rounds)
+            return ab(old, new, rounds)
         finally:
             old.close()
             new.close()
-    print(f"| case ({args.old_rev} = old, this tree = new) | old wall [s] | new wall [s] | new/old wall | "
-          "old CPU [s] | new CPU [s] | new/old CPU | bit-identical |")
-    print("|---|---|---|---|---|---|---|---|")
+
+
+def markdown(old_rev: str, rows: list[tuple]) -> str:
+    """The table of `rows`, the geometric means of the ratios and whether every case was bit-identical."""
+    lines = [f"| case ({old_rev} = old, this tree = new) | old wall [s] | new wall [s] | new/old wall | "
+             "old CPU [s] | new CPU [s] | new/old CPU | bit-identical |", "|---|---|---|---|---|---|---|---|"]
     for name, wo, wn, wr, co, cn, cr, same in rows:
-        print(f"| {name} | {wo:.4f} | {wn:.4f} | {wr:.3f} | {co:.4f} | {cn:.4f} | {cr:.3f} | "
-              f"{'yes' if same else 'NO'} |")
+        lines.append(f"| {name} | {wo:.4f} | {wn:.4f} | {wr:.3f} | {co:.4f} | {cn:.4f} | {cr:.3f} | "
+                     f"{'yes' if same else 'NO'} |")
+    lines.append("")
     for k, label in ((3, "wall"), (6, "CPU")):
         geo = math.exp(statistics.fmean(math.log(r[k]) for r in rows))
-        print(f"\ngeometric mean of the {label} ratios (medians of rounds): {geo:.3f}")
-    print(f"all bit-identical: {all(r[7] for r in rows)}")
+        lines.append(f"geometric mean of the {label} ratios new/old (medians of rounds): {geo:.3f}  ")
+    lines.append(f"all bit-identical: {all(r[7] for r in rows)}")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--old-rev", default=BEFORE_SPLIT, help="git revision of this repository to compare with "
+                    f"(default {BEFORE_SPLIT}, main before the kernels' split)")
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--quick", action="store_true", help="smaller atlas grids (6^3 instead of 12^3)")
+    args = ap.parse_args()
+    print(markdown(args.old_rev, measure(args.old_rev, args.rounds, args.quick)))
 
 
 if __name__ == "__main__":
