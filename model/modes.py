@@ -343,16 +343,15 @@ class _Line:
 class _Problem:
     """One parameter set: line sampling with graded seeds, counting and locating (see module docstring)."""
 
-    def __init__(self, q, gamma, f, beta, eta, delta, xi, re_max, im_min, im_max, strict=False):
+    def __init__(self, q, gamma, f, beta, eta, delta, xi, re_max, im_min, im_max):
         self.par = (q, gamma, f, beta, eta, delta, xi)
         self.re_max = re_max
         self.im_min = im_min
         self.im_max = im_max
         self.size = max(2.0 * re_max, im_max - im_min)
         self.evaluations = 0
-        # strict: a much finer, slower sampling used as a reference in the tests
-        self.tols = (PHASE_MAX / 4, TRAP_TOL / 10, LIN_TOL / 10) if strict else (PHASE_MAX, TRAP_TOL, LIN_TOL)
-        self.h0 = H0 / 10 if strict else H0
+        self.tols = (PHASE_MAX, TRAP_TOL, LIN_TOL)  # the acceptance tests of a sampled segment
+        self.h0 = H0
         self.poles, self.half = self._real_axis_singularities()
 
     def _real_axis_singularities(self) -> tuple[np.ndarray, np.ndarray]:
@@ -559,11 +558,8 @@ class _Problem:
 # ------------------------------------------------------------------------------------------------
 
 
-def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max, strict: bool = False) -> _Problem:
-    """Validate the arguments (ValueError naming the parameter and its range) and set up the problem.
-
-    strict=True samples with tolerances / 4-10 and initial spacing / 10 (a slow reference for the tests).
-    """
+def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max) -> _Problem:
+    """Validate the arguments (ValueError naming the parameter and its range) and set up the problem."""
     physical = (("kH", kH), ("gamma", gamma), ("f", f), ("beta", beta), ("eta", eta), ("Delta", Delta), ("xi", xi))
     for name, v in physical:
         if np.ndim(v) != 0:
@@ -587,7 +583,7 @@ def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max, strict:
         raise ValueError(f"im_min must be >= 0; got {im_lo!r}")
     if im_hi <= im_lo:
         raise ValueError(f"im_max must be > im_min = {im_lo!r}; got {im_hi!r}")
-    return _Problem(*vals, re_m, im_lo, im_hi, strict)
+    return _Problem(*vals, re_m, im_lo, im_hi)
 
 
 def unstable_count(
