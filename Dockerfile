@@ -29,6 +29,7 @@ WORKDIR /src
 COPY pyproject.toml README.md ./
 COPY model/ model/
 COPY app/ app/
+COPY atlas_engine/ atlas_engine/
 COPY asymslide/ asymslide/
 COPY static/ static/
 COPY docs/physics.md docs/physics.md

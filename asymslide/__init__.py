@@ -1,10 +1,11 @@
-"""asymslide: the command line (``asymslide serve | sweep | info | export``), the server launcher and the
-stability-atlas engine.
+"""asymslide: the command line (``asymslide serve | sweep | info | export | warmup``) and the server launcher,
+the top layer (ARCHITECTURE.md).
 
-The physics lives in the :mod:`model` package, the web app in :mod:`app`. The distribution installs these three
-import names; ``model`` and ``app`` keep their short names (see the README's "Installation and packaging" section
-for why), so asymslide belongs in its own environment (the Makefile's .venv, the Docker image):
-:func:`import_name_clashes` tells when another installed distribution provides one of them too.
+The physics lives in the :mod:`model` package, the atlas engine and store in :mod:`atlas_engine`, the web app in
+:mod:`app`. The distribution installs these four import names; ``model`` and ``app`` keep their short names (see
+the README's "Installation and packaging" section for why), so asymslide belongs in its own environment (the
+Makefile's .venv, the Docker image): :func:`import_name_clashes` tells when another installed distribution
+provides one of them too.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from __future__ import annotations
 from importlib.metadata import PackageNotFoundError, packages_distributions, version
 
 #: the top-level import names this distribution installs
-IMPORT_NAMES = ("model", "app", "asymslide")
+IMPORT_NAMES = ("model", "atlas_engine", "app", "asymslide")
 
 try:
     __version__ = version("asymslide")

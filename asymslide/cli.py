@@ -20,7 +20,7 @@ from pathlib import Path
 
 from . import IMPORT_NAMES, __version__
 
-#: the engine's default (asymslide.sweep.CHUNK_POINTS), without importing it for --help
+#: the engine's default (atlas_engine.sweep.CHUNK_POINTS), without importing it for --help
 CHUNK_POINTS = 8192
 
 
@@ -107,7 +107,16 @@ def _fail(message: str, code: int = 2) -> int:
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from .sweep import CONNECT_TIMEOUT, CountSpec, SweepError, make_plan, parse_axis, parse_fixed, plan_points, sweep
+    from atlas_engine.sweep import (
+        CONNECT_TIMEOUT,
+        CountSpec,
+        SweepError,
+        make_plan,
+        parse_axis,
+        parse_fixed,
+        plan_points,
+        sweep,
+    )
 
     try:
         axes = dict(parse_axis(a) for a in args.axis)
@@ -162,7 +171,7 @@ def _sweep(args: argparse.Namespace) -> int:
 
 
 def _info(args: argparse.Namespace) -> int:
-    from .sweep import iter_summary
+    from atlas_engine.sweep import iter_summary
 
     try:
         for line in iter_summary(args.store):
@@ -173,7 +182,7 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _export(args: argparse.Namespace) -> int:
-    from .sweep import export_netcdf
+    from atlas_engine.sweep import export_netcdf
 
     try:
         out = export_netcdf(args.store, args.netcdf)

@@ -13,7 +13,7 @@ import xarray as xr
 import model
 from app import atlas as A
 from app.params import SpectrumParams
-from asymslide import sweep as S
+from atlas_engine import sweep as S
 from tests.conftest import save_screenshot
 
 KH = np.logspace(-3, 3, 33)

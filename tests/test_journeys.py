@@ -23,7 +23,7 @@ import xarray as xr
 
 from app import atlas as A
 from app.presets import load_presets
-from asymslide import sweep as S
+from atlas_engine import sweep as S
 from tests.conftest import ServerLog, open_app, save_screenshot, set_slider, unexpected, watch_errors
 
 KH = np.logspace(-3, 3, 33)

@@ -31,13 +31,13 @@ def wheel(tmp_path_factory: pytest.TempPathFactory) -> zipfile.ZipFile:
     return zipfile.ZipFile(path)
 
 
-def test_wheel_installs_three_import_names_and_the_data_files(wheel: zipfile.ZipFile) -> None:
+def test_wheel_installs_four_import_names_and_the_data_files(wheel: zipfile.ZipFile) -> None:
     names = wheel.namelist()
     top = {n.split("/")[0] for n in names if not n.split("/")[0].endswith((".dist-info", ".data"))}
     assert top == set(asymslide.IMPORT_NAMES)
     for needed in ("app/presets.json", "app/static/asymslide.css", "app/static/logo.svg", "app/static/favicon.svg",
                    "model/materials.json", "app/reference/physics.md", "app/main.py", "asymslide/cli.py",
-                   "asymslide/sweep.py"):
+                   "atlas_engine/sweep.py"):
         assert needed in names, needed
     assert not [n for n in names if n.startswith(("tests/", "benchmarks/"))]
     # every module of the model, its subpackages' included (pyproject.toml lists the packages one by one)
@@ -202,7 +202,7 @@ def _canonical(name: str) -> str:
 LAYER_FILES = {
     "core": ["model/**/*.py", "asymslide/__init__.py", "asymslide/__main__.py", "asymslide/warmup.py",
              "asymslide/processes.py"],
-    "atlas": ["asymslide/sweep.py", "asymslide/cli.py"],
+    "atlas": ["atlas_engine/*.py", "asymslide/cli.py"],
     "app": ["app/*.py", "asymslide/serve.py"],
 }
 
@@ -279,3 +279,32 @@ def test_this_environment_runs_the_locked_versions() -> None:
     wrong = {name: (installed[name], pin) for name, pin in pins.items() if name in installed and installed[name] != pin}
     assert wrong == {}, "installed != locked (run make venv)"
     assert set(pins) <= set(installed)
+
+
+#: the project's layers from the bottom up (ARCHITECTURE.md): a module may import its own layer and those below
+LAYERS = ("model", "atlas_engine", "app", "asymslide")
+
+
+def _project_imports(path: Path) -> set[str]:
+    """The project packages a module imports (absolute imports; relative ones stay in its own package)."""
+    import ast
+
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            names |= {alias.name.partition(".")[0] for alias in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names.add(node.module.partition(".")[0])
+    return names & set(LAYERS)
+
+
+def test_no_import_runs_back_up_a_layer() -> None:
+    """model -> atlas_engine -> app -> asymslide: each package imports only its own layer and those below it."""
+    assert set(LAYERS) == set(asymslide.IMPORT_NAMES)
+    upward = []
+    for level, package in enumerate(LAYERS):
+        allowed = set(LAYERS[:level + 1])
+        for path in sorted((ROOT / package).rglob("*.py")):
+            if bad := _project_imports(path) - allowed:
+                upward.append(f"{path.relative_to(ROOT)} imports {', '.join(sorted(bad))}")
+    assert upward == []

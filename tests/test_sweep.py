@@ -22,8 +22,8 @@ import pytest
 import xarray as xr
 
 import model
-from asymslide import sweep as S
 from asymslide.cli import EXIT_SCHEDULER
+from atlas_engine import sweep as S
 
 ROOT = Path(__file__).resolve().parent.parent
 KH = np.logspace(-3, 3, 49)

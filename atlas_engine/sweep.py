@@ -55,7 +55,7 @@ import numpy as np
 
 import model
 
-from . import __version__
+from . import __version__  # the distribution's version, recorded in every store
 
 #: the sweepable parameters, in the model's order
 PARAMETERS = tuple(model.PARAMETERS)
