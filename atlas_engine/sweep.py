@@ -438,11 +438,12 @@ def tasks(plan: Plan, kinds: Sequence[str] | None = None) -> dict[str, list[Task
 
 @functools.cache
 def model_fingerprint() -> str:
-    """sha256 of the model's source and data files: any change of the model is another model version."""
+    """sha256 of the model's source and data files, its kernel package's included: any change of the model is another
+    model version."""
     h = hashlib.sha256()
     root = Path(model.__file__).parent
-    for path in sorted([*root.glob("*.py"), *root.glob("*.json")]):
-        h.update(path.name.encode())
+    for path in sorted([*root.rglob("*.py"), *root.rglob("*.json")]):
+        h.update(path.relative_to(root).as_posix().encode())
         h.update(path.read_bytes())
     return h.hexdigest()
 

@@ -27,34 +27,38 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import model  # noqa: E402
-from model import _kernels as K  # noqa: E402
+from model._kernels.continuation import MAP_NODE_TOL, PRED_TOL  # noqa: E402
+from model._kernels.newton import FULL_TOL  # noqa: E402
+from model._kernels.path import OK, build_path, solve_at  # noqa: E402
+from model._kernels.rayleigh import rayleigh_z  # noqa: E402
+from model._kernels.records import Params  # noqa: E402
 
 S = np.log(np.logspace(-3, 3, 97))
 DENSE = np.log(np.logspace(3, -3, 1501))  # from large kH down: the continuation's direction
 FINE_PRED = 1e-5
 
 
-def _paths(p: K.Params):
-    z_r = K.rayleigh_z(p.beta)
-    coarse = K.build_path(S[0], S[-1], z_r, p, K.PRED_TOL, K.MAP_NODE_TOL)
-    fine = K.build_path(S[0], S[-1], z_r, p, FINE_PRED, K.FULL_TOL)
+def _paths(p: Params):
+    z_r = rayleigh_z(p.beta)
+    coarse = build_path(S[0], S[-1], z_r, p, PRED_TOL, MAP_NODE_TOL)
+    fine = build_path(S[0], S[-1], z_r, p, FINE_PRED, FULL_TOL)
     return coarse, fine
 
 
-def _root(path_code, s: float, p: K.Params) -> tuple[complex, int]:
+def _root(path_code, s: float, p: Params) -> tuple[complex, int]:
     path, code = path_code
-    if code != K.OK:
+    if code != OK:
         return complex(math.nan, math.nan), code
-    z, st, *_ = K.solve_at(s, path, p, 0.0)
+    z, st, *_ = solve_at(s, path, p, 0.0)
     return z, st
 
 
 def _same(a: tuple[complex, int], b: tuple[complex, int]) -> bool:
     (za, sa), (zb, sb) = a, b
-    return (sa == sb == K.OK and abs(za - zb) <= 1e-9 * abs(zb)) or (sa != K.OK and sb != K.OK)
+    return (sa == sb == OK and abs(za - zb) <= 1e-9 * abs(zb)) or (sa != OK and sb != OK)
 
 
-def _first_parting(coarse, fine, p: K.Params) -> tuple[float, complex, str] | None:
+def _first_parting(coarse, fine, p: Params) -> tuple[float, complex, str] | None:
     """Where, from large kH down, the two continuations first part (1501 kH): (attenuation there, z, how)."""
     prev = None
     for s in DENSE:
@@ -62,9 +66,9 @@ def _first_parting(coarse, fine, p: K.Params) -> tuple[float, complex, str] | No
         if not _same(a, b):
             zp, sp = prev if prev is not None else (b[0], s)
             att = p.eta * math.exp(sp) * cmath.sqrt(1 - zp * zp).real
-            how = "different roots" if a[1] == b[1] == K.OK else f"one lost (coarse status {a[1]}, fine {b[1]})"
+            how = "different roots" if a[1] == b[1] == OK else f"one lost (coarse status {a[1]}, fine {b[1]})"
             return att, zp, how
-        if a[1] == K.OK:
+        if a[1] == OK:
             prev = (a[0], s)
     return None
 
@@ -75,14 +79,14 @@ def resolution(n_sets: int, seed: int) -> dict:
     sets_super = sets_parting_super = sets_parting_sub_only = 0
     partings = []
     for _ in range(n_sets):
-        p = K.Params(float(10 ** rng.uniform(-1, 1.5)), float(rng.uniform(0.2, 1.2)), float(rng.uniform(0.08, 0.68)),
+        p = Params(float(10 ** rng.uniform(-1, 1.5)), float(rng.uniform(0.2, 1.2)), float(rng.uniform(0.08, 0.68)),
                      float(10 ** rng.uniform(math.log10(1.5), math.log10(300))),
                      1.0 if rng.random() < 0.3 else float(rng.uniform(0.2, 1.0)), 1.0)
         coarse, fine = _paths(p)
         sup = dis_sup = dis_sub = False
         for s in S:
             a, b = _root(coarse, s, p), _root(fine, s, p)
-            ref = b[0] if b[1] == K.OK else a[0]
+            ref = b[0] if b[1] == OK else a[0]
             region = "super" if (np.isfinite(ref) and abs(ref.real) > 1) else "sub"
             same = _same(a, b)
             points[region][0 if same else 1] += 1

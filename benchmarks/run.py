@@ -187,6 +187,16 @@ def main() -> None:
         text += (f"\n## Compiled kernels before and after their refactor (revision {bench_kernels_ab.BEFORE_REFACTOR} "
                  "against this tree, interleaved; `benchmarks/bench_kernels_ab.py`)\n\n"
                  + bench_kernels_ab.markdown(old))
+    from benchmarks import bench_revision_ab, bit_identity
+
+    rev = bench_revision_ab.BEFORE_SPLIT
+    n_arrays, n_values, differ = bit_identity.run(rev)
+    text += (f"\n## Kernels split by algorithm, before and after (revision {rev} against this tree, interleaved, each "
+             "in a process of its own; `benchmarks/bench_revision_ab.py`, `benchmarks/bit_identity.py`)\n\n"
+             + bench_revision_ab.markdown(rev, bench_revision_ab.measure(rev))
+             + f"\n{n_arrays} arrays ({n_values:,} values) of spectrum, growth, thresholds and unstable_modes on "
+             f"fixed grids: {n_arrays - len(differ)} bit-identical to {rev}, {len(differ)} differ"
+             + "".join(f"\n- differs: {k}" for k in differ) + "\n")
     text += "\n" + (OUT / "design_measurements.md").read_text(encoding="utf-8")
     text += "\n" + host_line(host_before, host_loop_seconds()) + "\n"
     print(text)

@@ -25,9 +25,9 @@ def response_functions(z, kH, *, beta, eta=math.inf):
     a_s = sqrt(1-z^2), a_d = sqrt(1-beta^2 z^2), T1_j = tanh(kH a_j), T2_j = tanh(eta kH a_j);
     eta = inf means a half-space below (T2 = +1, Eqs. Gx_LSA/Gy_LSA; docs/physics.md §11 notes the misprint).
 
-    Evaluated in cancellation-free form (see ``model._kernels``): no z^-2 cancellation at small |z|,
-    no overflow for large complex arguments, G_y = 0 exactly for eta = 1. Poles lie on the real axis
-    only; the open upper half-plane is analytic.
+    Evaluated in cancellation-free form (``model._kernels.response``, docs/physics.md §2): no z^-2
+    cancellation at small |z|, no overflow for large complex arguments, G_y = 0 exactly for eta = 1. Poles
+    lie on the real axis only; the open upper half-plane is analytic.
 
     Parameters
     ----------

@@ -31,7 +31,7 @@ at least 2y from one of its neighbours, so that a root sitting next to a pole is
 line at mid-height, geometric mean height near the axis); the samples of the parent's edges are reused, only
 the new splitting line is sampled (its end values give the corners on the edges it meets). A cell holding
 exactly one root is solved by Newton's method with the analytic derivative (as model.dispersion_derivative;
-the model's one Newton loop, model._kernels._newton), started from the contour-integral estimate
+the model's one Newton loop, model._kernels.newton._newton), started from the contour-integral estimate
 (1 / 2 pi i) closed-integral z F'/F dz of the cell (else its centre); the root must converge inside its cell
 with |F| / scale < RESID_MAX = 1e-12 (scale = model.dispersion_scale).
 Cells where Newton fails are split further. The number of located roots always equals the certified count,
@@ -56,14 +56,14 @@ im_min = 1e-2, 1e-3, 1e-4, 1e-5): a stability verdict must state its window.
 from __future__ import annotations
 
 import cmath
-import hashlib
 import math
-from pathlib import Path
 
 import numpy as np
-from numba import njit
 
-from . import _kernels as K
+from ._kernels import jitted
+from ._kernels.newton import FULL_TOL, KH, _newton
+from ._kernels.records import Box, Params
+from ._kernels.response import dispersion_eval
 from ._validate import check
 
 __all__ = ["unstable_count", "unstable_modes"]
@@ -108,7 +108,7 @@ _FLOAT = np.float64
 # ------------------------------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@jitted
 def _seg_ok(za, fa, dfa, zb, fb, dfb, tol_phase, tol_trap, tol_lin):
     """Accept the segment [za, zb] (criteria in the module docstring) and return Log(F_b / F_a)."""
     lg = cmath.log(fb / fa)
@@ -124,12 +124,12 @@ def _seg_ok(za, fa, dfa, zb, fb, dfb, tol_phase, tol_trap, tol_lin):
     return True, lg
 
 
-@njit(cache=True)
+@jitted
 def _point(t: float, c: float, horizontal: bool) -> complex:
     return complex(t, c) if horizontal else complex(c, t)
 
 
-@njit(cache=True)
+@jitted
 def _seeds(t0, t1, h0, geo0, lad_y, poles, half):
     """Initial nodes on [t0, t1]: spacing <= h0; plus geo0 3^k (k >= 0) if geo0 > 0 (grading towards the
     real axis along a vertical line); plus p +- lad_y 3^k around each pole p with ladder half-width
@@ -174,136 +174,121 @@ def _seeds(t0, t1, h0, geo0, lad_y, poles, half):
     return u[lo:hi]
 
 
-def _kernels_fingerprint() -> str:
-    """sha256 of model/_kernels.py.
+@jitted(inline="always")
+def _sample_at(t: float, c: float, horizontal: bool, q: float, gamma: float, f: float, beta: float, eta: float,
+               delta: float, xi: float) -> tuple[complex, complex, int]:
+    """F and F' at the point t of a line (see _sample_line) and a status: 0, 1 (a root: |F| <= TINY x scale) or 3 (F
+    or F' not finite)."""
+    fv, dfv, sc = dispersion_eval(_point(t, c, horizontal), q, gamma, f, beta, eta, delta, xi)
+    if not (cmath.isfinite(fv) and cmath.isfinite(dfv)):
+        return fv, dfv, 3
+    if abs(fv) <= TINY * sc:
+        return fv, dfv, 1
+    return fv, dfv, 0
 
-    The compiled functions below call K.dispersion_eval and K._newton, which numba compiles into them; numba's
-    on-disk cache only checks the time stamp of *this* file, so the fingerprint of _kernels.py is made part of
-    their cache key (numba hashes the closure variables of a cached function).
+
+@jitted
+def _doubled(a: np.ndarray, n: int, size: int) -> np.ndarray:
+    """A buffer of `size` elements of a's dtype holding a[:n] (a full buffer of _sample_line grown)."""
+    new = np.empty(size, dtype=a.dtype)
+    new[:n] = a[:n]
+    return new
+
+
+@jitted
+def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta, eta, delta, xi, h_min,
+                 tol_phase, tol_trap, tol_lin):
+    """Adaptively sample F along the line z = t + i c (horizontal) or z = c + i t (vertical), t0 <= t <= t1.
+
+    The initial nodes are :func:`_seeds`. Returns (t, F, L, status, t_bad, evaluations): nodes t (sorted),
+    F at the nodes, L[j] = Log(F[j+1]/F[j]) of the accepted segments; status 0 = ok, 1 = a root on (or
+    within h_min of) the line near t_bad, 2 = too many samples, 3 = F not finite at t_bad.
     """
-    try:
-        return hashlib.sha256(Path(K.__file__).read_bytes()).hexdigest()
-    except OSError:
-        return "unknown"
+    ts = _seeds(t0, t1, h0, geo0, lad_y, poles, half)
+    n0 = ts.shape[0]
+    st_t = np.empty(n0 + 4096)
+    st_f = np.empty(n0 + 4096, dtype=np.complex128)
+    st_d = np.empty(n0 + 4096, dtype=np.complex128)
+    out_t = np.empty(4 * n0 + 64)
+    out_f = np.empty(4 * n0 + 64, dtype=np.complex128)
+    out_l = np.empty(4 * n0 + 64, dtype=np.complex128)
+    nev = 0
+    # evaluate the initial points and push them (right to left) on the stack
+    sp = 0
+    for k in range(n0 - 1, -1, -1):
+        fv, dfv, status = _sample_at(ts[k], c, horizontal, q, gamma, f, beta, eta, delta, xi)
+        nev += 1
+        if status != 0:
+            return out_t[:0], out_f[:0], out_l[:0], status, ts[k], nev
+        st_t[sp] = ts[k]
+        st_f[sp] = fv
+        st_d[sp] = dfv
+        sp += 1
+    # the current node is the leftmost one (ts[0])
+    sp -= 1
+    ta = st_t[sp]
+    fa = st_f[sp]
+    da = st_d[sp]
+    za = _point(ta, c, horizontal)
+    n = 1
+    out_t[0] = ta
+    out_f[0] = fa
+    while sp > 0:
+        tb = st_t[sp - 1]
+        fb = st_f[sp - 1]
+        db = st_d[sp - 1]
+        zb = _point(tb, c, horizontal)
+        ok, lg = _seg_ok(za, fa, da, zb, fb, db, tol_phase, tol_trap, tol_lin)
+        if ok:
+            if n >= out_t.shape[0]:
+                if n >= CAP:
+                    return out_t[:n], out_f[:n], out_l[: n - 1], 2, ta, nev
+                out_t = _doubled(out_t, n, 2 * n)
+                out_f = _doubled(out_f, n, 2 * n)
+                out_l = _doubled(out_l, n - 1, 2 * n)
+            out_t[n] = tb
+            out_f[n] = fb
+            out_l[n - 1] = lg
+            n += 1
+            sp -= 1
+            ta, fa, da, za = tb, fb, db, zb
+            continue
+        if tb - ta <= h_min:
+            return out_t[:n], out_f[:n], out_l[: n - 1], 1, 0.5 * (ta + tb), nev
+        tm = 0.5 * (ta + tb)
+        fm, dfm, status = _sample_at(tm, c, horizontal, q, gamma, f, beta, eta, delta, xi)
+        nev += 1
+        if status != 0:
+            return out_t[:n], out_f[:n], out_l[: n - 1], status, tm, nev
+        if sp >= st_t.shape[0]:
+            st_t = _doubled(st_t, sp, 2 * sp)
+            st_f = _doubled(st_f, sp, 2 * sp)
+            st_d = _doubled(st_d, sp, 2 * sp)
+        st_t[sp] = tm
+        st_f[sp] = fm
+        st_d[sp] = dfm
+        sp += 1
+    return out_t[:n], out_f[:n], out_l[: n - 1], 0, ta, nev
 
 
-def _build(kernels_sha: str):
-    """Compile (or load from the cache) the functions that evaluate F: (sample_line, newton_cell)."""
+@jitted
+def _newton_cell(z0: complex, x0: float, x1: float, y0: float, y1: float, mult: float, q: float, gamma: float,
+                f: float, beta: float, eta: float, delta: float, xi: float) -> tuple[complex, bool, float, int]:
+    """The root of F(z; kH = q) in the cell [x0, x1] x [y0, y1] by the model's one Newton loop (_newton, thin
+    wrapper): the step multiplied by `mult` for a multiple root; the iterates confined to the cell enlarged by
+    its own size on every side and to Im z > 0; steps allowed to shrink slowly (SHRINK_CELL: the start is a
+    contour-integral estimate or the cell's centre, not a certified predictor).
 
-    @njit(cache=True)
-    def sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta, eta, delta, xi, h_min,
-                     tol_phase, tol_trap, tol_lin):
-        """Adaptively sample F along the line z = t + i c (horizontal) or z = c + i t (vertical), t0 <= t <= t1.
-
-        The initial nodes are :func:`_seeds`. Returns (t, F, L, status, t_bad, evaluations): nodes t (sorted),
-        F at the nodes, L[j] = Log(F[j+1]/F[j]) of the accepted segments; status 0 = ok, 1 = a root on (or
-        within h_min of) the line near t_bad, 2 = too many samples, 3 = F not finite at t_bad.
-        """
-        kernels_sha  # noqa: B018 (part of the cache key, see _kernels_fingerprint)
-        ts = _seeds(t0, t1, h0, geo0, lad_y, poles, half)
-        n0 = ts.shape[0]
-        st_t = np.empty(n0 + 4096)
-        st_f = np.empty(n0 + 4096, dtype=np.complex128)
-        st_d = np.empty(n0 + 4096, dtype=np.complex128)
-        out_t = np.empty(4 * n0 + 64)
-        out_f = np.empty(4 * n0 + 64, dtype=np.complex128)
-        out_l = np.empty(4 * n0 + 64, dtype=np.complex128)
-        nev = 0
-        # evaluate the initial points and push them (right to left) on the stack
-        sp = 0
-        for k in range(n0 - 1, -1, -1):
-            z = _point(ts[k], c, horizontal)
-            fv, dfv, sc = K.dispersion_eval(z, q, gamma, f, beta, eta, delta, xi)
-            nev += 1
-            if not (cmath.isfinite(fv) and cmath.isfinite(dfv)):
-                return out_t[:0], out_f[:0], out_l[:0], 3, ts[k], nev
-            if abs(fv) <= TINY * sc:
-                return out_t[:0], out_f[:0], out_l[:0], 1, ts[k], nev
-            st_t[sp] = ts[k]
-            st_f[sp] = fv
-            st_d[sp] = dfv
-            sp += 1
-        # the current node is the leftmost one (ts[0])
-        sp -= 1
-        ta = st_t[sp]
-        fa = st_f[sp]
-        da = st_d[sp]
-        za = _point(ta, c, horizontal)
-        n = 1
-        out_t[0] = ta
-        out_f[0] = fa
-        while sp > 0:
-            tb = st_t[sp - 1]
-            fb = st_f[sp - 1]
-            db = st_d[sp - 1]
-            zb = _point(tb, c, horizontal)
-            ok, lg = _seg_ok(za, fa, da, zb, fb, db, tol_phase, tol_trap, tol_lin)
-            if ok:
-                if n >= out_t.shape[0]:
-                    if n >= CAP:
-                        return out_t[:n], out_f[:n], out_l[: n - 1], 2, ta, nev
-                    grow_t = np.empty(2 * n)
-                    grow_f = np.empty(2 * n, dtype=np.complex128)
-                    grow_l = np.empty(2 * n, dtype=np.complex128)
-                    grow_t[:n] = out_t[:n]
-                    grow_f[:n] = out_f[:n]
-                    grow_l[: n - 1] = out_l[: n - 1]
-                    out_t, out_f, out_l = grow_t, grow_f, grow_l
-                out_t[n] = tb
-                out_f[n] = fb
-                out_l[n - 1] = lg
-                n += 1
-                sp -= 1
-                ta, fa, da, za = tb, fb, db, zb
-                continue
-            if tb - ta <= h_min:
-                return out_t[:n], out_f[:n], out_l[: n - 1], 1, 0.5 * (ta + tb), nev
-            tm = 0.5 * (ta + tb)
-            zm = _point(tm, c, horizontal)
-            fm, dfm, scm = K.dispersion_eval(zm, q, gamma, f, beta, eta, delta, xi)
-            nev += 1
-            if not (cmath.isfinite(fm) and cmath.isfinite(dfm)):
-                return out_t[:n], out_f[:n], out_l[: n - 1], 3, tm, nev
-            if abs(fm) <= TINY * scm:
-                return out_t[:n], out_f[:n], out_l[: n - 1], 1, tm, nev
-            if sp >= st_t.shape[0]:
-                grow_t = np.empty(2 * sp)
-                grow_f = np.empty(2 * sp, dtype=np.complex128)
-                grow_d = np.empty(2 * sp, dtype=np.complex128)
-                grow_t[:sp] = st_t[:sp]
-                grow_f[:sp] = st_f[:sp]
-                grow_d[:sp] = st_d[:sp]
-                st_t, st_f, st_d = grow_t, grow_f, grow_d
-            st_t[sp] = tm
-            st_f[sp] = fm
-            st_d[sp] = dfm
-            sp += 1
-        return out_t[:n], out_f[:n], out_l[: n - 1], 0, ta, nev
-
-    @njit(cache=True)
-    def newton_cell(z0: complex, x0: float, x1: float, y0: float, y1: float, mult: float, q: float, gamma: float,
-                    f: float, beta: float, eta: float, delta: float, xi: float) -> tuple[complex, bool, float, int]:
-        """The root of F(z; kH = q) in the cell [x0, x1] x [y0, y1] by the model's one Newton loop (K._newton, thin
-        wrapper): the step multiplied by `mult` for a multiple root; the iterates confined to the cell enlarged by
-        its own size on every side and to Im z > 0; steps allowed to shrink slowly (SHRINK_CELL: the start is a
-        contour-integral estimate or the cell's centre, not a certified predictor).
-
-        Returns (z, converged, |F|/scale at z (one more evaluation), evaluations).
-        """
-        kernels_sha  # noqa: B018 (part of the cache key, see _kernels_fingerprint)
-        w = max(x1 - x0, y1 - y0)
-        box = K.Box(x0 - w, x1 + w, max(y0 - w, IM_POSITIVE), y1 + w)
-        p = K.Params(gamma, f, beta, eta, delta, xi)
-        r = K._newton(z0, K.KH, 0.0, q, p, NEWTON_ITERS, K.FULL_TOL, 0.0, SHRINK_CELL, mult, box)
-        if not r.ok:
-            return r.z, False, math.inf, r.evals
-        fv, _, sc = K.dispersion_eval(r.z, q, gamma, f, beta, eta, delta, xi)
-        return r.z, True, abs(fv) / sc, r.evals + 1
-
-    return sample_line, newton_cell
-
-
-_sample_line, _newton_cell = _build(_kernels_fingerprint())
+    Returns (z, converged, |F|/scale at z (one more evaluation), evaluations).
+    """
+    w = max(x1 - x0, y1 - y0)
+    box = Box(x0 - w, x1 + w, max(y0 - w, IM_POSITIVE), y1 + w)
+    p = Params(gamma, f, beta, eta, delta, xi)
+    r = _newton(z0, KH, 0.0, q, p, NEWTON_ITERS, FULL_TOL, 0.0, SHRINK_CELL, mult, box)
+    if not r.ok:
+        return r.z, False, math.inf, r.evals
+    fv, _, sc = dispersion_eval(r.z, q, gamma, f, beta, eta, delta, xi)
+    return r.z, True, abs(fv) / sc, r.evals + 1
 
 
 # ------------------------------------------------------------------------------------------------
@@ -358,16 +343,15 @@ class _Line:
 class _Problem:
     """One parameter set: line sampling with graded seeds, counting and locating (see module docstring)."""
 
-    def __init__(self, q, gamma, f, beta, eta, delta, xi, re_max, im_min, im_max, strict=False):
+    def __init__(self, q, gamma, f, beta, eta, delta, xi, re_max, im_min, im_max):
         self.par = (q, gamma, f, beta, eta, delta, xi)
         self.re_max = re_max
         self.im_min = im_min
         self.im_max = im_max
         self.size = max(2.0 * re_max, im_max - im_min)
         self.evaluations = 0
-        # strict: a much finer, slower sampling used as a reference in the tests
-        self.tols = (PHASE_MAX / 4, TRAP_TOL / 10, LIN_TOL / 10) if strict else (PHASE_MAX, TRAP_TOL, LIN_TOL)
-        self.h0 = H0 / 10 if strict else H0
+        self.tols = (PHASE_MAX, TRAP_TOL, LIN_TOL)  # the acceptance tests of a sampled segment
+        self.h0 = H0
         self.poles, self.half = self._real_axis_singularities()
 
     def _real_axis_singularities(self) -> tuple[np.ndarray, np.ndarray]:
@@ -574,11 +558,8 @@ class _Problem:
 # ------------------------------------------------------------------------------------------------
 
 
-def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max, strict: bool = False) -> _Problem:
-    """Validate the arguments (ValueError naming the parameter and its range) and set up the problem.
-
-    strict=True samples with tolerances / 4-10 and initial spacing / 10 (a slow reference for the tests).
-    """
+def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max) -> _Problem:
+    """Validate the arguments (ValueError naming the parameter and its range) and set up the problem."""
     physical = (("kH", kH), ("gamma", gamma), ("f", f), ("beta", beta), ("eta", eta), ("Delta", Delta), ("xi", xi))
     for name, v in physical:
         if np.ndim(v) != 0:
@@ -602,7 +583,7 @@ def _problem(kH, gamma, f, beta, eta, Delta, xi, re_max, im_min, im_max, strict:
         raise ValueError(f"im_min must be >= 0; got {im_lo!r}")
     if im_hi <= im_lo:
         raise ValueError(f"im_max must be > im_min = {im_lo!r}; got {im_hi!r}")
-    return _Problem(*vals, re_m, im_lo, im_hi, strict)
+    return _Problem(*vals, re_m, im_lo, im_hi)
 
 
 def unstable_count(

@@ -10,7 +10,7 @@ t where G changes sign. There the maximising mode is neutral: z = x is real and 
    between two scan values of one sign (two close crossings);
 2. for every pair of neighbouring scan values with opposite signs, solves the neutral mode by Newton's method on
    the three real equations Re F = Im F = 0, Im(F_s/F_z) = 0 in (Re z, ln kH, t) from the end of the bracket
-   nearer to zero (:func:`model._kernels.neutral_mode`), narrowing the bracket by Illinois steps on G until the
+   nearer to zero (:func:`model._kernels.neutral.neutral_mode`), narrowing the bracket by Illinois steps on G until the
    neutral mode converges inside it;
 3. certifies each crossing twice: G evaluated at value (1 - 1e-9) and value (1 + 1e-9) has opposite signs and a
    size consistent with the neutral mode's slope dG/dt (so it is no jump), and the maximising root there is the

@@ -17,7 +17,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import model
-from model import _kernels as K
+from model._kernels import growth as K
 from model.thresholds import CROSSING_STATUS, X_CERTIFIED, X_EDGE
 from tests import oracle
 

@@ -1,9 +1,9 @@
-"""The compiled kernels' own complex elementary functions (model/_kernels.py: _cinv, _csqrt, _cexp, _clog, _root),
-which replace the library's division, sqrt, exp, log and pow on the hot path, against Python's cmath/math: a few
-ulps apart everywhere, the same branch (principal sqrt and log, the sign of a zero imaginary part respected), and
-the library's own code where squares would over- or underflow. Magnitudes below 1e-300 (never met by the model,
-whose arguments are 0 or far from the subnormal range) are left out: there numba's own cmath functions, the
-fallback, lose digits that CPython's keep."""
+"""The compiled kernels' own complex elementary functions (model/_kernels/elementary.py: _cinv, _csqrt, _cexp,
+_clog, _root), which replace the library's division, sqrt, exp, log and pow on the hot path, against Python's
+cmath/math: a few ulps apart everywhere, the same branch (principal sqrt and log, the sign of a zero imaginary part
+respected), and the library's own code where squares would over- or underflow. Magnitudes below 1e-300 (never met
+by the model, whose arguments are 0 or far from the subnormal range) are left out: there numba's own cmath
+functions, the fallback, lose digits that CPython's keep."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from model import _kernels as K
+from model._kernels import elementary as K
 
 EPS = 2.220446049250313e-16
 ULPS = 4.0

@@ -180,7 +180,7 @@ SLOPE_CASES = [(0.767, dict(PAPER, eta=INF)), (1e-3, dict(PAPER, eta=INF)), (0.3
 @pytest.mark.parametrize("q,params", SLOPE_CASES)
 def test_branch_slope_vs_oracle(q, params):
     """dz/dkH = -F_kH/F_z with the analytic F_kH of the kernels (used for the Hermite path interpolant)."""
-    from model import _kernels as K
+    from model._kernels import response as K
 
     p = dict(Delta=1.0, xi=0.0) | params
     z = complex(model.spectrum(np.array([q]), **p)[0])

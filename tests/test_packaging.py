@@ -40,6 +40,9 @@ def test_wheel_installs_four_import_names_and_the_data_files(wheel: zipfile.ZipF
                    "atlas_engine/sweep.py"):
         assert needed in names, needed
     assert not [n for n in names if n.startswith(("tests/", "benchmarks/"))]
+    # every module of the model, its subpackages' included (pyproject.toml lists the packages one by one)
+    modules = {p.relative_to(ROOT).as_posix() for p in (ROOT / "model").rglob("*.py") if "__pycache__" not in p.parts}
+    assert modules - set(names) == set()
     entry = next(n for n in names if n.endswith("entry_points.txt"))
     assert "asymslide = asymslide.cli:main" in wheel.read(entry).decode()
 
@@ -197,7 +200,7 @@ def _canonical(name: str) -> str:
 
 #: the import names each layer may use, besides the standard library and the project's own packages
 LAYER_FILES = {
-    "core": ["model/*.py", "asymslide/__init__.py", "asymslide/__main__.py", "asymslide/warmup.py",
+    "core": ["model/**/*.py", "asymslide/__init__.py", "asymslide/__main__.py", "asymslide/warmup.py",
              "asymslide/processes.py"],
     "atlas": ["atlas_engine/*.py", "asymslide/cli.py"],
     "app": ["app/*.py", "asymslide/serve.py"],

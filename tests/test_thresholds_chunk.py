@@ -16,8 +16,8 @@ import pytest
 from scipy import optimize
 
 import model
-from model import _kernels as K
 from model import stability, thresholds
+from model._kernels import growth
 from model.thresholds import (
     CROSSING_STATUS,
     THRESHOLD_STATUS,
@@ -223,7 +223,7 @@ def synthetic(monkeypatch: pytest.MonkeyPatch):
 
         def fake_growth_point(s_grid, gamma, f, beta, eta, delta, xi, rtol):
             v = g(gamma)
-            verdict = K.V_UNSTABLE if v > 0 else K.V_STABLE
+            verdict = growth.V_UNSTABLE if v > 0 else growth.V_STABLE
             return (v, 0.0, math.nan, math.nan, float(masked(gamma)), 0.5, 1e-16, float(verdict),
                     slope(math.log(gamma)), 0.0, 0.0, 0.0)
 
@@ -243,9 +243,9 @@ def synthetic(monkeypatch: pytest.MonkeyPatch):
             for i in range(gamma.shape[0]):
                 out[:, i] = fake_growth_point(s_grid, gamma[i], f[i], beta[i], eta[i], delta[i], xi[i], rtol)
 
-        monkeypatch.setattr(K, "growth_point", fake_growth_point)
-        monkeypatch.setattr(K, "growth_many", fake_growth_many)
-        monkeypatch.setattr(K, "neutral_mode", fake_neutral)
+        monkeypatch.setattr(thresholds.K, "growth_point", fake_growth_point)
+        monkeypatch.setattr(thresholds.K, "growth_many", fake_growth_many)
+        monkeypatch.setattr(thresholds.K, "neutral_mode", fake_neutral)
 
     return install
 
