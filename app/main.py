@@ -264,10 +264,7 @@ class App:
 
 def create_app(args: dict[str, list[bytes]] | None = None) -> pn.template.BootstrapTemplate:
     """Build a fresh page (one per browser session); `args` overrides the URL query (tests)."""
-    app = App(args)
-    template = app.template()
-    template.app = app  # for tests
-    return template
+    return App(args).template()
 
 
 if __name__.startswith("bokeh"):

@@ -17,8 +17,8 @@ import urllib.request
 from pathlib import Path
 
 import pytest
+from tests.support.processes import alive, children, descendants
 
-from asymslide.processes import alive, children, descendants
 from tests.conftest import _find_free_port
 
 pytestmark = pytest.mark.slow
