@@ -1,4 +1,4 @@
-"""The app served as the Docker image serves it: ``--num-procs 2 --reuse-sessions`` (tests.support.served_app.ServedApp).
+"""The app served as the Docker image serves it: ``--num-procs 2 --reuse-sessions`` (tests.support.served_app).
 
 With these flags a session's document is built when its websocket connects, not with the page, so
 Panel does not point its stylesheets at this server (app/session_resources.py); and the session
@@ -12,8 +12,8 @@ from collections.abc import Iterator
 import pytest
 
 from app.server_gc import never_destroyed
-from tests.support.served_app import ServedApp
 from tests.conftest import open_app, set_slider
+from tests.support.served_app import ServedApp
 
 pytestmark = pytest.mark.slow
 
