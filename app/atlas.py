@@ -48,7 +48,8 @@ from .common import (
     NAN_COLOR,
     neutral_lines,
 )
-from .params import SpectrumParams, csv_table, fmt, frozen_document, heading, scene_layout
+from .params import SpectrumParams, csv_table, fmt, heading, scene_layout
+from .workarounds import frozen_document
 
 log = logging.getLogger(__name__)
 
@@ -243,8 +244,7 @@ class Atlas:
 def _is_log(values: np.ndarray, attrs: dict) -> bool:
     if attrs.get("scale") in ("log", "linear"):
         return attrs["scale"] == "log"
-    return bool(values.size > 2 and values[0] > 0 and np.allclose(np.diff(np.log(values)),
-                                                                    math.log(values[1] / values[0])))
+    return engine.axis_scale(values) == "log"
 
 
 #: the crossing variables the heat map draws (asymslide/sweep.py; docs/physics.md §9)

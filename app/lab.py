@@ -41,9 +41,9 @@ from .params import (
     declared_parameters,
     fmt,
     follow_material,
-    frozen_document,
     zero_line_hook,
 )
+from .workarounds import frozen_document
 
 #: kH grid of the lab spectrum: the Spectrum scene's, so that matched sliders share one cached computation
 KH = sp.KH

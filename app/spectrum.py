@@ -226,9 +226,8 @@ class SpectrumScene(pn.viewable.Viewer):
         return self._gy_curve[1]
 
     def _csv_header(self, what: str) -> str:
-        names = ("gamma", "f", "beta", "eta", "Delta", "xi")
         return f"asymslide spectrum, {what}; " + ", ".join(
-            f"{n} = {v!r}" for n, v in zip(names, self.inputs, strict=True))
+            f"{n} = {v!r}" for n, v in zip(SpectrumParams.MODEL_ARGS, self.inputs, strict=True))
 
     def _family_columns(self, part: str, name: str) -> dict[str, np.ndarray]:
         """The preset's family of curves as CSV columns (`name`(key=value))."""

@@ -38,7 +38,8 @@ import model
 
 from . import jobs
 from .common import COLOUR_LEGEND, GROWTH_CMAP, GROWTH_LABEL, MARGINAL, NAN_COLOR, neutral_lines
-from .params import Choice, SpectrumParams, controls_column, csv_download, csv_table, fmt, frozen_document, scene_layout
+from .params import Choice, SpectrumParams, controls_column, csv_download, csv_table, fmt, scene_layout
+from .workarounds import frozen_document
 
 # --------------------------------------------------------------------------------------------
 # grids
@@ -99,12 +100,6 @@ class Axis:
         h = t[1] - t[0]
         e = np.concatenate([[t[0] - h / 2], (t[:-1] + t[1:]) / 2, [t[-1] + h / 2]])
         return 10.0**e if self.log else e
-
-    def scale(self, v: np.ndarray) -> np.ndarray:
-        return np.log10(v) if self.log else v
-
-    def unscale(self, t: np.ndarray) -> np.ndarray:
-        return 10.0**t if self.log else t
 
 
 #: the planes (x, y) by model argument; the name of a plane reads "x-y" in the paper's symbols
@@ -261,14 +256,6 @@ def key_for(plane: str, resolution: str, args: tuple[float, ...]) -> tuple:
     names = {a.name for a in PLANES[plane]}
     fixed = tuple((k, float(v)) for k, v in zip(ARG_NAMES, args, strict=True) if k not in names)
     return (plane, RESOLUTIONS[resolution], fixed)
-
-
-def neutral_curve(plane: str, x: np.ndarray, y: np.ndarray, growth: np.ndarray) -> list[np.ndarray]:
-    """The zero contour of the growth (|growth| <= MARGINAL counted as not unstable; NaN masked), interpolated
-    in the plotted (log or linear) coordinates; a list of (m, 2) arrays of (x, y)."""
-    ax, ay = PLANES[plane]
-    return [np.column_stack([ax.unscale(s[:, 0]), ay.unscale(s[:, 1])])
-            for s in neutral_lines(ax.scale(x), ay.scale(y), growth)]
 
 
 def _round_sig(v: float, digits: int = 3) -> float:
@@ -433,7 +420,8 @@ class StabilityMapScene(pn.viewable.Viewer):
 
     def _neutral(self, plane: str, **_stream_values) -> hv.Path:
         x, y, growth, _ = self._shown(plane)
-        lines = [] if growth is None else neutral_curve(plane, x, y, growth)
+        ax, ay = PLANES[plane]
+        lines = [] if growth is None else neutral_lines(x, y, growth, log_x=ax.log, log_y=ay.log)
         return hv.Path(lines, kdims=list(self._dims(plane)), label="neutral curve (max Im = 0)").opts(
             color="black", line_width=2)
 

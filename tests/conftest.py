@@ -20,6 +20,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+
 from tests.support.processes import MARKER, stop_marked
 
 CHROMIUM = Path("/usr/bin/chromium")

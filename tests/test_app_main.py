@@ -310,7 +310,7 @@ _STYLES_LOADED_JS = """() => { let ok = true;
 
 
 def test_a_pane_outside_the_document_keeps_the_sessions_stylesheets() -> None:
-    """app.session_resources.guard_detached_updates: a stylesheet patched for Panel's CDN while a session with local
+    """app.workarounds.guard_detached_updates: a stylesheet patched for Panel's CDN while a session with local
     stylesheets is current stays local (a pane of a tab switched away from, updated later); without a session,
     Panel's own behaviour."""
     import panel.reactive

@@ -17,9 +17,9 @@ import urllib.request
 from pathlib import Path
 
 import pytest
-from tests.support.processes import alive, children, descendants
 
 from tests.conftest import _find_free_port
+from tests.support.processes import alive, children, descendants
 
 pytestmark = pytest.mark.slow
 
