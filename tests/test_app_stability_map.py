@@ -507,3 +507,34 @@ def test_the_progress_bar_is_labelled(small, monkeypatch) -> None:
     go_on.set()
     scene.wait()
     assert scene.progress_label.object == "The f-γ map (8 × 8 points)" and scene.progress.value == scene.progress.max
+
+
+@pytest.mark.ui
+def test_new_inputs_mid_computation_cancel_it_in_the_browser(served_app: str, browser_page, monkeypatch) -> None:
+    """A user changes the resolution while the map is being computed: the page shows the new map's progress at once,
+    then the new map; the stale computation stops after its chunk and never reaches the page."""
+    held, go_on = threading.Event(), threading.Event()
+    real = sm.compute_chunk
+    computed: list[int] = []
+
+    def held_first(plane, n, start, stop, fixed):
+        computed.append(n)
+        if len(computed) == 1:  # the first chunk of the first map waits until the user has changed the inputs
+            held.set()
+            assert go_on.wait(60)
+        return real(plane, n, start, stop, fixed)
+
+    monkeypatch.setattr(sm, "compute_chunk", held_first)
+    page = browser_page
+    open_app(page, served_app, "Stability map")
+    medium, coarse = sm.RESOLUTIONS["medium"], sm.RESOLUTIONS["coarse"]
+    page.get_by_text(f"Computing the η-γ map ({medium} × {medium} points): 0 of").first.wait_for(timeout=60_000)
+    assert held.wait(60)
+    page.get_by_role("button", name="coarse").first.click()
+    page.get_by_text(f"Computing the η-γ map ({coarse} × {coarse} points)").first.wait_for(timeout=60_000)
+    go_on.set()
+    page.get_by_text(f"The η-γ map ({coarse} × {coarse} points)", exact=True).first.wait_for(timeout=120_000)
+    page.wait_for_function(_MAP_JS, timeout=60_000)
+    assert len(page.evaluate(_MAP_JS)["growth"]) == coarse * coarse
+    assert computed.count(medium) == 1  # the stale map stopped after its current chunk
+    assert page.console_errors == []
