@@ -74,7 +74,7 @@ bench: venv  ## run the benchmarks (timings live here, not in tests)
 	$(PY) benchmarks/atlas_latency.py  # Atlas tab slice-to-paint latency (needs $(CHROMIUM)); into results.md
 	$(PY) benchmarks/first_page.py  # first page after start (numba cache and cold), All branches first open
 	$(PY) benchmarks/load_test.py  # 20 sessions for 60 s; exits 1 on errors, p95 > 1 s or unbounded memory
-	$(PY) -m asymslide.processes $$ASYMSLIDE_RUN_ID  # exits 1 if a benchmark left a process running
+	$(PY) -m tests.support.processes $$ASYMSLIDE_RUN_ID  # exits 1 if a benchmark left a process running
 
 lint: venv  ## ruff on the Python code, hadolint on the Dockerfile, shellcheck on the shell scripts
 	$(VENV)/bin/ruff check $(LINT_DIRS)

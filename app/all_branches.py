@@ -15,7 +15,6 @@ lazily, so building the page computes nothing until the tab is shown.
 
 from __future__ import annotations
 
-import collections
 import io
 import math
 
@@ -62,9 +61,6 @@ IM_MAX_LIMIT = 10.0
 
 #: at most this many roots are listed in the readout (all of them are in the plot and the CSV)
 TABLE_ROWS = 12
-
-#: number of calls (keys: the cached ``compute_*`` functions and the model functions), for tests
-CALLS: collections.Counter[str] = collections.Counter()
 
 
 EQUATION = (r"$F(z;\,kH) = \gamma\,\big(G_x + i f\,G_y\big) + i z\left[1 + \frac{\Delta - 1}{1 - i\,\xi\,z\,kH}\right]"
@@ -156,11 +152,9 @@ def compute_roots(kH: float, gamma: float, f: float, beta: float, eta: float, De
     """Every unstable root at kH in the window, with its residual |F|/scale and error estimate
     (:func:`model.root_error_estimate`). A model failure (RuntimeError, ValueError) gives no roots and its message.
     """
-    CALLS["compute_roots"] += 1
     p = dict(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
     message = ""
     try:
-        CALLS["unstable_modes"] += 1
         z = np.asarray(model.unstable_modes(kH, **p, re_max=re_max, im_min=im_min, im_max=im_max), np.complex128)
     except (RuntimeError, ValueError) as exc:
         z, message = np.empty(0, np.complex128), str(exc)
@@ -172,8 +166,6 @@ def compute_roots(kH: float, gamma: float, f: float, beta: float, eta: float, De
 def compute_rayleigh_point(kH: float, gamma: float, f: float, beta: float, eta: float, Delta: float,
                            xi: float) -> dict:
     """The Rayleigh-branch root at kH with the model's status, residual and error estimate."""
-    CALLS["compute_rayleigh_point"] += 1
-    CALLS["rayleigh_branch"] += 1
     r = model.rayleigh_branch(kH, gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
     return {"z": complex(r.z), "status": int(r.status), "residual": float(r.residual), "error": float(r.error)}
 
@@ -181,8 +173,6 @@ def compute_rayleigh_point(kH: float, gamma: float, f: float, beta: float, eta: 
 @pn.cache(max_items=64)
 def compute_rayleigh_curve(gamma: float, f: float, beta: float, eta: float, Delta: float, xi: float) -> dict:
     """The Rayleigh branch on :data:`KH_FINE` and the kH bands where it is unstable (Im z > 0)."""
-    CALLS["compute_rayleigh_curve"] += 1
-    CALLS["rayleigh_branch"] += 1
     r = model.rayleigh_branch(KH_FINE, gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
     with np.errstate(invalid="ignore"):
         unstable = r.z.imag > 0
@@ -195,14 +185,12 @@ def compute_count_curve(gamma: float, f: float, beta: float, eta: float, Delta: 
                         re_max: float, im_min: float, im_max: float) -> dict:
     """Certified number of unstable roots in the window on :data:`KH_COUNT` (NaN where the model failed), and
     the same count without the Rayleigh-branch root (where that root is known)."""
-    CALLS["compute_count_curve"] += 1
     p = dict(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
     window = (re_max, im_min, im_max)
     count = np.full(KH_COUNT.shape, np.nan)
     failures: dict[str, int] = {}
     for i, kh in enumerate(KH_COUNT):
         try:
-            CALLS["unstable_count"] += 1
             count[i] = model.unstable_count(float(kh), **p, re_max=re_max, im_min=im_min, im_max=im_max)
         except (RuntimeError, ValueError) as exc:
             failures[str(exc)] = failures.get(str(exc), 0) + 1

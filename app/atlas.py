@@ -16,7 +16,6 @@ cores), and reused afterwards; another server process computing it is waited for
 
 from __future__ import annotations
 
-import collections
 import fcntl
 import functools
 import hashlib
@@ -39,8 +38,8 @@ from bokeh.models import CustomJSTickFormatter
 import model
 from atlas_engine import sweep as engine
 
+from . import jobs
 from .common import (
-    ATLAS_POLL_MS,
     COLOUR_LEGEND,
     GROWTH_LABEL,
     GROWTH_PALETTE,
@@ -49,12 +48,10 @@ from .common import (
     NAN_COLOR,
     neutral_lines,
 )
-from .params import SpectrumParams, csv_table, fmt, frozen_document, heading, scene_layout
+from .params import SpectrumParams, csv_table, fmt, heading, scene_layout
+from .workarounds import frozen_document
 
 log = logging.getLogger(__name__)
-
-#: number of calls (keys: loads and slices), for tests: a slice change must not load or compute anything
-CALLS: collections.Counter[str] = collections.Counter()
 
 #: the default atlas: 4-D over (γ, η, f, β) at Δ = 1, ξ = 0, with γ_c over (η, f, β)
 DEFAULT_AXES = {
@@ -128,20 +125,12 @@ PHASES = {"growth": "Growth rates (max Im[c/c_s] over kH at every grid point)",
           "gamma_c": "Thresholds γ_c (exact, over the other axes)"}
 
 
-@dataclass
-class _DefaultJob:
-    """The computation of the default atlas in this process (or the wait for another process computing it): the grid
-    points done and to do per phase (the engine's task kinds, :data:`PHASES`)."""
-
-    done: dict[str, int] = field(default_factory=dict)
-    totals: dict[str, int] = field(default_factory=dict)
-    finished: bool = False
-    error: str = ""
-    thread: threading.Thread | None = None
-
+#: how often (s) the default atlas's job re-reads the store while another server process computes it
+OTHER_PROCESS_POLL_S = 0.3
 
 _default_lock = threading.Lock()
-_default_job: _DefaultJob | None = None
+#: the default atlas's job in this process (app.jobs.Job), followed by every session that opens the tab meanwhile
+_default_job: jobs.Job | None = None
 
 
 def default_ready() -> bool:
@@ -154,51 +143,42 @@ def default_ready() -> bool:
         return False
 
 
-def ensure_default() -> _DefaultJob:
-    """Start (once per process) computing the default atlas if it is not complete; return the job."""
+def ensure_default() -> jobs.Job:
+    """The job computing the default atlas in this process, started once (again if it failed, or if its atlas has gone
+    since); its progress phases are the engine's task kinds (:data:`PHASES`)."""
     global _default_job
     with _default_lock:
-        if _default_job is None or (_default_job.finished and _default_job.error):
-            _default_job = _DefaultJob(finished=default_ready())
-            if not _default_job.finished:
-                _default_job.thread = threading.Thread(target=_compute_default, args=(_default_job,), daemon=True,
-                                                       name="asymslide-default-atlas")
-                _default_job.thread.start()
-        return _default_job
+        job = _default_job
+        if job is None or (job.state().finished and not default_ready()):
+            job = _default_job = jobs.Job(_compute_default, name="default atlas").start()
+        return job
 
 
-def _compute_default(job: _DefaultJob) -> None:
+def _compute_default(job: jobs.Job) -> Path:
+    """The work of the default atlas's job: compute it into the atlas directory, or, when another server process
+    holds the directory's lock for it, follow that process's progress in the store; its path."""
     directory = atlas_dir()
     path = directory / f"{default_name()}.zarr"
+    if default_ready():
+        return path
     try:
         directory.mkdir(parents=True, exist_ok=True)
         plan = engine.make_plan(DEFAULT_AXES, kH=DEFAULT_KH)
-        job.totals = engine.plan_points(plan)
-        job.done = dict.fromkeys(job.totals, 0)
+        job.set_totals(engine.plan_points(plan))
         with open(directory / f".{default_name()}.lock", "w") as lock:
             try:
                 fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:  # another server process computes it: follow its progress
                 while not default_ready():
-                    job.done = _points_done(path, plan)
-                    time.sleep(ATLAS_POLL_MS / 1000)
-                job.done = dict(job.totals)
-                return
-
-            def progress(kind: str, n: int) -> None:
-                job.done[kind] = job.done.get(kind, 0) + n
-
-            CALLS["default_sweep"] += 1
-            engine.sweep(DEFAULT_AXES, kH=DEFAULT_KH, store=path, progress=progress,
+                    job.set_done(_points_done(path, plan))
+                    time.sleep(OTHER_PROCESS_POLL_S)
+                job.set_done(job.state().totals)
+                return path
+            engine.sweep(DEFAULT_AXES, kH=DEFAULT_KH, store=path, progress=job.advance,
                          command="the Atlas tab's default atlas (app/atlas.py)")
     except PermissionError as exc:  # a folder this server may read but not write (a mounted volume, say)
-        log.warning("the default atlas cannot be written: %s", exc)
-        job.error = read_only_message(directory, exc)
-    except Exception as exc:  # the tab shows it; the session keeps working
-        log.exception("computing the default atlas failed")
-        job.error = f"{type(exc).__name__}: {exc}"
-    finally:
-        job.finished = True
+        raise jobs.Failed(read_only_message(directory, exc)) from None
+    return path
 
 
 def read_only_message(directory: Path, exc: OSError) -> str:
@@ -264,8 +244,7 @@ class Atlas:
 def _is_log(values: np.ndarray, attrs: dict) -> bool:
     if attrs.get("scale") in ("log", "linear"):
         return attrs["scale"] == "log"
-    return bool(values.size > 2 and values[0] > 0 and np.allclose(np.diff(np.log(values)),
-                                                                    math.log(values[1] / values[0])))
+    return engine.axis_scale(values) == "log"
 
 
 #: the crossing variables the heat map draws (atlas_engine/sweep.py; docs/physics.md §9)
@@ -297,7 +276,6 @@ def _load(name: str, path: Path, stamp: str) -> Atlas:
     """Read an atlas (cached by its name, path and the state of its done flags)."""
     import xarray as xr
 
-    CALLS["load"] += 1
     ds = xr.open_zarr(path, consolidated=False)
     plan = json.loads(ds.attrs["plan"])
     axes = {n: np.asarray(ds[n].values, dtype=float) for n in plan["axes"]}
@@ -641,8 +619,8 @@ class AtlasScene(pn.viewable.Viewer):
         self.x_select.param.watch(lambda e: self._from_widget("x", e.new), "value")
         self.y_select.param.watch(lambda e: self._from_widget("y", e.new), "value")
         self.surface_select.param.watch(lambda e: self._from_widget("surface", e.new), "value")
-        self._poller: pn.io.PeriodicCallback | None = None
-        self._job: _DefaultJob | None = None
+        #: the default atlas's computation this session shows (app.jobs; the job is shared by the sessions)
+        self.computation = jobs.Follower(self._show_default)
         self._surface_key: tuple | None = None
         self._figures: dict[tuple, HeatMap] = {}
         self.image_pane = pn.pane.Bokeh(None, sizing_mode="stretch_width", height=HEIGHT)
@@ -689,42 +667,38 @@ class AtlasScene(pn.viewable.Viewer):
             self.atlas = want
 
     def start_default(self) -> None:
-        """Compute the default atlas if needed (called when the tab is shown), with visible progress."""
+        """Open the default atlas, or follow its computation (shared by the sessions of this process) with a labelled
+        progress bar per phase, and open it when it is done (called when the tab is shown; without a server,
+        :meth:`wait` waits for it)."""
         if self.data is not None or (self.atlas is not None and self.atlas != default_name()):
             return
-        job = self._job = ensure_default()
-        if job.finished and not job.error:
+        if default_ready():
             self.refresh()
             return
         self.progress.visible = True
-        self._poll()
-        doc = pn.state.curdoc
-        if doc is not None and doc.session_context is not None:
-            if self._poller is None or not self._poller.running:
-                self._poller = pn.state.add_periodic_callback(self._poll, period=ATLAS_POLL_MS)
-        elif job.thread is not None:  # no server (tests, scripts): wait here
-            job.thread.join()
-            self._poll()
+        self.computation.follow(ensure_default())
 
-    def _poll(self) -> None:
-        """Show the default atlas's progress, one labelled bar per phase; open it when it is done."""
-        job = self._job  # the job this session follows (a failed one is retried only when the tab is shown again)
-        assert job is not None
+    def wait(self, timeout: float | None = None) -> None:
+        """Block until the default atlas being computed (if any) is done, and open it when not served (tests,
+        scripts)."""
+        self.computation.wait(timeout)
+
+    def _show_default(self, _job: jobs.Job, state: jobs.JobState) -> None:
+        """Show the default atlas's progress, one labelled bar per phase; open it when it is done (on the session's
+        event loop; a failed computation is started again only when the tab is shown again)."""
         for kind, (label, bar) in self.phases.items():
-            total, done = job.totals.get(kind, 0), min(job.done.get(kind, 0), job.totals.get(kind, 0))
+            total, done = state.totals.get(kind, 0), min(state.done.get(kind, 0), state.totals.get(kind, 0))
             bar.value = int(100 * done / total) if total else 0
             label.object = f"{PHASES[kind]}: {done} of {total} grid points" if total else ""
             bar.visible = label.visible = bool(total)
-        if job.error:
-            self.status.object = f"**Default atlas failed**: {job.error}"
-        elif not job.finished:
+        if state.status == jobs.FAILED:
+            self.status.object = f"**Default atlas failed**: {state.error}"
+        elif state.status == jobs.RUNNING:
             self.status.object = (f"**Computing the default atlas** (once; stored in {atlas_dir()}; about half a "
                                   "minute on two cores), in two phases:")
             return
-        if self._poller is not None:
-            self._poller.stop()
         self.progress.visible = False
-        if not job.error:
+        if state.status == jobs.DONE:
             self.status.object = ""
             self.refresh()
 
@@ -840,7 +814,6 @@ class AtlasScene(pn.viewable.Viewer):
         """(x, y, growth[y, x]) of the current slice, in display coordinates; read from the cube only. `variable`:
         another of the store's variables over the same axes instead of the growth (read from the store; None if the
         store has none)."""
-        CALLS["slice"] += 1
         d = self.data
         assert d is not None and self.x_axis is not None
         names = d.names
@@ -938,7 +911,6 @@ class AtlasScene(pn.viewable.Viewer):
             self.image_pane.object = heat.figure
 
     def _draw(self, heat: HeatMap) -> None:
-        CALLS["image"] += 1
         x, y, g = self.slice2d()
         heat.update(x, y, g, self.undetermined_reasons(), self.boundary())
 

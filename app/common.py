@@ -1,5 +1,7 @@
-"""What several scenes share, defined once: the growth-map colours and labels, how often a session shows a background
-computation's progress, log-axis tick labels, and the neutral-curve helper of the Stability-map and Atlas heat maps.
+"""What several scenes share, defined once: the growth-map colours and labels, log-axis tick labels, and the neutral
+curve of the Stability-map and Atlas heat maps. (How often a session shows a background computation's progress:
+:data:`app.jobs.UPDATE_INTERVAL`; the phone breakpoint: :data:`app.params.NARROW_PX`; the order of the model's
+arguments: :attr:`app.params.SpectrumParams.MODEL_ARGS`.)
 """
 
 from __future__ import annotations
@@ -28,19 +30,21 @@ NAN_COLOR = "#636363"
 COLOUR_LEGEND = ("Red: unstable (max growth > 0), blue: stable, white: nearly neutral; dark grey: not computable; "
                  "black line: neutral curve (max growth = 0)")
 
-#: how often (ms) a served session shows the progress of the Stability map's computation and of the default atlas's
-MAP_POLL_MS = 150
-ATLAS_POLL_MS = 300
-
 #: tick labels of an axis (or slider) holding log10 of a value: the value
 LOG_TICKS = "return Math.pow(10, tick).toPrecision(3)"
 
 
-def neutral_lines(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> list[np.ndarray]:
-    """The line(s) z = 0 of z[y, x] in the plotted coordinates x, y (log10 of a log axis): |z| <= MARGINAL counts as
-    not unstable, NaN is masked. Each line is an (m, 2) array of (x, y), clipped to the grid (contourpy puts a vertex
-    on a cell edge at y0 + t dy, which can stick out by an ulp). A grid with fewer than two points along an axis, or
-    without a finite value, has none."""
+def neutral_lines(x: np.ndarray, y: np.ndarray, z: np.ndarray, *, log_x: bool = False,
+                  log_y: bool = False) -> list[np.ndarray]:
+    """The neutral curve: the line(s) z = 0 of z[y, x] (|z| <= MARGINAL counts as not unstable, NaN is masked),
+    interpolated in the plotted coordinates: log10 of an axis drawn on a log scale (`log_x`, `log_y`), the values
+    themselves otherwise. Each line is an (m, 2) array of (x, y) in the coordinates x and y were given in, clipped to
+    the grid (contourpy puts a vertex on a cell edge at y0 + t dy, which can stick out by an ulp). A grid with fewer
+    than two points along an axis, or without a finite value, has none."""
+    if log_x or log_y:
+        lines = neutral_lines(np.log10(x) if log_x else x, np.log10(y) if log_y else y, z)
+        return [np.column_stack([10.0 ** s[:, 0] if log_x else s[:, 0], 10.0 ** s[:, 1] if log_y else s[:, 1]])
+                for s in lines]
     z = np.asarray(z, dtype=float)
     if z.ndim != 2 or z.shape != (y.size, x.size) or x.size < 2 or y.size < 2:
         return []

@@ -20,13 +20,13 @@ from app.paths import CSS, FAVICON, LOGO
 from app.presets import Preset, load_presets, preset_args
 from app.rupture import RuptureScene
 from app.server_gc import configure_gc, track_session
-from app.session_resources import guard_detached_updates, use_server_stylesheets
 from app.spectrum import SpectrumScene
 from app.stability_map import StabilityMapScene
 from app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
 from app.urlstate import TABS, Updates, parse_query, query_string
+from app.workarounds import guard_detached_updates, use_server_stylesheets
 
-guard_detached_updates()  # panes of a tab switched away from keep the page's stylesheets (app/session_resources.py)
+guard_detached_updates()  # panes of a tab switched away from keep the page's stylesheets (app/workarounds.py)
 
 #: tabs whose scene is built when first shown (see App.__init__)
 LAZY_TABS = ("map", "thin", "rupture", "branches", "atlas")
@@ -264,10 +264,7 @@ class App:
 
 def create_app(args: dict[str, list[bytes]] | None = None) -> pn.template.BootstrapTemplate:
     """Build a fresh page (one per browser session); `args` overrides the URL query (tests)."""
-    app = App(args)
-    template = app.template()
-    template.app = app  # for tests
-    return template
+    return App(args).template()
 
 
 if __name__.startswith("bokeh"):

@@ -7,10 +7,9 @@ Data flow: widget (sliders on release) -> parameter -> cached model call -> Holo
 
 from __future__ import annotations
 
-import contextlib
 import io
 import math
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import holoviews as hv
@@ -21,6 +20,8 @@ from bokeh.models import CustomJSTickFormatter, GlyphRenderer, Span
 from param.parameterized import Undefined
 
 import model
+
+from .workarounds import frozen_document
 
 hv.extension("bokeh", logo=False)
 # plotly.js with every page (served by this server from Panel's bundle): the Atlas tab's 3-D view is created after
@@ -107,53 +108,6 @@ def csv_download(callback: Callable[[], io.StringIO], filename: str, label: str)
     """A button that downloads what `callback` returns (computed on click, from the cached data)."""
     return pn.widgets.FileDownload(callback=callback, filename=filename, label=label, color="primary",
                                    width=200)
-
-
-def _skip_recompute() -> None:
-    """Stands in for ``doc.models.recompute`` when the model graph is known not to have changed."""
-
-
-@contextlib.contextmanager
-def frozen_document() -> Iterator[None]:
-    """Defer the Bokeh model-graph recompute to the end of a parameter change, and skip it when the
-    graph did not change.
-
-    HoloViews freezes the document around each plot it refreshes, and Bokeh walks every model of the
-    page when the outermost freeze ends whether or not a model reference changed. Inside
-    this context: nested freezes do not walk; at the end the walk happens once, and only if Bokeh
-    reported a changed reference (``models.invalidate``) or a root was added or removed. A slider
-    release that only sends new data (the usual case) walks nothing. Events are still sent as they
-    happen (unlike ``pn.io.hold``), so the first plot is not delayed by the others. A no-op outside a
-    Bokeh document (tests, scripts).
-    """
-    doc = pn.state.curdoc
-    models = getattr(doc, "models", None)
-    if models is None or "invalidate" in vars(models):  # no document, or inside another frozen_document
-        yield
-        return
-    roots = list(doc.roots)
-    changed = False
-
-    def invalidate() -> None:  # Bokeh calls this when a property change adds or drops model references
-        nonlocal changed
-        changed = True
-
-    models.invalidate = invalidate
-    error: BaseException | None = None
-    try:
-        with models.freeze():
-            try:
-                yield
-            except BaseException as exc:  # Bokeh's freeze() would stay frozen (no try/finally there)
-                error = exc
-            finally:
-                del models.invalidate
-                if not changed and list(doc.roots) == roots:
-                    models.recompute = _skip_recompute  # the walk freeze() ends with
-    finally:
-        vars(models).pop("recompute", None)
-    if error is not None:
-        raise error
 
 
 def set_frozen(obj: param.Parameterized, name: str, value: object) -> None:

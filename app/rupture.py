@@ -11,7 +11,6 @@ model's message; the session keeps working.
 
 from __future__ import annotations
 
-import collections
 import html
 import io
 
@@ -53,9 +52,6 @@ C_LABEL = "c/c_R"
 VM_LABEL = "v_m [m/s]"
 DS_LABEL = "Δσ_yy/σ₀ at v_m"
 
-#: number of calls (keys: the cached ``compute_*`` functions and the model functions), for tests
-CALLS: collections.Counter[str] = collections.Counter()
-
 ASSUMPTIONS = """\
 **Assumptions** (docs/physics.md §13.1; model.rupture):
 1. *Thin-on-thin*: a steady 2-D mode-II shear crack moving at constant c between two identical blocks of infinite
@@ -83,11 +79,8 @@ def _sources() -> str:
 @pn.cache(max_items=64)
 def compute_speeds(rho: float, c_s: float, nu: float) -> dict:
     """c_R (plane stress) and μ = ρ c_s² of the material, or the model's message."""
-    CALLS["compute_speeds"] += 1
     try:
-        CALLS["rayleigh_wave_speed"] += 1
         c_R = float(model.rayleigh_wave_speed(c_s=c_s, nu=nu, plane=PLANE))
-        CALLS["shear_modulus"] += 1
         mu = float(model.shear_modulus(rho, c_s))
     except ValueError as exc:
         return {"error": str(exc)}
@@ -97,29 +90,21 @@ def compute_speeds(rho: float, c_s: float, nu: float) -> dict:
 @pn.cache(max_items=256)
 def compute_front(c_ratio: float, Gamma: float, X_c0: float, rho: float, c_s: float, nu: float) -> dict:
     """The front at c = c_ratio c_R: c, f_II, X_c, τ_p, K_II, v_m and its position x_m, E′ (SI units)."""
-    CALLS["compute_front"] += 1
     sp = compute_speeds(rho, c_s, nu)
     if "error" in sp:
         return sp
     c, mu = c_ratio * sp["c_R"], sp["mu"]
     kw = dict(Gamma=Gamma, X_c0=X_c0, mu=mu, c_s=c_s, nu=nu, plane=PLANE)
     try:
-        CALLS["peak_cohesive_stress"] += 1
         tau_p = float(model.peak_cohesive_stress(Gamma=Gamma, X_c0=X_c0, mu=mu, nu=nu, plane=PLANE))
     except ValueError as exc:
         return {"error": str(exc)}
     try:
-        CALLS["mode_ii_universal_function"] += 1
         f_ii = float(model.mode_ii_universal_function(c, c_s=c_s, nu=nu, plane=PLANE))
-        CALLS["cohesive_zone_size"] += 1
         x_c = float(model.cohesive_zone_size(c, X_c0=X_c0, c_s=c_s, nu=nu, plane=PLANE))
-        CALLS["stress_intensity_factor"] += 1
         k_ii = float(model.stress_intensity_factor(c, **kw))
-        CALLS["peak_slip_velocity"] += 1
         v_m = float(model.peak_slip_velocity(c, **kw))
-        CALLS["peak_slip_location"] += 1
         x_m = float(model.peak_slip_location(c, X_c0=X_c0, c_s=c_s, nu=nu, plane=PLANE))
-        CALLS["plane_modulus"] += 1
         e_prime = float(model.plane_modulus(mu=mu, nu=nu, plane=PLANE))
     except ValueError as exc:  # the rupture speed: say which c/c_R the model refused
         return {"error": f"c/c_R = {c_ratio:g}: {exc}"}
@@ -130,12 +115,10 @@ def compute_front(c_ratio: float, Gamma: float, X_c0: float, rho: float, c_s: fl
 @pn.cache(max_items=64)
 def compute_profile(c_ratio: float, Gamma: float, X_c0: float, rho: float, c_s: float, nu: float) -> dict:
     """The slip velocity v(x) [m/s] on x = :data:`PROFILE_GRID` X_c0 [m]."""
-    CALLS["compute_profile"] += 1
     front = compute_front(c_ratio, Gamma, X_c0, rho, c_s, nu)
     if "error" in front:
         return front
     x = PROFILE_GRID * X_c0
-    CALLS["slip_velocity_profile"] += 1
     v = model.slip_velocity_profile(x, c=front["c"], Gamma=Gamma, X_c0=X_c0, mu=front["mu"], c_s=c_s, nu=nu,
                                     plane=PLANE)
     return {"x": x, "v": np.asarray(v, float)}
@@ -144,13 +127,11 @@ def compute_profile(c_ratio: float, Gamma: float, X_c0: float, rho: float, c_s: 
 @pn.cache(max_items=64)
 def compute_vm_curve(Gamma: float, X_c0: float, rho: float, c_s: float, nu: float) -> dict:
     """v_m [m/s] on c = :data:`C_RATIO` c_R."""
-    CALLS["compute_vm_curve"] += 1
     sp = compute_speeds(rho, c_s, nu)
     if "error" in sp:
         return sp
     c = C_RATIO * sp["c_R"]
     try:
-        CALLS["peak_slip_velocity"] += 1
         v_m = model.peak_slip_velocity(c, Gamma=Gamma, X_c0=X_c0, mu=sp["mu"], c_s=c_s, nu=nu, plane=PLANE)
     except ValueError as exc:
         return {"error": str(exc)}
@@ -161,12 +142,10 @@ def compute_vm_curve(Gamma: float, X_c0: float, rho: float, c_s: float, nu: floa
 def compute_stress_curve(kW: float, sigma0: float, Gamma: float, X_c0: float, rho: float, c_s: float,
                          nu: float) -> dict:
     """Δσ_yy/σ₀ at v_m (Eq. dsigma) on c = :data:`C_RATIO` c_R for one kW."""
-    CALLS["compute_stress_curve"] += 1
     sp = compute_speeds(rho, c_s, nu)
     if "error" in sp:
         return sp
     try:
-        CALLS["relative_normal_stress_change_at_peak_slip"] += 1
         ds = model.relative_normal_stress_change_at_peak_slip(C_RATIO * sp["c_R"], kW=kW, sigma0=sigma0, Gamma=Gamma,
                                                                X_c0=X_c0, mu=sp["mu"], c_s=c_s, nu=nu)
     except ValueError as exc:  # Eq. dsigma's thin-on-thick part has a narrower domain (nu >= 0)
@@ -178,12 +157,10 @@ def compute_stress_curve(kW: float, sigma0: float, Gamma: float, X_c0: float, rh
 def compute_stress_point(c_ratio: float, kW: float, sigma0: float, Gamma: float, X_c0: float, rho: float,
                          c_s: float, nu: float) -> dict:
     """Δσ_yy/σ₀ at v_m at the current c for one kW."""
-    CALLS["compute_stress_point"] += 1
     front = compute_front(c_ratio, Gamma, X_c0, rho, c_s, nu)
     if "error" in front:
         return front
     try:
-        CALLS["relative_normal_stress_change_at_peak_slip"] += 1
         ds = model.relative_normal_stress_change_at_peak_slip(front["c"], kW=kW, sigma0=sigma0, Gamma=Gamma,
                                                                X_c0=X_c0, mu=front["mu"], c_s=c_s, nu=nu)
     except ValueError as exc:

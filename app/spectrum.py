@@ -7,7 +7,6 @@ methods, so they update in place.
 
 from __future__ import annotations
 
-import collections
 import functools
 import io
 import math
@@ -37,9 +36,6 @@ KH = np.logspace(-3, 3, 400)
 
 #: heights (px) of the growth-rate, phase-velocity and G_y plots
 PLOT_HEIGHTS = (340, 300, 260)
-
-#: number of model calls made (keys: model function names and "compute_spectrum"), for tests
-CALLS: collections.Counter[str] = collections.Counter()
 
 #: the dispersion relation whose Rayleigh-branch root z(kH) is plotted (rendered by KaTeX)
 EQUATION = (r"$F(z;\,kH) = \gamma\,\big(G_x + i f\,G_y\big) + i z\left[1 + \frac{\Delta - 1}{1 - i\,\xi\,z\,kH}\right]"
@@ -120,17 +116,13 @@ FAMILY = {name: (i, SpectrumParams.symbol(name)) for i, name in enumerate(Spectr
 @pn.cache(max_items=64)
 def compute_spectrum(gamma: float, f: float, beta: float, eta: float, Delta: float, xi: float) -> dict:
     """Rayleigh branch, linear expansion (Delta == 1 only) and growth analysis on :data:`KH`."""
-    CALLS["compute_spectrum"] += 1
     p = dict(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi)
-    CALLS["rayleigh_branch"] += 1
     branch = model.rayleigh_branch(KH, **p)
     out = {"kH": KH, "z": branch.z, "status": branch.status, "error": branch.error}
     if Delta == 1:
-        CALLS["linear_expansion"] += 1
         out["linear"] = model.linear_expansion(KH, gamma=gamma, f=f, beta=beta, eta=eta)
     else:
         out["linear"] = np.full(KH.shape, np.nan + 0j)
-    CALLS["growth_analysis"] += 1
     g = model.growth_analysis(KH, **p)
     out.update(growth=float(g.growth), kH_at_max=float(g.kH_at_max), kH_min=float(g.kH_min),
                kH_max=float(g.kH_max))
@@ -140,7 +132,6 @@ def compute_spectrum(gamma: float, f: float, beta: float, eta: float, Delta: flo
 @pn.cache(max_items=16)
 def compute_gy_rayleigh(beta: float, eta: float) -> dict:
     """G_y(z_R, kH) on :data:`KH` (Eq. Gs_general at the Rayleigh speed), for the criterion of Eq. criterion."""
-    CALLS["compute_gy_rayleigh"] += 1
     z_r = float(model.rayleigh_speed(beta))
     _, gy = model.response_functions(np.full(KH.shape, z_r), KH, beta=beta, eta=eta)
     return {"kH": KH, "gy": np.real(gy), "z_R": z_r}
@@ -235,9 +226,8 @@ class SpectrumScene(pn.viewable.Viewer):
         return self._gy_curve[1]
 
     def _csv_header(self, what: str) -> str:
-        names = ("gamma", "f", "beta", "eta", "Delta", "xi")
         return f"asymslide spectrum, {what}; " + ", ".join(
-            f"{n} = {v!r}" for n, v in zip(names, self.inputs, strict=True))
+            f"{n} = {v!r}" for n, v in zip(SpectrumParams.MODEL_ARGS, self.inputs, strict=True))
 
     def _family_columns(self, part: str, name: str) -> dict[str, np.ndarray]:
         """The preset's family of curves as CSV columns (`name`(key=value))."""

@@ -9,15 +9,10 @@ threshold χ_c(β) = γ_c f (:func:`model.critical_chi`) and the approximate cri
 The app computes no physics: every number comes from a ``pn.cache``'d call into the public :mod:`model` API.
 
 Computation on demand. The map is computed only when its plot is rendered (dynamic tabs render the visible
-scene only, and building the page computes nothing), on a background thread, in chunks of rows; each chunk is a
-pure cached call (:func:`compute_chunk`), so a map seen before, or the unchanged part of one, comes back from the
-cache. A progress bar advances per chunk. When the map's inputs change, a generation counter makes the stale
-computation stop after its current chunk and the new one starts. The worker thread never touches the Bokeh
-document: it writes its progress into a job record, which a periodic callback of the session
-(``pn.state.add_periodic_callback``, on the session's event loop, stopped when the map is shown) carries to the
-progress bar and the plot; without a server (tests) the worker applies it itself. (Updates scheduled from the
-thread with ``pn.state.execute`` can take effect out of order: the progress bar's maximum could arrive after
-its values.)
+scene only, and building the page computes nothing), as a background job (:mod:`app.jobs`), in chunks of rows; each
+chunk is a pure cached call (:func:`compute_chunk`), so a map seen before, or the unchanged part of one, comes back
+from the cache. A labelled progress bar advances per chunk. When the map's inputs change, the running job is
+cancelled (it stops after its current chunk and is never shown) and the new one starts.
 
 What the map depends on: its plane, resolution, and the four parameters off the plane (ξ normalised to 0 at Δ = 1,
 where it does not enter F). Moving a parameter of the plane moves only the marker.
@@ -27,7 +22,6 @@ from __future__ import annotations
 
 import collections
 import io
-import logging
 import math
 import os
 import threading
@@ -42,10 +36,10 @@ import param
 
 import model
 
-from .common import COLOUR_LEGEND, GROWTH_CMAP, GROWTH_LABEL, MAP_POLL_MS, MARGINAL, NAN_COLOR, neutral_lines
-from .params import Choice, SpectrumParams, controls_column, csv_download, csv_table, fmt, frozen_document, scene_layout
-
-log = logging.getLogger(__name__)
+from . import jobs
+from .common import COLOUR_LEGEND, GROWTH_CMAP, GROWTH_LABEL, MARGINAL, NAN_COLOR, neutral_lines
+from .params import Choice, SpectrumParams, controls_column, csv_download, csv_table, fmt, scene_layout
+from .workarounds import frozen_document
 
 # --------------------------------------------------------------------------------------------
 # grids
@@ -71,9 +65,6 @@ BETA_CRITERION = np.linspace(0.025, 0.70, 28)
 BETA_EXACT = BETA_CRITERION[1::2].copy()
 #: Fig. 4c y range; a current χ off this range is drawn at its edge
 CHI_RANGE = (0.0, 5.0)
-
-#: number of calls (keys: the cached ``compute_*`` functions, the model functions, "chunks_cancelled"), for tests
-CALLS: collections.Counter[str] = collections.Counter()
 
 
 @dataclass(frozen=True)
@@ -109,12 +100,6 @@ class Axis:
         h = t[1] - t[0]
         e = np.concatenate([[t[0] - h / 2], (t[:-1] + t[1:]) / 2, [t[-1] + h / 2]])
         return 10.0**e if self.log else e
-
-    def scale(self, v: np.ndarray) -> np.ndarray:
-        return np.log10(v) if self.log else v
-
-    def unscale(self, t: np.ndarray) -> np.ndarray:
-        return 10.0**t if self.log else t
 
 
 #: the planes (x, y) by model argument; the name of a plane reads "x-y" in the paper's symbols
@@ -185,13 +170,11 @@ def compute_chunk(plane: str, n: int, start: int, stop: int, fixed: tuple[tuple[
 
     growth, kH_at_max (NaN growth: the branch could not be followed at any kH), n_masked (kH points masked).
     """
-    CALLS["compute_chunk"] += 1
     ax, ay = PLANES[plane]
     x, y = plane_axes(plane, n)
     p = dict(fixed)
     p[ax.name] = x[None, :]
     p[ay.name] = y[start:stop, None]
-    CALLS["growth_analysis"] += 1
     r = model.growth_analysis(KH, **p)
     return {"growth": np.asarray(r.growth, float), "kH_at_max": np.asarray(r.kH_at_max, float),
             "n_masked": np.asarray(r.n_masked, int)}
@@ -200,24 +183,19 @@ def compute_chunk(plane: str, n: int, start: int, stop: int, fixed: tuple[tuple[
 @pn.cache(max_items=1)
 def compute_criterion() -> np.ndarray:
     """χ_c of the approximate criterion (Eq. criterion) on :data:`BETA_CRITERION` (independent of f)."""
-    CALLS["compute_criterion"] += 1
-    CALLS["criterion_chi"] += 1
     return np.asarray(model.criterion_chi(BETA_CRITERION), float)
 
 
 @pn.cache(max_items=32)
 def compute_fig4c(f: float) -> dict:
     """Fig. 4c at friction coefficient f: exact χ_c(β) (NaN where there is no threshold) and the criterion."""
-    CALLS["compute_fig4c"] += 1
     exact = np.full(BETA_EXACT.shape, np.nan)
     reason = ""
     try:
-        CALLS["critical_chi"] += 1
         exact = np.asarray(model.critical_chi(BETA_EXACT, f=f), float)
     except ValueError:  # no threshold at some beta: per point, NaN there
         for i, b in enumerate(BETA_EXACT):
             try:
-                CALLS["critical_chi"] += 1
                 exact[i] = float(model.critical_chi(float(b), f=f))
             except ValueError as exc:
                 reason = str(exc)
@@ -249,18 +227,28 @@ class MapResult:
         return self.key[0]
 
 
-@dataclass(eq=False)
-class _Job:
-    """One computation of a map: written by its worker thread, read by :meth:`StabilityMapScene._apply`."""
-
-    gen: int
-    key: tuple
-    total: int  # chunks
-    done: int = 0
-    finished: bool = False
-    applied: bool = False  # its end has been shown
-    result: MapResult | None = None
-    error: str = ""
+def compute_map(key: tuple, job: jobs.Job) -> MapResult:
+    """The map of `key` (:func:`key_for`), chunk by chunk, each from the cache of chunks when it is there: the work of
+    a map job, on its thread (it stops at :meth:`~app.jobs.Job.check` once the job is cancelled)."""
+    plane, n, fixed = key
+    chunks = chunk_rows(n)
+    t0 = time.perf_counter()
+    parts, computed = [], 0
+    for a, b in chunks:
+        job.check()
+        chunk_key = (plane, n, a, b, fixed)
+        part = CHUNKS.get(chunk_key)
+        if part is None:
+            part = compute_chunk(plane, n, a, b, fixed)
+            CHUNKS.put(chunk_key, part)
+            computed += 1
+        parts.append(part)
+        job.advance("chunks")
+    x, y = plane_axes(plane, n)
+    return MapResult(key=key, x=x, y=y, growth=np.concatenate([p["growth"] for p in parts]),
+                     kH_at_max=np.concatenate([p["kH_at_max"] for p in parts]),
+                     n_masked=np.concatenate([p["n_masked"] for p in parts]),
+                     seconds=time.perf_counter() - t0, chunks_computed=computed, chunks_total=len(chunks))
 
 
 def key_for(plane: str, resolution: str, args: tuple[float, ...]) -> tuple:
@@ -268,14 +256,6 @@ def key_for(plane: str, resolution: str, args: tuple[float, ...]) -> tuple:
     names = {a.name for a in PLANES[plane]}
     fixed = tuple((k, float(v)) for k, v in zip(ARG_NAMES, args, strict=True) if k not in names)
     return (plane, RESOLUTIONS[resolution], fixed)
-
-
-def neutral_curve(plane: str, x: np.ndarray, y: np.ndarray, growth: np.ndarray) -> list[np.ndarray]:
-    """The zero contour of the growth (|growth| <= MARGINAL counted as not unstable; NaN masked), interpolated
-    in the plotted (log or linear) coordinates; a list of (m, 2) arrays of (x, y)."""
-    ax, ay = PLANES[plane]
-    return [np.column_stack([ax.unscale(s[:, 0]), ay.unscale(s[:, 1])])
-            for s in neutral_lines(ax.scale(x), ay.scale(y), growth)]
 
 
 def _round_sig(v: float, digits: int = 3) -> float:
@@ -304,12 +284,8 @@ class StabilityMapScene(pn.viewable.Viewer):
         if "params" not in kwargs:
             kwargs["params"] = SpectrumParams()
         super().__init__(**kwargs)
-        self._lock = threading.Lock()
-        self._generation = 0
-        self._job: _Job | None = None  # the latest computation started
-        self._thread: threading.Thread | None = None
-        self._poller: pn.io.PeriodicCallback | None = None
-        self._docs: set[int] = set()
+        #: the background computation of the map (app.jobs): cancelled when the map's inputs change
+        self.computation = jobs.Follower(self._show_job)
         self._views: dict[str, hv.DynamicMap] = {}
         self.tap_streams: dict[str, hv.streams.Tap] = {}
         self.progress = pn.indicators.Progress(value=0, max=1, bar_color="primary", sizing_mode="stretch_width",
@@ -338,11 +314,11 @@ class StabilityMapScene(pn.viewable.Viewer):
             self.map_key = key
 
     def _key_changed(self, event: param.parameterized.Event) -> None:
-        """Inputs changed: stop a running computation after its chunk; if one was running (the map is shown),
-        start the new one at once (otherwise the next render starts it)."""
-        with self._lock:
-            running = self._job is not None and not self._job.finished
-            self._generation += 1
+        """Inputs changed: cancel a running computation (it stops after its chunk and is never shown); if one was
+        running (the map is shown), start the new one at once (otherwise the next render starts it)."""
+        job = self.computation.job
+        running = job is not None and not job.state().finished
+        self.computation.cancel()
         self.map_download.disabled = not self._current()
         if running:
             self.ensure_map()
@@ -351,128 +327,40 @@ class StabilityMapScene(pn.viewable.Viewer):
         return self.result is not None and self.result.key == self.map_key
 
     def ensure_map(self) -> None:
-        """Start computing the map of the current key unless it is finished or already being computed.
-
-        Called where the session may be modified (a render, a parameter change); when served, a periodic callback
-        of the session carries the worker's progress to the page (the worker never touches the document)."""
+        """Start computing the map of the current key unless it is shown or already being computed (called where the
+        session may be modified: a render, a parameter change)."""
         key = self.map_key
-        with self._lock:
-            job = self._job
-            if self._current() or (job is not None and job.key == key and job.gen == self._generation
-                                   and not job.applied):
-                return
-            self._generation += 1
-            self._job = job = _Job(gen=self._generation, key=key, total=len(chunk_rows(key[1])))
-        doc = pn.state.curdoc
-        served = doc is not None and doc.session_context is not None
-        if served:
-            if id(doc) not in self._docs:
-                self._docs.add(id(doc))
-                doc.on_session_destroyed(lambda _ctx: self.cancel())
-            if self._poller is None or not self._poller.running:
-                self._poller = pn.state.add_periodic_callback(self._apply, period=MAP_POLL_MS)
-        if served:
-            # on the session's next turn: a map started while its tab is being built (the tab is built when first
-            # shown) must not update panes whose models are not in the document yet -- Panel would then re-point
-            # the session's shared stylesheets at its CDN (which fails offline)
-            doc.add_next_tick_callback(partial(self._show_started, job))
-        else:
-            self._show_started(job)
-        self._thread = threading.Thread(target=self._run, args=(job, served), daemon=True,
-                                        name="asymslide-stability-map")
-        self._thread.start()
-
-    def _show_started(self, job: _Job) -> None:
-        """Show `job` as being computed, unless it is stale or already shown as finished."""
-        with self._lock:
-            stale = job.gen != self._generation
-        if not stale and not job.applied:
-            self._show_progress(job)
-            self.status = "computing"
-
-    def cancel(self) -> None:
-        """Stop any running computation after its current chunk."""
-        with self._lock:
-            self._generation += 1
+        job = self.computation.job
+        if self._current() or (job is not None and job.key == key
+                               and job.state().status in (jobs.RUNNING, jobs.DONE)):
+            return
+        self.computation.run(partial(compute_map, key), name="stability map", key=key,
+                             totals={"chunks": len(chunk_rows(key[1]))})
 
     def wait(self, timeout: float = 60.0) -> None:
-        """Block until the current worker thread (if any) has finished (tests, headless use)."""
-        thread = self._thread
-        if thread is not None:
-            thread.join(timeout)
-            if thread.is_alive():
-                raise TimeoutError(f"the stability map was not computed within {timeout} s")
+        """Block until the map being computed (if any) is finished, and show it when not served (tests, scripts)."""
+        self.computation.wait(timeout)
 
-    def _show_progress(self, job: _Job) -> None:
-        if self.progress.max != job.total:
-            self.progress.value = 0
-            self.progress.max = job.total
-        self.progress.value = job.done
+    def _show_job(self, job: jobs.Job, state: jobs.JobState) -> None:
+        """Show a map job's progress and, at its end, the map or the failure (on the session's event loop)."""
         plane, n, _ = job.key
-        self.progress_label.object = (f"Computing the {plane} map ({n} × {n} points): {job.done} of {job.total} "
-                                      "chunks" if job.done < job.total else f"The {plane} map ({n} × {n} points)")
-
-    def _apply(self) -> None:
-        """Carry the current job's state to the page (on the session's event loop when served; from the worker
-        without a server). Stale jobs are ignored; the periodic callback stops once nothing is left to show."""
-        with self._lock:
-            job = self._job
-            stale = job is None or job.gen != self._generation
-        if stale or job.applied:
-            if self._poller is not None:
-                self._poller.stop()
-            return
-        # `finished` before `done`: the worker sets done, then finished, so a job seen finished shows its last
-        # chunk. Read the other way round, a worker finishing in between left the bar one chunk short for good.
-        finished = job.finished
-        self._show_progress(job)
-        if not finished:
-            return
-        job.applied = True
-        if job.error:
-            self.status = job.error
-        else:
+        total, done = state.totals.get("chunks", 0), state.done.get("chunks", 0)
+        if self.progress.max != total:
+            self.progress.value = 0
+            self.progress.max = total
+        self.progress.value = done
+        self.progress_label.object = (f"Computing the {plane} map ({n} × {n} points): {done} of {total} chunks"
+                                      if done < total else f"The {plane} map ({n} × {n} points)")
+        if state.status == jobs.RUNNING:
+            self.status = "computing"
+        elif state.status == jobs.FAILED:
+            self.status = f"error: {state.error}"
+        elif state.status == jobs.DONE:
             with frozen_document():
-                self.param.update(result=job.result, status="done")
-            ax, ay = PLANES[job.key[0]]
+                self.param.update(result=state.result, status="done")
+            ax, ay = PLANES[plane]
             self.map_download.param.update(disabled=not self._current(),
                                            filename=f"stability_map_{ax.name}_{ay.name}.csv")
-        if self._poller is not None:
-            self._poller.stop()
-
-    def _run(self, job: _Job, served: bool) -> None:
-        """Worker thread: the chunks of the job's key in order, stopping as soon as the generation has moved on."""
-        plane, n, fixed = job.key
-        chunks = chunk_rows(n)
-        t0 = time.perf_counter()
-        parts, computed = [], 0
-        try:
-            for i, (a, b) in enumerate(chunks):
-                if job.gen != self._generation:
-                    CALLS["chunks_cancelled"] += len(chunks) - i
-                    return
-                key = (plane, n, a, b, fixed)
-                part = CHUNKS.get(key)
-                if part is None:
-                    part = compute_chunk(plane, n, a, b, fixed)
-                    CHUNKS.put(key, part)
-                    computed += 1
-                parts.append(part)
-                job.done = i + 1
-                if not served and i + 1 < len(chunks):
-                    self._apply()
-            x, y = plane_axes(plane, n)
-            job.result = MapResult(
-                key=job.key, x=x, y=y, growth=np.concatenate([p["growth"] for p in parts]),
-                kH_at_max=np.concatenate([p["kH_at_max"] for p in parts]),
-                n_masked=np.concatenate([p["n_masked"] for p in parts]),
-                seconds=time.perf_counter() - t0, chunks_computed=computed, chunks_total=len(chunks))
-        except Exception as exc:  # the session keeps working; the message is shown
-            log.exception("stability map failed for %r", job.key)
-            job.error = f"error: {type(exc).__name__}: {exc}"
-        job.finished = True
-        if not served:
-            self._apply()
 
     # ----------------------------------------------------------------------------------------
     # the map plot (one DynamicMap per plane: the axes' scales differ)
@@ -532,7 +420,8 @@ class StabilityMapScene(pn.viewable.Viewer):
 
     def _neutral(self, plane: str, **_stream_values) -> hv.Path:
         x, y, growth, _ = self._shown(plane)
-        lines = [] if growth is None else neutral_curve(plane, x, y, growth)
+        ax, ay = PLANES[plane]
+        lines = [] if growth is None else neutral_lines(x, y, growth, log_x=ax.log, log_y=ay.log)
         return hv.Path(lines, kdims=list(self._dims(plane)), label="neutral curve (max Im = 0)").opts(
             color="black", line_width=2)
 

@@ -8,7 +8,6 @@ and changing kW recomputes neither the μ_eff(kW) curve nor anything that depend
 
 from __future__ import annotations
 
-import collections
 import html
 import io
 import math
@@ -60,9 +59,6 @@ def _quiet() -> np.errstate:
     return np.errstate(divide="ignore", invalid="ignore")
 
 
-#: number of calls (keys: the cached ``compute_*`` functions and the model functions), for tests
-CALLS: collections.Counter[str] = collections.Counter()
-
 
 # --------------------------------------------------------------------------------------------
 # cached model calls, one per dependency group
@@ -72,8 +68,6 @@ CALLS: collections.Counter[str] = collections.Counter()
 @pn.cache(max_items=64)
 def compute_moduli_curve(nu: float) -> dict:
     """mu_eff/mu and nu_eff on :data:`KW` (depends on nu only)."""
-    CALLS["compute_moduli_curve"] += 1
-    CALLS["effective_moduli"] += 1
     mu_ratio, nu_eff = model.effective_moduli(KW, nu)
     return {"kW": KW, "mu_ratio": mu_ratio, "nu_eff": nu_eff}
 
@@ -81,18 +75,12 @@ def compute_moduli_curve(nu: float) -> dict:
 @pn.cache(max_items=256)
 def compute_point(kW: float, nu: float) -> dict:
     """Scalars at the current (kW, nu): effective moduli, mu_eff/mu - 1, z_R of the thin block, G_y(z_R)."""
-    CALLS["compute_point"] += 1
-    CALLS["effective_moduli"] += 1
     mu_ratio, nu_eff = model.effective_moduli(kW, nu)
-    CALLS["effective_modulus_excess"] += 1
     excess = model.effective_modulus_excess(kW, nu)
     # the thin block is under plane stress (docs/physics.md §6)
-    CALLS["rayleigh_speed"] += 1
     z_R = float(model.rayleigh_speed(model.wave_speed_ratio(nu, plane="stress")))
-    CALLS["thin_on_thick_response"] += 1
     with _quiet():
         _, gy = model.thin_on_thick_response(z_R, kW, nu=nu)
-    CALLS["limiting_speed"] += 1
     return {"kW": kW, "nu": nu, "mu_ratio": float(mu_ratio), "nu_eff": float(nu_eff), "excess": float(excess),
             "z_R": z_R, "gy_R": float(np.real(gy)), "z_max": Z_MAX_FRACTION * float(model.limiting_speed(kW, nu))}
 
@@ -100,9 +88,7 @@ def compute_point(kW: float, nu: float) -> dict:
 @pn.cache(max_items=64)
 def compute_gy_curve(kW: float, nu: float) -> dict:
     """Re G_y on c/c_s from :data:`Z_MIN` to 0.999 min(1, sqrt(mu_eff/mu)) (Fig. 3b)."""
-    CALLS["compute_gy_curve"] += 1
     z = np.linspace(Z_MIN, compute_point(kW, nu)["z_max"], N_Z)
-    CALLS["thin_on_thick_response"] += 1
     with _quiet():
         _, gy = model.thin_on_thick_response(z, kW, nu=nu)
     return {"z": z, "gy": np.real(gy)}
@@ -112,13 +98,11 @@ def compute_gy_curve(kW: float, nu: float) -> dict:
 def compute_stress_line(kW: float, nu: float, c_s: float, rho: float, sigma0: float) -> dict:
     """Δσ_yy/σ₀ on :data:`V` at c = c_R of the thin block (Fig. 3c); sigma0 in Pa, mu = rho c_s^2. The shared lab
     values may be anything a user typed: the model's message (``{"error": ...}``) where it refuses them."""
-    CALLS["compute_stress_line"] += 1
     if not (math.isfinite(sigma0) and sigma0 > 0):
         return {"error": f"sigma0 must be in (0, inf) Pa; got {sigma0:g}"}
     try:
         c = compute_point(kW, nu)["z_R"] * c_s
         mu = float(model.shear_modulus(rho, c_s))
-        CALLS["normal_stress_change"] += 2
         with _quiet():
             ds = model.normal_stress_change(V, c=c, c_s=c_s, kW=kW, nu=nu, mu=mu) / sigma0
             slope = float(model.normal_stress_change(1.0, c=c, c_s=c_s, kW=kW, nu=nu, mu=mu)) / sigma0

@@ -106,35 +106,34 @@ def _fail(message: str, code: int = 2) -> int:
     return code
 
 
+def _sweep_settings(args: argparse.Namespace) -> tuple[dict, dict]:
+    """The axes and the other settings of ``asymslide sweep``'s arguments (SweepError or ValueError if bad)."""
+    from atlas_engine.sweep import CountSpec, SweepError, parse_axis, parse_fixed
+
+    axes = dict(parse_axis(a) for a in args.axis)
+    if len(axes) != len(args.axis):
+        raise SweepError("an axis is given twice")
+    fixed = dict(parse_fixed(f) for f in args.fixed)
+    _, kh = parse_axis(f"kH={args.kH}")
+    gamma_range = tuple(float(x) for x in args.gamma_range.split(":")) if args.gamma_range else None
+    if gamma_range is not None and len(gamma_range) != 2:
+        raise SweepError(f"--gamma-range must be lo:hi; got {args.gamma_range!r}")
+    count = None
+    if args.count:
+        window = tuple(float(x) for x in args.count.split(","))
+        if len(window) != 3:
+            raise SweepError(f"--count must be re_max,im_min,im_max; got {args.count!r}")
+        count = CountSpec(tuple(parse_axis(f"kH={args.count_kH}")[1]), window)  # type: ignore[arg-type]
+    settings = dict(fixed=fixed, kH=kh, rtol=args.rtol, growth=not args.no_growth, gamma_c=not args.no_gamma_c,
+                    gamma_range=gamma_range, count=count, chunk_points=args.chunk_points)
+    return axes, settings
+
+
 def _sweep(args: argparse.Namespace) -> int:
-    from atlas_engine.sweep import (
-        CONNECT_TIMEOUT,
-        CountSpec,
-        SweepError,
-        make_plan,
-        parse_axis,
-        parse_fixed,
-        plan_points,
-        sweep,
-    )
+    from atlas_engine.sweep import CONNECT_TIMEOUT, SweepError, make_plan, plan_points, sweep
 
     try:
-        axes = dict(parse_axis(a) for a in args.axis)
-        if len(axes) != len(args.axis):
-            raise SweepError("an axis is given twice")
-        fixed = dict(parse_fixed(f) for f in args.fixed)
-        _, kh = parse_axis(f"kH={args.kH}")
-        gamma_range = tuple(float(x) for x in args.gamma_range.split(":")) if args.gamma_range else None
-        if gamma_range is not None and len(gamma_range) != 2:
-            raise SweepError(f"--gamma-range must be lo:hi; got {args.gamma_range!r}")
-        count = None
-        if args.count:
-            window = tuple(float(x) for x in args.count.split(","))
-            if len(window) != 3:
-                raise SweepError(f"--count must be re_max,im_min,im_max; got {args.count!r}")
-            count = CountSpec(tuple(parse_axis(f"kH={args.count_kH}")[1]), window)  # type: ignore[arg-type]
-        settings = dict(fixed=fixed, kH=kh, rtol=args.rtol, growth=not args.no_growth, gamma_c=not args.no_gamma_c,
-                        gamma_range=gamma_range, count=count, chunk_points=args.chunk_points)
+        axes, settings = _sweep_settings(args)
         plan = make_plan(axes, **settings)
     except (SweepError, ValueError) as exc:
         return _fail(str(exc))

@@ -23,8 +23,6 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-from .processes import children
-
 #: how long the group may take to stop after SIGINT before it is killed (docker stop waits 10 s)
 GRACE_SECONDS = 8.0
 #: polling interval while waiting for Panel or for its process group to stop
@@ -33,6 +31,15 @@ POLL_SECONDS = 0.05
 STOP_SIGNALS = (signal.SIGTERM, signal.SIGINT, signal.SIGHUP)
 #: prctl option that makes the calling process the reaper of its orphaned descendants (linux/prctl.h)
 PR_SET_CHILD_SUBREAPER = 36
+
+
+def children(pid: int) -> list[int]:
+    """Direct children of `pid` (empty if it is gone), from Linux's /proc."""
+    try:
+        with open(f"/proc/{pid}/task/{pid}/children", encoding="ascii") as fh:
+            return [int(p) for p in fh.read().split()]
+    except OSError:
+        return []
 
 
 def app_main() -> Path:

@@ -485,6 +485,14 @@ def _long_name(name: str) -> str:
     return f"{p.symbol}: {p.description}"
 
 
+def axis_scale(values: Any) -> str:
+    """"log" if the axis's values are log-spaced (more than two, positive, a constant ratio), else "linear": the
+    ``scale`` attribute of a store's axis, and how the Atlas tab reads a store written without it."""
+    v = np.asarray(values, dtype=float)
+    log = v.size > 2 and v[0] > 0 and bool(np.allclose(np.diff(np.log(v)), np.log(v[1] / v[0])))
+    return "log" if log else "linear"
+
+
 def template(plan: Plan, command: str | None = None):
     """The empty dataset of a plan (lazy arrays of fill values, chunked as the store), with every attribute."""
     import dask.array as da
@@ -493,8 +501,7 @@ def template(plan: Plan, command: str | None = None):
     coords: dict[str, Any] = {}
     for name, values in plan.axes.items():
         p = model.PARAMETERS[name]
-        scale = "log" if len(values) > 2 and np.allclose(np.diff(np.log(values)), np.log(values[1] / values[0]))\
-            and values[0] > 0 else "linear"
+        scale = axis_scale(values)
         coords[name] = (name, np.asarray(values), {"long_name": _long_name(name), "units": "1", "symbol": p.symbol,
                                                    "scale": scale})
     coords["kH"] = ("kH", np.asarray(plan.kH), {"long_name": "the kH grid the growth is bracketed on (then refined "

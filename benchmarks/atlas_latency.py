@@ -27,8 +27,8 @@ sys.path.insert(0, str(ROOT))
 from atlas_engine import sweep as S  # noqa: E402
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 from benchmarks.latency import _stats  # noqa: E402
-from benchmarks.load_test import ServedApp  # noqa: E402
 from tests.conftest import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
+from tests.support.served_app import ServedApp  # noqa: E402
 
 TARGET_MS = 100.0
 GAP_MS = 300

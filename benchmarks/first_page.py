@@ -33,8 +33,8 @@ sys.path.insert(0, str(ROOT))
 
 from benchmarks.atlas_latency import put_section  # noqa: E402
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
-from benchmarks.load_test import ServedApp  # noqa: E402
 from tests.conftest import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
+from tests.support.served_app import ServedApp  # noqa: E402
 
 FIRST_PAGE_TARGET = 10.0
 BRANCHES_TARGET = 3.0

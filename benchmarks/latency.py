@@ -34,8 +34,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
-from benchmarks.load_test import ServedApp  # noqa: E402
 from tests.conftest import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
+from tests.support.served_app import ServedApp  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "latency_results.md"
 TARGET_MS = 150.0

@@ -110,9 +110,9 @@ def max_rel_error(z: np.ndarray, q: np.ndarray, ref: dict[float, complex]) -> fl
     return math.inf if any(math.isnan(e) for e in errs) else max(errs)
 
 
-def main() -> None:
-    host_before = host_loop_seconds()
-    q = np.logspace(-4, 4, 512)
+def spectrum_rows(q: np.ndarray) -> list[tuple[str, str, float, float, int]]:
+    """(eta, method, time [s] or speed ratio, max relative error, points) of the spectrum solvers at the paper's
+    parameters, for eta = inf and 7."""
     rows = []
     for eta in (math.inf, 7.0):
         label = "inf" if math.isinf(eta) else f"{eta:g}"
@@ -147,6 +147,11 @@ def main() -> None:
             e_np = max_rel_error(run_naive_np(), q, ref)
             rows.append((label, "scipy newton loop (plain F, numpy scalars)", t_np, e_np, q.size))
             rows.append((label, "speed ratio (vs numpy-scalar F)", t_np / t_model2, math.nan, q.size))
+    return rows
+
+
+def spectrum_markdown(rows: list[tuple[str, str, float, float, int]]) -> str:
+    """The spectrum benchmark's table."""
     lines = [
         "# Spectrum benchmark (make bench)",
         "",
@@ -161,10 +166,14 @@ def main() -> None:
         tt = f"{t:.1f}x" if name.startswith("speed ratio") else f"{t * 1e3:.3f}"
         ee = "" if math.isnan(e) else f"{e:.1e}"
         lines.append(f"| {label} | {name} | {tt} | {ee} | {n} |")
-    text = "\n".join(lines) + "\n"
+    return "\n".join(lines) + "\n"
+
+
+def other_sections() -> str:
+    """The other benchmarks' sections (maps, Pareto, modes, thresholds, coverage, atlases, kernels before/after)."""
     from benchmarks import bench_maps
 
-    text += "\n## Stability maps and thresholds (model.stability)\n\n" + bench_maps.table(bench_maps.run())
+    text = "\n## Stability maps and thresholds (model.stability)\n\n" + bench_maps.table(bench_maps.run())
     from benchmarks import bench_modes, bench_pareto
 
     text += "\n## Run time against error (spectrum solvers; threshold vs kH grid)\n\n" + bench_pareto.markdown()
@@ -197,34 +206,46 @@ def main() -> None:
              + f"\n{n_arrays} arrays ({n_values:,} values) of spectrum, growth, thresholds and unstable_modes on "
              f"fixed grids: {n_arrays - len(differ)} bit-identical to {rev}, {len(differ)} differ"
              + "".join(f"\n- differs: {k}" for k in differ) + "\n")
+    return text
+
+
+def plot_pareto(rows: list[tuple[str, str, float, float, int]]) -> None:
+    """spectrum_pareto.png: run time against error of the spectrum solvers (skipped without matplotlib)."""
+    try:
+        import matplotlib
+    except ImportError:
+        print("matplotlib not installed: no plot")
+        return
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for eta_label in dict.fromkeys(r[0] for r in rows):  # the model's settings joined by a line
+        pts = [(t * 1e3, max(e, 1e-17)) for label, name, t, e, _ in rows
+               if label == eta_label and name.startswith("model.spectrum")]
+        pts.sort(key=lambda p: p[1])  # in the order of the accuracy settings
+        ax.loglog(*zip(*pts, strict=True), "-", color="0.7", zorder=0)
+    for label, name, t, e, _ in rows:
+        if not name.startswith("speed ratio"):
+            shown = 1.0 if not math.isfinite(e) else max(e, 1e-17)  # failed runs plotted at 1
+            ax.loglog(t * 1e3, shown, "o" if "model" in name else "s", label=f"{name}, eta={label}")
+    ax.set_xlabel("run time for 512 kH [ms]")
+    ax.set_ylabel("max relative error vs mpmath oracle")
+    ax.set_title("Rayleigh branch: run time vs error")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(OUT / "spectrum_pareto.png", dpi=120)
+
+
+def main() -> None:
+    host_before = host_loop_seconds()
+    rows = spectrum_rows(np.logspace(-4, 4, 512))
+    text = spectrum_markdown(rows) + other_sections()
     text += "\n" + (OUT / "design_measurements.md").read_text(encoding="utf-8")
     text += "\n" + host_line(host_before, host_loop_seconds()) + "\n"
     print(text)
     (OUT / "results.md").write_text(text)
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        fig, ax = plt.subplots(figsize=(6, 4))
-        for eta_label in dict.fromkeys(r[0] for r in rows):  # the model's settings joined by a line
-            pts = [(t * 1e3, max(e, 1e-17)) for label, name, t, e, _ in rows
-                   if label == eta_label and name.startswith("model.spectrum")]
-            pts.sort(key=lambda p: p[1])  # in the order of the accuracy settings
-            ax.loglog(*zip(*pts, strict=True), "-", color="0.7", zorder=0)
-        for label, name, t, e, _ in rows:
-            if not name.startswith("speed ratio"):
-                shown = 1.0 if not math.isfinite(e) else max(e, 1e-17)  # failed runs plotted at 1
-                ax.loglog(t * 1e3, shown, "o" if "model" in name else "s", label=f"{name}, eta={label}")
-        ax.set_xlabel("run time for 512 kH [ms]")
-        ax.set_ylabel("max relative error vs mpmath oracle")
-        ax.set_title("Rayleigh branch: run time vs error")
-        ax.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(OUT / "spectrum_pareto.png", dpi=120)
-    except ImportError:
-        print("matplotlib not installed: no plot")
+    plot_pareto(rows)
 
 
 if __name__ == "__main__":

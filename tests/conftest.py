@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from asymslide.processes import MARKER, stop_marked
+from tests.support.processes import MARKER, stop_marked
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = [
@@ -350,19 +350,16 @@ def open_app(page, url: str, tab: str | None = None) -> None:
 
 @pytest.fixture
 def fresh_caches() -> Iterator[None]:
-    """Empty the app's caches (pn.cache and the map chunks) and every scene's model-call counter (``CALLS``)
-    around a test."""
+    """Empty the app's caches (pn.cache and the map chunks) around a test."""
     import panel as pn
 
-    from app import all_branches, lab, rupture, spectrum, stability_map, thin_on_thick
+    from app import stability_map
 
     def clear() -> None:
         pn.state.clear_caches()
         stability_map.CHUNKS.clear()
 
     clear()
-    for scene in (all_branches, lab, rupture, spectrum, stability_map, thin_on_thick):
-        scene.CALLS.clear()
     yield
     clear()
 

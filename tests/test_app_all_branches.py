@@ -17,15 +17,25 @@ from pyviz_comms import Comm
 
 import model
 from app import all_branches as ab
-from app.all_branches import CALLS, KH_COUNT, KH_FINE, AllBranchesScene
+from app.all_branches import KH_COUNT, KH_FINE, AllBranchesScene
 from app.params import SpectrumParams, from_log10
 from tests.conftest import open_app, set_slider
+from tests.support.spies import Calls, spy_calls
 
 PAPER = dict(gamma=3.0, f=0.9, beta=0.3)  # the defaults of SpectrumParams (eta = inf, Delta = 1)
 WINDOW = dict(re_max=5.0, im_min=1e-4, im_max=2.0)  # the scene's default window (the model's defaults)
 
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
+
+#: the scene's cache misses and model calls in the current test (tests/support/spies.py)
+calls = Calls()
+
+
+@pytest.fixture(autouse=True)
+def _spies(fresh_caches: None, monkeypatch: pytest.MonkeyPatch) -> None:
+    calls.clear()
+    spy_calls(monkeypatch, ab, calls)
 
 
 def _scene(kH: float = 0.45, **p) -> AllBranchesScene:
@@ -179,7 +189,7 @@ def test_eta10_fastest_root_is_not_the_rayleigh_root() -> None:
 
 def test_building_the_tab_computes_nothing() -> None:
     AllBranchesScene().__panel__()
-    assert sum(CALLS.values()) == 0
+    assert sum(calls.values()) == 0
 
 
 def test_each_change_recomputes_only_what_depends_on_it() -> None:
@@ -187,48 +197,48 @@ def test_each_change_recomputes_only_what_depends_on_it() -> None:
     _render_all(scene)
     base = dict(compute_roots=1, unstable_modes=1, compute_rayleigh_point=1, compute_count_curve=1,
                 unstable_count=len(KH_COUNT), compute_rayleigh_curve=1)
-    assert {k: CALLS[k] for k in base} == base
+    assert {k: calls[k] for k in base} == base
     # kH: the roots and the Rayleigh root at kH only, not the count curve
     scene.log10_kH = math.log10(0.77)
     _render_all(scene)
-    assert (CALLS["compute_roots"], CALLS["compute_rayleigh_point"]) == (2, 2)
-    assert (CALLS["compute_count_curve"], CALLS["unstable_count"], CALLS["compute_rayleigh_curve"]) == (
+    assert (calls["compute_roots"], calls["compute_rayleigh_point"]) == (2, 2)
+    assert (calls["compute_count_curve"], calls["unstable_count"], calls["compute_rayleigh_curve"]) == (
         1, len(KH_COUNT), 1)
     # gamma: everything, exactly once
     scene.params.gamma = 4.0
     _render_all(scene)
-    assert (CALLS["compute_roots"], CALLS["compute_count_curve"], CALLS["compute_rayleigh_curve"],
-            CALLS["compute_rayleigh_point"], CALLS["unstable_count"]) == (3, 2, 2, 3, 2 * len(KH_COUNT))
+    assert (calls["compute_roots"], calls["compute_count_curve"], calls["compute_rayleigh_curve"],
+            calls["compute_rayleigh_point"], calls["unstable_count"]) == (3, 2, 2, 3, 2 * len(KH_COUNT))
     # xi while Delta == 1 does not enter F: nothing
-    before = dict(CALLS)
+    before = dict(calls)
     fired: list = []
     scene.param.watch(fired.append, ["args_key", "kH_key", "window_key"])
     scene.params.xi = 3.0
     _render_all(scene)
-    assert dict(CALLS) == before and fired == []
+    assert dict(calls) == before and fired == []
     # the window: roots and count, not the Rayleigh branch
     scene.im_max = 1.0
     _render_all(scene)
-    assert (CALLS["compute_roots"], CALLS["compute_count_curve"]) == (4, 3)
-    assert (CALLS["compute_rayleigh_curve"], CALLS["compute_rayleigh_point"]) == (2, 3)
+    assert (calls["compute_roots"], calls["compute_count_curve"]) == (4, 3)
+    assert (calls["compute_rayleigh_curve"], calls["compute_rayleigh_point"]) == (2, 3)
     # back to a previous state: all cached
     scene.im_max = 2.0
     scene.params.gamma = 3.0
     scene.log10_kH = math.log10(0.45)
-    before = dict(CALLS)
+    before = dict(calls)
     _render_all(scene)
-    assert dict(CALLS) == before
+    assert dict(calls) == before
 
 
 def test_cache_is_bounded() -> None:
     for i in range(40):  # more than the count curve's bound (32): the oldest entries are evicted
         ab.compute_rayleigh_curve(3.0 + i, 0.9, 0.3, math.inf, 1.0, 0.0)
     ab.compute_rayleigh_curve(3.0, 0.9, 0.3, math.inf, 1.0, 0.0)
-    assert CALLS["compute_rayleigh_curve"] == 40
+    assert calls["compute_rayleigh_curve"] == 40
     for i in range(70):
         ab.compute_rayleigh_curve(100.0 + i, 0.9, 0.3, math.inf, 1.0, 0.0)
     ab.compute_rayleigh_curve(3.0, 0.9, 0.3, math.inf, 1.0, 0.0)  # evicted (max_items=64): computed again
-    assert CALLS["compute_rayleigh_curve"] == 111
+    assert calls["compute_rayleigh_curve"] == 111
 
 
 def test_inactive_scene_defers_shared_parameter_changes_until_shown() -> None:
@@ -241,14 +251,14 @@ def test_inactive_scene_defers_shared_parameter_changes_until_shown() -> None:
     scene.active = False
     tabs.get_root(Document(), comm=Comm())
     tabs.active = 1  # shown: computes
-    assert (CALLS["compute_roots"], CALLS["compute_count_curve"]) == (1, 1)
+    assert (calls["compute_roots"], calls["compute_count_curve"]) == (1, 1)
     tabs.active = 0  # hidden again; the shared parameters change on another tab
     params.gamma = 4.0
     params.f = 0.8
-    assert (CALLS["compute_roots"], CALLS["compute_count_curve"]) == (1, 1)
+    assert (calls["compute_roots"], calls["compute_count_curve"]) == (1, 1)
     assert scene.args_key[:2] == (3.0, 0.9)
     tabs.active = 1  # shown: both changes applied at once
-    assert (CALLS["compute_roots"], CALLS["compute_count_curve"]) == (2, 2)
+    assert (calls["compute_roots"], calls["compute_count_curve"]) == (2, 2)
     assert scene.args_key[:2] == (4.0, 0.8)
     roots = _element(scene.zplane_dmap[()], hv.Scatter, "unstable roots")
     np.testing.assert_array_equal(roots.dimension_values("re"),
@@ -270,7 +280,7 @@ def test_dynamic_maps_update_in_place_in_a_bokeh_document() -> None:
     curves = [s for s in _sources(croot) if len(s.data.get("count", ())) > 1]
     assert len(curves) == 2  # all roots, other branches (as steps)
     before = [np.array(s.data["count"]) for s in curves]
-    n = CALLS["unstable_count"]
+    n = calls["unstable_count"]
     scene.log10_kH = math.log10(0.77)
     (roots_after,) = [s for s in _sources(zroot) if "residual" in s.data]
     assert roots_after is roots_cds  # the same model, new data
@@ -280,7 +290,7 @@ def test_dynamic_maps_update_in_place_in_a_bokeh_document() -> None:
         np.testing.assert_array_equal(cds.data["count"], old)
     (marker,) = [s for s in _sources(croot) if len(s.data.get("count", ())) == 1]
     assert marker.data["kH"][0] == 0.77 and marker.data["count"][0] == model.unstable_count(0.77, **PAPER)
-    assert CALLS["unstable_count"] == n
+    assert calls["unstable_count"] == n
 
 
 # --------------------------------------------------------------------------------------------
@@ -305,13 +315,13 @@ def test_bad_window_input_gives_a_message_and_keeps_working(name: str, value, sa
     scene = _scene(0.45)
     widgets = scene.make_widgets()
     _render_all(scene)
-    before = dict(CALLS)
+    before = dict(calls)
     widgets[name].value = value
     assert says in scene.window_message and "still showing the window |Re z| ≤ 5" in scene.window_message
     assert scene.window_alert.visible and says in scene.window_alert.object
     assert scene.window_key == (5.0, 1e-4, 2.0)
     _render_all(scene)  # the plots still work, with the last valid window, and nothing was recomputed
-    assert dict(CALLS) == before
+    assert dict(calls) == before
     scene.log10_kH = math.log10(0.77)  # the rest of the scene keeps working
     roots = _element(scene.zplane_dmap[()], hv.Scatter, "unstable roots")
     np.testing.assert_array_equal(roots.dimension_values("re"), model.unstable_modes(0.77, **PAPER).real)

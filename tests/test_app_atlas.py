@@ -4,7 +4,9 @@ shared parameters, the 3-D neutral surface, the one atlas directory, and the def
 from __future__ import annotations
 
 import math
+import threading
 from pathlib import Path
+from unittest import mock
 
 import numpy as np
 import pytest
@@ -15,6 +17,7 @@ from app import atlas as A
 from app.params import SpectrumParams
 from atlas_engine import sweep as S
 from tests.conftest import save_screenshot
+from tests.support.headless import build_app
 
 KH = np.logspace(-3, 3, 33)
 AXES = {"gamma": np.geomspace(0.3, 30, 8), "beta": np.linspace(0.1, 0.6, 5), "f": np.linspace(0.3, 1.5, 4)}
@@ -45,7 +48,7 @@ def boundary_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.fixture
 def atlas_dir(atlas_store: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(atlas_store))
-    A.CALLS.clear()
+    A._load.cache_clear()  # the atlases read from the store: its misses
     return atlas_store
 
 
@@ -73,7 +76,7 @@ def test_slice_is_the_stored_cube_and_a_slice_change_calls_no_model_function(atl
     scene = A.AtlasScene(requested="small")
     scene.refresh()
     stored = xr.open_zarr(atlas_dir / "small.zarr", consolidated=False)
-    assert (scene.x_axis, scene.y_axis) == ("gamma", "beta") and A.CALLS["load"] == 1
+    assert (scene.x_axis, scene.y_axis) == ("gamma", "beta") and A._load.cache_info().misses == 1
 
     def forbidden(*_a, **_k):
         raise AssertionError("a slice change called the model")
@@ -99,7 +102,7 @@ def test_slice_is_the_stored_cube_and_a_slice_change_calls_no_model_function(atl
     np.testing.assert_array_equal(heat.cells.data["image"][0], want)
     stored_c = stored.gamma_c_crossing.isel(beta=scene.indices["beta"]).values
     assert len(_drawn_thresholds(heat)) == int(np.isfinite(stored_c).sum())  # γ on y: the γ_c(f) lines
-    assert A.CALLS["load"] == 1  # read once; the slices come from memory
+    assert A._load.cache_info().misses == 1  # read once; the slices come from memory
     assert [w.label for w in scene.sliders.objects] == ["β"]
 
 
@@ -236,17 +239,19 @@ def test_default_atlas_is_computed_on_first_use(tmp_path: Path, monkeypatch: pyt
                                             "f": np.array([0.5, 0.9]), "beta": np.array([0.2, 0.3])})
     monkeypatch.setattr(A, "DEFAULT_KH", KH)
     monkeypatch.setattr(A, "_default_job", None)
-    A.CALLS.clear()
+    monkeypatch.setattr(A.engine, "sweep", mock.Mock(wraps=A.engine.sweep))  # a spy
     scene = A.AtlasScene()
     scene.refresh()
     assert scene.data is None and not A.default_ready()
-    scene.start_default()  # without a server it waits for the computation
-    assert A.CALLS["default_sweep"] == 1 and A.default_ready()
+    scene.start_default()
+    assert scene.progress.visible and "Computing the default atlas" in scene.status.object
+    scene.wait(60)  # without a server: wait for the computation, then show it
+    assert A.engine.sweep.call_count == 1 and A.default_ready() and not scene.progress.visible
     assert scene.atlas == A.default_name() and scene.data is not None and len(scene.data.names) == 4
     assert (tmp_path / "cache" / f"{A.default_name()}.zarr").is_dir()
     again = A.AtlasScene()  # the next session opens it at once
     again.start_default()
-    assert again.data is not None and A.CALLS["default_sweep"] == 1
+    assert again.data is not None and A.engine.sweep.call_count == 1
 
 
 def test_a_folder_the_server_cannot_write_is_explained_and_its_atlases_still_open(
@@ -263,6 +268,7 @@ def test_a_folder_the_server_cannot_write_is_explained_and_its_atlases_still_ope
     scene = A.AtlasScene()
     scene.refresh()
     scene.start_default()
+    scene.wait(60)
     assert "is not writable by this server" in scene.status.object and "--atlas-dir" in scene.status.object
     assert "Permission denied" in scene.status.object and "Traceback" not in scene.status.object
     scene.atlas = "small"  # what the folder has still opens
@@ -273,31 +279,63 @@ def test_a_folder_the_server_cannot_write_is_explained_and_its_atlases_still_ope
 def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """Issue 23 item 1: the tab is built while the default atlas does not exist yet (as on first use: the selects are
-    on the page, empty); when the computation ends, the poll opens it: the selects show the atlas and two different
-    axes, the sliders the other axes, and the heat map a 2-D slice -- without a reload."""
+    on the page, empty, and the progress is shown); when the computation ends, the tab opens it: the selects show the
+    atlas and two different axes, the sliders the other axes, and the heat map a 2-D slice -- without a reload."""
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
     axes = {"gamma": np.geomspace(0.5, 10, 4), "eta": np.geomspace(2, 100, 3), "f": np.array([0.5, 0.9])}
     monkeypatch.setattr(A, "DEFAULT_AXES", axes)
     monkeypatch.setattr(A, "DEFAULT_KH", KH)
     monkeypatch.setattr(A, "_default_job", None)
-    monkeypatch.setattr(A, "default_ready", lambda: False)
-    job = A._DefaultJob(totals={"growth": 24}, done={"growth": 5})
-    monkeypatch.setattr(A, "ensure_default", lambda: job)
+    held, release = threading.Event(), threading.Event()
+    real = A.engine.sweep
+
+    def held_sweep(*args, progress, **kwargs):
+        progress("growth", 5)  # 5 grid points of the first phase done, then hold
+        held.set()
+        assert release.wait(60)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(A.engine, "sweep", held_sweep)
     scene = A.AtlasScene()
     scene.__panel__()
+    assert held.wait(60)
+    scene.computation.update()  # headless: show the job's state now (served: the session's next tick does)
     assert scene.data is None and scene.x_select.value is None and scene.progress.visible
     label, bar = scene.phases["growth"]
     assert "Growth rates" in label.object and "5 of 24" in label.object and bar.value == 20
-    S.sweep(axes, kH=KH, store=tmp_path / f"{A.default_name()}.zarr")
-    monkeypatch.setattr(A, "default_ready", lambda: True)
-    job.done, job.finished = {"growth": 24}, True
-    scene._poll()
+    release.set()
+    scene.wait(60)
     assert scene.data is not None and not scene.progress.visible
     assert scene.atlas_select.value == A.default_name() and scene.atlas_select.options == [A.default_name()]
     assert (scene.x_select.value, scene.y_select.value) == ("gamma", "eta")
     assert [w.label for w in scene.sliders.objects] == ["f"]
     heat = scene.heat_map()
     assert scene.image_pane.object is heat.figure and heat.cells.data["image"][0].shape == (3, 4)
+
+
+def test_a_failed_default_atlas_is_shown_and_started_again_when_the_tab_is_shown_again(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """An error of the default atlas's computation is shown in the tab (its type and message, not a traceback); the
+    session keeps working, and showing the tab again starts the computation again."""
+    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
+    monkeypatch.setattr(A, "DEFAULT_AXES", {"gamma": np.geomspace(0.5, 10, 3), "f": np.array([0.5, 0.9])})
+    monkeypatch.setattr(A, "DEFAULT_KH", KH)
+    monkeypatch.setattr(A, "_default_job", None)
+    real = A.engine.sweep
+
+    def failing(*_args, **_kwargs):
+        raise RuntimeError("disk on fire (test)")
+
+    monkeypatch.setattr(A.engine, "sweep", failing)
+    scene = A.AtlasScene()
+    scene.start_default()
+    scene.wait(60)
+    assert scene.status.object == "**Default atlas failed**: RuntimeError: disk on fire (test)"
+    assert not scene.progress.visible and scene.data is None
+    monkeypatch.setattr(A.engine, "sweep", real)
+    scene.start_default()
+    scene.wait(60)
+    assert scene.data is not None and scene.atlas == A.default_name() and scene.status.object == ""
 
 
 def test_x_and_y_axes_cannot_be_the_same(atlas_dir: Path) -> None:
@@ -321,7 +359,6 @@ def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: P
                                                   monkeypatch: pytest.MonkeyPatch) -> None:
     import shutil
 
-    from app.main import create_app
 
     shutil.copytree(atlas_store / "eta-gamma.zarr", tmp_path / "eta-gamma.zarr")
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
@@ -332,12 +369,13 @@ def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: P
     monkeypatch.setattr(A, "_default_job", None)
     from app.urlstate import TABS, query_string
 
-    app = create_app({"tab": ["atlas"], "atlas": ["eta-gamma"]}).app
+    app = build_app({"tab": ["atlas"], "atlas": ["eta-gamma"]})
     assert app.tabs.active == TABS.index("atlas") and not app.messages.visible
     assert app.atlas.atlas == "eta-gamma" and app.atlas.data is not None  # built: the tab is the active one
     assert "atlas=eta-gamma" in query_string(app.param_objects(), "atlas", app.atlas.url_state())
     for bad in ("../eta-gamma", "/etc/passwd", "nope"):
-        other = create_app({"tab": ["atlas"], "atlas": [bad]}).app
+        other = build_app({"tab": ["atlas"], "atlas": [bad]})
+        other.atlas.wait(60)  # the default atlas it computes instead
         assert other.messages.visible and "is not one of the atlases" in other.messages.object
         assert other.atlas.atlas != bad
 
@@ -401,10 +439,9 @@ def test_a_shared_url_restores_the_atlas_view(atlas_dir: Path) -> None:
     the URL brings them back; values that do not fit are reported and left as they were."""
     import urllib.parse
 
-    from app.main import create_app
     from app.urlstate import query_string
 
-    app = create_app({"tab": ["atlas"], "atlas": ["small"]}).app
+    app = build_app({"tab": ["atlas"], "atlas": ["small"]})
     scene = app.atlas
     scene.x_select.value = "beta"  # the current y: the two swap
     scene._set_index("f", 1)
@@ -413,14 +450,14 @@ def test_a_shared_url_restores_the_atlas_view(atlas_dir: Path) -> None:
     args = urllib.parse.parse_qs(query[1:])
     assert args["atlas"] == ["small"] and args["ax"] == ["beta"] and args["ay"] == ["gamma"]
     assert float(args["at_f"][0]) == pytest.approx(AXES["f"][1]) and args["surface"] == ["f,beta,gamma"]
-    again = create_app(args).app
+    again = build_app(args)
     restored = again.atlas
     assert not again.messages.visible
     assert (restored.atlas, restored.x_axis, restored.y_axis) == ("small", "beta", "gamma")
     assert restored.indices["f"] == 1 and restored.surface_axes == ["f", "beta", "gamma"]
     assert query_string(again.param_objects(), "atlas", restored.url_state()) == query
-    odd = create_app({"tab": ["atlas"], "atlas": ["eta-gamma"], "ax": ["beta"], "at_f": ["0.5"],
-                      "at_gamma": ["x"], "ay": ["../x"]}).app
+    odd = build_app({"tab": ["atlas"], "atlas": ["eta-gamma"], "ax": ["beta"], "at_f": ["0.5"],
+                     "at_gamma": ["x"], "ay": ["../x"]})
     assert "at_gamma = 'x' is not a finite number" in odd.messages.object and "ay = '../x'" in odd.messages.object
     assert (odd.atlas.x_axis, odd.atlas.y_axis) == ("eta", "gamma")  # the atlas's own axes
     assert "x axis beta is not an axis of atlas eta-gamma" in odd.atlas.message

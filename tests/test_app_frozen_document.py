@@ -11,8 +11,9 @@ from bokeh.document.models import DocumentModelManager
 from bokeh.models import ColumnDataSource, GlyphRenderer, Span
 from panel.io.state import set_curdoc
 
-from app.params import frozen_document, set_frozen
+from app.params import set_frozen
 from app.spectrum import SpectrumScene
+from app.workarounds import frozen_document
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
 

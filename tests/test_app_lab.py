@@ -16,14 +16,28 @@ import panel as pn
 import pytest
 
 import model
+from app import lab as lb
 from app import spectrum as sp
-from app.lab import CALLS, E_FOLDING_AXIS, KH, LabScene, slider_values
-from app.main import create_app
+from app.lab import E_FOLDING_AXIS, KH, LabScene, slider_values
 from app.params import CUSTOM, LabParams, SpectrumParams
 from app.urlstate import parse_query, query_string
 from tests.conftest import open_app, save_screenshot
+from tests.support.headless import build_app
+from tests.support.spies import Calls, spy_calls
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
+
+#: the scene's cache misses and model calls in the current test (tests/support/spies.py)
+calls = Calls()
+sp_calls = Calls()
+
+
+@pytest.fixture(autouse=True)
+def _spies(fresh_caches: None, monkeypatch: pytest.MonkeyPatch) -> None:
+    calls.clear()
+    spy_calls(monkeypatch, lb, calls)
+    sp_calls.clear()
+    spy_calls(monkeypatch, sp, sp_calls)
 
 
 PMMA = model.material("PMMA")
@@ -168,7 +182,7 @@ def test_bad_input_gives_the_models_message_and_leaves_the_sliders(bad: dict, ne
 
 
 def test_unknown_material_in_the_url_is_a_message() -> None:
-    app = create_app({"material": ["unobtainium"], "lab": ["1"], "H1": ["20"]}).app
+    app = build_app({"material": ["unobtainium"], "lab": ["1"], "H1": ["20"]})
     assert app.messages.visible
     assert "Material = 'unobtainium' is not one of PMMA" in app.messages.object
     assert app.lab_params.material == "PMMA" and app.lab_params.H1_mm == 20.0
@@ -194,24 +208,24 @@ def test_material_preset_fills_in_its_values_and_editing_makes_it_custom() -> No
 def test_model_calls() -> None:
     spectrum = sp.SpectrumScene()
     scene = LabScene(spectrum=spectrum.params)
-    assert CALLS["dimensionless_parameters"] == 1 and CALLS["compute_lab_spectrum"] == 0  # nothing is rendered
+    assert calls["dimensionless_parameters"] == 1 and calls["compute_lab_spectrum"] == 0  # nothing is rendered
     scene.params.link = True
     spectrum.im_dmap[()]
     scene.readout()
     scene.lab_plot()
     # the matched sliders and the lab readout share one spectrum computation
-    assert sp.CALLS["compute_spectrum"] == 1
-    assert (CALLS["compute_lab_spectrum"], CALLS["fastest_growing_mode"]) == (1, 1)
+    assert sp_calls["compute_spectrum"] == 1
+    assert (calls["compute_lab_spectrum"], calls["fastest_growing_mode"]) == (1, 1)
     spectrum.params.gamma = 4.0  # a slider by hand: the lab values are not recomputed
     scene.readout()
-    assert CALLS["dimensionless_parameters"] == 1 and CALLS["compute_lab_spectrum"] == 1
+    assert calls["dimensionless_parameters"] == 1 and calls["compute_lab_spectrum"] == 1
     scene.params.v = 0.1  # a lab value: one new mapping, one new lab spectrum
     scene.readout()
     scene.lab_plot()
-    assert CALLS["dimensionless_parameters"] == 2 and CALLS["compute_lab_spectrum"] == 2
+    assert calls["dimensionless_parameters"] == 2 and calls["compute_lab_spectrum"] == 2
     scene.params.v = 0.08506  # back: both from the cache
     scene.readout()
-    assert CALLS["dimensionless_parameters"] == 2 and CALLS["compute_lab_spectrum"] == 2
+    assert calls["dimensionless_parameters"] == 2 and calls["compute_lab_spectrum"] == 2
 
 
 # --------------------------------------------------------------------------------------------
@@ -266,7 +280,7 @@ def test_the_sliders_point_in_lab_units() -> None:
     """Where the sliders differ from the lab values (a slider moved, a click on the stability map), the panel also
     reads the sliders' point in lab units: with the lab's H₁ and c_s, and the a, b, D_c, H₂ that
     model.rate_state_parameters gives for it."""
-    app = create_app({}).app
+    app = build_app({})
     scene = app.lab
     scene.params.link = True
     assert scene.point_readout() == ""  # matched: the lab readout is the current point's
@@ -282,7 +296,7 @@ def test_the_sliders_point_in_lab_units() -> None:
     assert f"fastest-growing λ = {float(peak['wavelength']) * 1e3:.4g} mm" in text
     assert f"e-folding time {float(peak['e_folding_time']) * 1e3:.4g} ms" in text
     assert f"a = {float(r['a']):.4g}, b = {float(r['b']):.4g}, D_c = {float(r['D_c']) * 1e6:.4g} µm, H₂ = ∞" in text
-    assert CALLS["rate_state_parameters"] == 1
+    assert calls["rate_state_parameters"] == 1
 
 
 def test_derived_values_are_shown() -> None:
@@ -312,7 +326,7 @@ def test_e_folding_time_axis_shares_the_growth_rate_range() -> None:
 
 
 def test_panel_is_built_when_opened_and_shared_by_both_scenes() -> None:
-    app = create_app({}).app
+    app = build_app({})
     assert app.spectrum.lab is app.map.lab is app.lab
     card = app.lab.panel()
     assert card.collapsed and card.objects == []  # built when first opened
@@ -336,14 +350,14 @@ def test_panel_is_built_when_opened_and_shared_by_both_scenes() -> None:
 def test_url_round_trip_of_the_lab_keys() -> None:
     query = ("material=Homalite-100&plane=stress&H1=25&H2=60&lab_sigma0=2.5&lab_f=0.55&a=0.012&b=0.003&Dc=3&v=0.04"
              "&lab_rho=1250&lab=1&tab=map")
-    app = create_app(urllib.parse.parse_qs(query)).app
+    app = build_app(urllib.parse.parse_qs(query))
     p = app.lab_params
     assert not app.messages.visible
     assert (p.material, p.plane, p.H1_mm, p.H2_mm, p.H2_infinite, p.sigma0_MPa, p.f, p.a, p.b, p.D_c_um, p.v,
             p.link) == (CUSTOM, "stress", 25.0, 60.0, False, 2.5, 0.55, 0.012, 0.003, 3.0, 0.04, True)
     assert (p.rho, p.c_s, p.c_d) == (1250.0, 1200.0, 2498.0)  # Homalite's speeds, the density given
     written = query_string(app.param_objects(), "map")
-    again = create_app(urllib.parse.parse_qs(written[1:])).app
+    again = build_app(urllib.parse.parse_qs(written[1:]))
     for name in LabParams.param:
         if name != "name":
             assert getattr(again.lab_params, name) == getattr(p, name), name
@@ -351,7 +365,7 @@ def test_url_round_trip_of_the_lab_keys() -> None:
 
 
 def test_url_holds_only_changed_lab_values_and_inf_heights() -> None:
-    app = create_app({}).app
+    app = build_app({})
     written = urllib.parse.parse_qs(query_string(app.param_objects(), "spectrum")[1:])
     assert not {"material", "H1", "H2", "v", "lab", "lab_rho"} & set(written)
     app.lab_params.H2_infinite = False
@@ -369,7 +383,7 @@ def test_url_holds_only_changed_lab_values_and_inf_heights() -> None:
 def test_a_shared_link_shows_its_sliders_even_where_they_differ_from_the_lab_values() -> None:
     """Loading a URL never moves the sliders: a link shared after a slider was moved by hand shows that slider and
     the panel says it differs (and the panel is open, since the link is on)."""
-    app = create_app({"lab": ["1"], "gamma": ["4"], "beta": ["0.498148"]}).app
+    app = build_app({"lab": ["1"], "gamma": ["4"], "beta": ["0.498148"]})
     assert app.spectrum_params.gamma == 4.0
     st = app.lab.state()
     assert [m.split(" =")[0] for m in st.mismatches] == ["γ"]

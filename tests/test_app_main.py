@@ -15,11 +15,11 @@ import pytest
 import model
 from app import spectrum as sp
 from app import thin_on_thick as tt
-from app.main import create_app
 from app.params import ZERO_LINE
 from app.presets import load_presets
 from app.urlstate import BY_KEY, QUERY, TABS, parse_query, query_string
 from tests.conftest import open_app, set_slider
+from tests.support.headless import build_app
 
 #: the bad queries of issue 5, and what must come out of each (unknown/invalid values keep defaults)
 BAD_QUERIES = {
@@ -42,7 +42,7 @@ def _args(query: str) -> dict[str, list[str]]:
 
 @pytest.mark.parametrize("query", list(BAD_QUERIES))
 def test_bad_queries_give_messages_and_safe_values(query: str) -> None:
-    app = create_app(_args(query)).app
+    app = build_app(_args(query))
     p = app.spectrum_params
     assert app.messages.visible
     n_keys = len(_args(query))
@@ -66,7 +66,7 @@ def test_values_are_parsed_with_float_only() -> None:
 def test_good_query_sets_every_parameter_and_tab() -> None:
     query = ("gamma=4.5&f=0.6&beta=0.25&eta=20&Delta=0.5&xi=2&kW=0.7&nu=0.25&lab_cs=1000&lab_rho=2000&lab_sigma0=3"
              "&map=f-gamma&map_res=fine&kH=0.8&re_max=3&im_min=0.001&im_max=1.5&tab=branches")
-    app = create_app(_args(query)).app
+    app = build_app(_args(query))
     p, t, lab = app.spectrum_params, app.thin_params, app.lab_params
     assert not app.messages.visible
     assert p.model_args() == pytest.approx((4.5, 0.6, 0.25, 20.0, 0.5, 2.0), rel=1e-14)
@@ -80,33 +80,33 @@ def test_good_query_sets_every_parameter_and_tab() -> None:
 def test_old_links_with_the_material_of_thin_on_thick_or_rupture_fronts_still_work() -> None:
     """The page has one set of material constants (the Lab-units panel's); the keys of the former copies in the
     Thin-on-thick and Rupture-fronts scenes set it."""
-    app = create_app(_args("c_s=1000&rho=2000&sigma0=3&rup_material=Homalite-100")).app
+    app = build_app(_args("c_s=1000&rho=2000&sigma0=3&rup_material=Homalite-100"))
     lab = app.lab_params
     assert not app.messages.visible
     assert (lab.material, lab.c_s, lab.rho, lab.sigma0_MPa) == ("custom", 1000.0, 2000.0, 3.0)
     assert app.thin.stress_key[2:] == (1000.0, 2000.0, 3e6) and app.rupture.front_key[3:5] == (2000.0, 1000.0)
-    homalite = create_app(_args("rup_material=Homalite-100")).app
+    homalite = build_app(_args("rup_material=Homalite-100"))
     assert homalite.lab_params.material == "Homalite-100" and homalite.rupture_params.nu == 0.35
 
 
 def test_url_shows_only_what_was_used_and_reports_what_the_model_refuses() -> None:
     """Issue 23 item 10: c/c_R = 1.5 is clamped with a message (it was a red error box), a negative height is in the
     banner (the lab panel, folded, was the only place that said so), thin-on-thick defaults are not written."""
-    app = create_app(_args("c_cR=1.5&H1=-5&tab=rupture")).app
+    app = build_app(_args("c_cR=1.5&H1=-5&tab=rupture"))
     text = app.messages.object
     assert "c/c_R = 1.5 is outside 0.01 … 0.999: set to 0.999" in text
     assert "the lab values are not valid" in text and "H1 must be in (0, inf) m" in text
     assert app.rupture_params.c_over_cR == 0.999 and not app.rupture.errors()
     q = _args(query_string(app.param_objects(), "rupture")[1:])
     assert q["c_cR"] == ["0.999"] and q["H1"] == ["-5"]
-    default = _args(query_string(create_app({}).app.param_objects(), "spectrum")[1:])
+    default = _args(query_string(build_app({}).param_objects(), "spectrum")[1:])
     assert not {"kW", "nu", "map", "map_res", "kH", "re_max", "im_min", "im_max"} & set(default)
 
 
 def test_query_string_round_trip() -> None:
-    app = create_app(_args("gamma=2.5&eta=300&Delta=0.4&xi=7&kW=12&tab=map")).app
+    app = build_app(_args("gamma=2.5&eta=300&Delta=0.4&xi=7&kW=12&tab=map"))
     query = query_string(app.param_objects(), TABS[app.tabs.active])
-    again = create_app(_args(query[1:])).app
+    again = build_app(_args(query[1:]))
     assert not again.messages.visible
     assert again.spectrum_params.model_args() == pytest.approx(app.spectrum_params.model_args(), rel=1e-5)
     assert again.thin_params.kW == pytest.approx(12.0, rel=1e-5)
@@ -117,7 +117,7 @@ def test_query_string_round_trip() -> None:
 
 
 def test_eta_infinite_is_written_as_inf_and_xi_omitted_at_delta_one() -> None:
-    app = create_app({}).app
+    app = build_app({})
     q = _args(query_string(app.param_objects(), "spectrum")[1:])
     assert q["eta"] == ["inf"] and "xi" not in q
 
@@ -134,7 +134,7 @@ def test_every_figure_has_a_preset() -> None:
 
 @pytest.mark.parametrize("preset", load_presets(), ids=lambda p: p.id)
 def test_preset_sets_values_family_and_tab(preset) -> None:
-    app = create_app({"gamma": ["7"], "f": ["0.2"]}).app  # non-default start: the preset must reset it
+    app = build_app({"gamma": ["7"], "f": ["0.2"]})  # non-default start: the preset must reset it
     app.apply_preset(preset)
     assert app.tabs.active == TABS.index(preset.tab)
     objects = app.param_objects()
@@ -159,7 +159,7 @@ def test_preset_sets_values_family_and_tab(preset) -> None:
 
 
 def test_fig5a_family_curves_equal_the_model() -> None:
-    app = create_app({}).app
+    app = build_app({})
     (fig5a,) = [p for p in load_presets() if p.id == "fig5a"]
     app.apply_preset(fig5a)
     overlay = app.spectrum.im_dmap[()]
@@ -310,7 +310,7 @@ _STYLES_LOADED_JS = """() => { let ok = true;
 
 
 def test_a_pane_outside_the_document_keeps_the_sessions_stylesheets() -> None:
-    """app.session_resources.guard_detached_updates: a stylesheet patched for Panel's CDN while a session with local
+    """app.workarounds.guard_detached_updates: a stylesheet patched for Panel's CDN while a session with local
     stylesheets is current stays local (a pane of a tab switched away from, updated later); without a session,
     Panel's own behaviour."""
     import panel.reactive

@@ -1,7 +1,7 @@
-"""The app served as the Docker image serves it: ``--num-procs 2 --reuse-sessions`` (benchmarks.load_test.ServedApp).
+"""The app served as the Docker image serves it: ``--num-procs 2 --reuse-sessions`` (tests.support.served_app).
 
 With these flags a session's document is built when its websocket connects, not with the page, so
-Panel does not point its stylesheets at this server (app/session_resources.py); and the session
+Panel does not point its stylesheets at this server (app/workarounds.py); and the session
 that renders pages is never destroyed (app/server_gc.py must not wait for it).
 """
 
@@ -12,8 +12,8 @@ from collections.abc import Iterator
 import pytest
 
 from app.server_gc import never_destroyed
-from benchmarks.load_test import ServedApp
 from tests.conftest import open_app, set_slider
+from tests.support.served_app import ServedApp
 
 pytestmark = pytest.mark.slow
 

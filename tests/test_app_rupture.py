@@ -16,13 +16,24 @@ import panel as pn
 import pytest
 
 import model
-from app.main import create_app
+from app import rupture as rp
 from app.params import CUSTOM, LabParams, RuptureParams, follow_material
-from app.rupture import C_RATIO, CALLS, PROFILE_GRID, RuptureScene
+from app.rupture import C_RATIO, PROFILE_GRID, RuptureScene
 from app.urlstate import TABS, query_string
 from tests.conftest import open_app, save_screenshot
+from tests.support.headless import build_app
+from tests.support.spies import Calls, spy_calls
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
+
+#: the scene's cache misses and model calls in the current test (tests/support/spies.py)
+calls = Calls()
+
+
+@pytest.fixture(autouse=True)
+def _spies(fresh_caches: None, monkeypatch: pytest.MonkeyPatch) -> None:
+    calls.clear()
+    spy_calls(monkeypatch, rp, calls)
 
 
 P = model.PAPER_DEFAULTS
@@ -52,7 +63,7 @@ def _c_R(nu: float = P.nu, c_s: float = P.c_s) -> float:
 
 
 def _counts() -> dict[str, int]:
-    return {k: CALLS[k] for k in ("compute_speeds", "compute_front", "compute_profile", "compute_vm_curve",
+    return {k: calls[k] for k in ("compute_speeds", "compute_front", "compute_profile", "compute_vm_curve",
                                   "compute_stress_curve", "compute_stress_point")}
 
 
@@ -62,7 +73,7 @@ def test_first_render_computes_each_group_once_and_rerender_is_free() -> None:
     first = _counts()
     assert first == {"compute_speeds": 1, "compute_front": 1, "compute_profile": 1, "compute_vm_curve": 1,
                      "compute_stress_curve": 3, "compute_stress_point": 3}
-    assert CALLS["slip_velocity_profile"] == 1 and CALLS["rayleigh_wave_speed"] == 1
+    assert calls["slip_velocity_profile"] == 1 and calls["rayleigh_wave_speed"] == 1
     _render_all(scene)
     assert _counts() == first
 
@@ -259,7 +270,7 @@ def test_c_over_c_R_cannot_leave_the_models_range() -> None:
 
 
 def test_bad_input_in_the_app_keeps_the_session_working() -> None:
-    app = create_app({"c_cR": ["1.5"], "rup_nu": ["0.9"], "rup_material": ["unobtainium"], "tab": ["rupture"]}).app
+    app = build_app({"c_cR": ["1.5"], "rup_nu": ["0.9"], "rup_material": ["unobtainium"], "tab": ["rupture"]})
     assert app.tabs.active == TABS.index("rupture")
     assert "Material = 'unobtainium' is not one of PMMA" in app.messages.object  # the URL message
     assert "c/c_R = 1.5 is outside 0.01 … 0.999: set to 0.999" in app.messages.object
@@ -287,7 +298,7 @@ def test_material_preset_fills_rho_cs_nu() -> None:
 def test_one_set_of_material_constants_for_the_whole_page() -> None:
     """Issue 23 item 12: c_s, ρ and σ₀ had three unsynced copies (lab panel, Thin-on-thick, Rupture fronts); now a
     change in any tab's widget changes them everywhere, and each tab says which values it uses."""
-    app = create_app({}).app
+    app = build_app({})
     thin_widgets = {w.label: w for w in app.thin.__panel__().objects[0] if isinstance(w, pn.widgets.Widget)}
     rupture_widgets = {w.label: w for w in app.rupture.__panel__().objects[0] if isinstance(w, pn.widgets.Widget)}
     thin_widgets["c_s [m/s]"].value = 1000.0
@@ -308,21 +319,21 @@ def test_one_set_of_material_constants_for_the_whole_page() -> None:
 
 def test_url_round_trip_of_the_rupture_keys() -> None:
     query = "c_cR=0.97&Gamma=2&Xc0=1.5&lab_sigma0=3&material=Homalite-100&kW1=2&kW3=8&tab=rupture"
-    app = create_app(urllib.parse.parse_qs(query)).app
+    app = build_app(urllib.parse.parse_qs(query))
     p, m = app.rupture_params, app.lab_params
     assert not app.messages.visible
     assert (p.c_over_cR, p.Gamma, p.X_c0_mm, m.sigma0_MPa, m.material, m.rho, p.nu, p.kW1, p.kW2, p.kW3) == (
         0.97, 2.0, 1.5, 3.0, "Homalite-100", 1230.0, 0.35, 2.0, 4.0, 8.0)
     written = query_string(app.param_objects(), "rupture")
     assert "kW2" not in written  # unchanged values are not written
-    again = create_app(urllib.parse.parse_qs(written[1:])).app
+    again = build_app(urllib.parse.parse_qs(written[1:]))
     for name in RuptureParams.param:
         if name != "name":
             assert getattr(again.rupture_params, name) == getattr(p, name), name
 
 
 def test_preset_restores_the_papers_inputs() -> None:
-    app = create_app({"Gamma": ["3"], "rup_nu": ["0.2"], "c_cR": ["0.5"]}).app
+    app = build_app({"Gamma": ["3"], "rup_nu": ["0.2"], "c_cR": ["0.5"]})
     (preset,) = [p for p in app.presets if p.id == "rupture"]
     app.apply_preset(preset)
     p = app.rupture_params

@@ -14,10 +14,20 @@ import pytest
 import model
 from app import spectrum as sp
 from app.params import SpectrumParams
-from app.spectrum import CALLS, KH, SpectrumScene
+from app.spectrum import KH, SpectrumScene
 from tests.conftest import open_app, set_slider
+from tests.support.spies import Calls, spy_calls
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
+
+#: the scene's cache misses and model calls in the current test (tests/support/spies.py)
+calls = Calls()
+
+
+@pytest.fixture(autouse=True)
+def _spies(fresh_caches: None, monkeypatch: pytest.MonkeyPatch) -> None:
+    calls.clear()
+    spy_calls(monkeypatch, sp, calls)
 
 
 def _render_all(scene: SpectrumScene) -> None:
@@ -41,13 +51,13 @@ def _curve(overlay: hv.Overlay, label: str, ylabel: str) -> hv.Curve:
 def test_changing_gamma_recomputes_exactly_once() -> None:
     scene = SpectrumScene()
     _render_all(scene)
-    assert CALLS["compute_spectrum"] == 1
-    assert CALLS["rayleigh_branch"] == 1
+    assert calls["compute_spectrum"] == 1
+    assert calls["rayleigh_branch"] == 1
     scene.params.gamma = 5.0
     _render_all(scene)
-    assert CALLS["compute_spectrum"] == 2
-    assert CALLS["rayleigh_branch"] == 2
-    assert CALLS["growth_analysis"] == 2
+    assert calls["compute_spectrum"] == 2
+    assert calls["rayleigh_branch"] == 2
+    assert calls["growth_analysis"] == 2
 
 
 def test_xi_is_ignored_when_delta_is_one() -> None:
@@ -59,14 +69,14 @@ def test_xi_is_ignored_when_delta_is_one() -> None:
     scene.params.xi = 3.0
     _render_all(scene)
     assert scene.inputs == inputs and fired == []
-    assert CALLS["compute_spectrum"] == 1
+    assert calls["compute_spectrum"] == 1
     scene.params.Delta = 0.5  # now xi matters
     _render_all(scene)
-    assert CALLS["compute_spectrum"] == 2
+    assert calls["compute_spectrum"] == 2
     assert scene.inputs[-2:] == (0.5, 3.0)
     scene.params.xi = 4.0
     _render_all(scene)
-    assert CALLS["compute_spectrum"] == 3
+    assert calls["compute_spectrum"] == 3
 
 
 def test_eta_infinite_and_finite_eta_are_distinct_keys() -> None:
@@ -79,9 +89,9 @@ def test_eta_infinite_and_finite_eta_are_distinct_keys() -> None:
     assert args_inf != args_fin
     sp.compute_spectrum(*args_inf)
     sp.compute_spectrum(*args_fin)
-    assert CALLS["compute_spectrum"] == 2
+    assert calls["compute_spectrum"] == 2
     sp.compute_spectrum(*args_inf)
-    assert CALLS["compute_spectrum"] == 2
+    assert calls["compute_spectrum"] == 2
 
 
 def test_linear_expansion_only_when_delta_is_one() -> None:
@@ -89,7 +99,7 @@ def test_linear_expansion_only_when_delta_is_one() -> None:
     np.testing.assert_array_equal(d1["linear"], model.linear_expansion(KH, gamma=3.0, f=0.9, beta=0.3))
     d2 = sp.compute_spectrum(3.0, 0.9, 0.3, math.inf, 0.5, 1.0)
     assert np.all(np.isnan(d2["linear"]))
-    assert CALLS["linear_expansion"] == 1
+    assert calls["linear_expansion"] == 1
 
 
 # --------------------------------------------------------------------------------------------

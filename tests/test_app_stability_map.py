@@ -13,15 +13,27 @@ import numpy as np
 import pytest
 
 import model
+from app import jobs
 from app import stability_map as sm
 from app.params import SpectrumParams
-from app.stability_map import CALLS, KH, PLANES, StabilityMapScene
+from app.stability_map import KH, PLANES, StabilityMapScene
 from tests.conftest import open_app
+from tests.support.headless import build_app
+from tests.support.spies import Calls, spy_calls
 
 DEFAULT_RESOLUTION = StabilityMapScene.param.resolution.default
 
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
+
+#: the scene's cache misses and model calls in the current test (tests/support/spies.py)
+calls = Calls()
+
+
+@pytest.fixture(autouse=True)
+def _spies(fresh_caches: None, monkeypatch: pytest.MonkeyPatch) -> None:
+    calls.clear()
+    spy_calls(monkeypatch, sm, calls)
 
 
 @pytest.fixture
@@ -61,12 +73,9 @@ def _layer(overlay: hv.Overlay, kind: type) -> hv.Element:
 
 
 def test_building_the_page_computes_nothing() -> None:
-    from app.main import create_app
-
-    template = create_app({"tab": ["map"]})
-    scene = template.app.map
-    assert scene.result is None and scene._thread is None
-    assert sum(CALLS.values()) == 0
+    scene = build_app({"tab": ["map"]}).map
+    assert scene.result is None and scene.computation.job is None and scene.status == "idle"
+    assert sum(calls.values()) == 0
     assert "Not computed yet" in scene.readout()
 
 
@@ -94,7 +103,7 @@ def test_map_equals_model_max_growth(plane: str, p: dict) -> None:
     np.testing.assert_array_equal(res.y, y)
     np.testing.assert_array_equal(res.growth, growth)  # NaN where the model gives NaN
     np.testing.assert_array_equal(res.kH_at_max, kh)
-    assert res.chunks_total == len(sm.chunk_rows(n)) == CALLS["compute_chunk"]
+    assert res.chunks_total == len(sm.chunk_rows(n)) == calls["compute_chunk"]
 
     overlay = scene.view()[()]
     mesh = _layer(overlay, hv.QuadMesh)
@@ -148,13 +157,13 @@ def test_plane_parameters_move_only_the_marker(small) -> None:
     scene = StabilityMapScene()  # η-γ plane
     _computed(scene)
     n_chunks = len(sm.chunk_rows(8))
-    assert CALLS["compute_chunk"] == CALLS["growth_analysis"] == n_chunks
+    assert calls["compute_chunk"] == calls["growth_analysis"] == n_chunks
     fired = []
     scene.param.watch(fired.append, "map_key")
     scene.params.param.update(gamma=5.0, eta_infinite=False, log10_eta=3.0)
     scene.view()[()]
     scene.wait()
-    assert fired == [] and CALLS["compute_chunk"] == n_chunks and scene._thread.is_alive() is False
+    assert fired == [] and calls["compute_chunk"] == n_chunks and scene.status == "done"
     marker = _layer(scene.view()[()], hv.Points)
     np.testing.assert_allclose(marker.array()[0], [1e3, 5.0])
 
@@ -167,11 +176,11 @@ def test_other_parameters_recompute_exactly_once(small) -> None:
     res = _computed(scene)
     scene.view()[()]
     scene.readout()
-    assert CALLS["compute_chunk"] == CALLS["growth_analysis"] == 2 * n_chunks
+    assert calls["compute_chunk"] == calls["growth_analysis"] == 2 * n_chunks
     np.testing.assert_array_equal(res.growth, _expected("η-γ", 8, scene.params)[2])
     scene.params.f = 0.9  # back: every chunk from the cache
     res = _computed(scene)
-    assert CALLS["compute_chunk"] == 2 * n_chunks
+    assert calls["compute_chunk"] == 2 * n_chunks
     assert res.chunks_computed == 0 and "from the cache" in scene.readout()
 
 
@@ -182,10 +191,10 @@ def test_xi_at_delta_one_recomputes_nothing(small) -> None:
     scene.params.xi = 3.0
     scene.view()[()]
     scene.wait()
-    assert scene.map_key == key and CALLS["compute_chunk"] == len(sm.chunk_rows(8))
+    assert scene.map_key == key and calls["compute_chunk"] == len(sm.chunk_rows(8))
     scene.params.Delta = 0.5  # now xi matters
     _computed(scene)
-    assert CALLS["compute_chunk"] == 2 * len(sm.chunk_rows(8))
+    assert calls["compute_chunk"] == 2 * len(sm.chunk_rows(8))
 
 
 def test_plane_and_resolution_are_part_of_the_key(small) -> None:
@@ -194,10 +203,10 @@ def test_plane_and_resolution_are_part_of_the_key(small) -> None:
     scene.plane = "f-γ"
     scene.params.f = 1.5  # a parameter of the f-γ plane: nothing new
     res = _computed(scene)
-    assert res.plane == "f-γ" and CALLS["compute_chunk"] == 2 * len(sm.chunk_rows(8))
+    assert res.plane == "f-γ" and calls["compute_chunk"] == 2 * len(sm.chunk_rows(8))
     scene.params.param.update(eta_infinite=False, log10_eta=2.0)  # off the f-γ plane: recomputes
     _computed(scene)
-    assert CALLS["compute_chunk"] == 3 * len(sm.chunk_rows(8))
+    assert calls["compute_chunk"] == 3 * len(sm.chunk_rows(8))
     key = scene.map_key
     scene.resolution = "coarse"  # another grid: a new key, so the next render computes it
     assert scene.map_key[1] == sm.RESOLUTIONS["coarse"] != key[1] and scene.map_key[::2] == key[::2]
@@ -237,13 +246,13 @@ def test_two_sessions_compute_their_maps_at_the_same_time(small, monkeypatch) ->
 
 
 def test_stale_computation_stops_after_its_chunk(small, monkeypatch) -> None:
-    calls: list[tuple] = []
+    seen: list[tuple] = []
     first_started, go_on = threading.Event(), threading.Event()
     real = sm.compute_chunk
 
     def blocking_chunk(plane, n, start, stop, fixed):
-        calls.append(fixed)
-        if len(calls) == 1:  # hold the first chunk until the inputs have changed
+        seen.append(fixed)
+        if len(seen) == 1:  # hold the first chunk until the inputs have changed
             first_started.set()
             assert go_on.wait(30)
         return real(plane, n, start, stop, fixed)
@@ -253,16 +262,18 @@ def test_stale_computation_stops_after_its_chunk(small, monkeypatch) -> None:
     scene.view()[()]
     assert first_started.wait(30)
     old_fixed = scene.map_key[2]
-    old_thread = scene._thread
+    stale = scene.computation.job
     scene.params.beta = 0.45  # mid-way: the map's inputs change
-    assert scene._thread is not old_thread  # the new computation started at once
+    current = scene.computation.job
+    assert current is not stale and current.key == scene.map_key  # the new computation started at once
+    assert scene.status == "computing"
     go_on.set()
-    old_thread.join(30)
+    assert stale.wait(30).status == jobs.CANCELLED
     scene.wait()
     n_chunks = len(sm.chunk_rows(8))
-    assert sum(f == old_fixed for f in calls) == 1  # the stale one stopped after its current chunk
-    assert CALLS["chunks_cancelled"] == n_chunks - 1
-    assert sum(f == scene.map_key[2] for f in calls) == n_chunks
+    assert sum(f == old_fixed for f in seen) == 1  # the stale one stopped after its current chunk
+    assert stale.state().done["chunks"] == 1 and stale.state().result is None
+    assert sum(f == scene.map_key[2] for f in seen) == n_chunks
     res = scene.result
     assert res.key == scene.map_key and dict(res.key[2])["beta"] == 0.45
     np.testing.assert_array_equal(res.growth, _expected("η-γ", 8, scene.params)[2])
@@ -311,7 +322,7 @@ def test_tap_sets_the_shared_parameters(small) -> None:
         scene.view()
         scene.tap_streams[plane].event(x=x, y=y)
         assert {k: getattr(params, k) for k in expected} == pytest.approx(expected, rel=1e-12)
-    assert CALLS["compute_chunk"] == 0  # clicking computes nothing by itself
+    assert calls["compute_chunk"] == 0  # clicking computes nothing by itself
 
 
 def test_marker_is_clipped_to_the_plotted_range() -> None:
@@ -338,14 +349,14 @@ def test_fig4c_equals_model_and_is_cached_by_f_only() -> None:
     np.testing.assert_array_equal(curve.dimension_values(1), model.criterion_chi(sm.BETA_CRITERION))
     star = _layer(overlay, hv.Points)
     np.testing.assert_allclose(star.array()[0], [0.3, 3.0 * 0.9])
-    assert CALLS["compute_fig4c"] == 1
+    assert calls["compute_fig4c"] == 1
     scene.params.param.update(gamma=2.0, beta=0.5)
     overlay = scene.fig4c_dmap[()]
     np.testing.assert_allclose(_layer(overlay, hv.Points).array()[0], [0.5, 2.0 * 0.9])
-    assert CALLS["compute_fig4c"] == 1 and CALLS["compute_chunk"] == 0
+    assert calls["compute_fig4c"] == 1 and calls["compute_chunk"] == 0
     scene.params.f = 1.5
     scene.fig4c_dmap[()]
-    assert CALLS["compute_fig4c"] == 2 and CALLS["compute_criterion"] == 1
+    assert calls["compute_fig4c"] == 2 and calls["compute_criterion"] == 1
     scene.params.eta_infinite = False  # Fig. 4c is for eta = inf: no star
     assert len(_layer(scene.fig4c_dmap[()], hv.Points)) == 0
     assert "not drawn" in scene.fig4c_readout()
@@ -474,31 +485,56 @@ def test_served_map_shows_the_model_values(served_app: str, browser_page) -> Non
     assert page.console_errors == []
 
 
-def test_progress_shows_the_last_chunk_when_the_worker_finishes_during_an_update() -> None:
-    """The race seen in a loaded run (bar at 3 of 4 with the map complete): the worker thread finishes
-    while :meth:`_apply` shows the progress; the bar must still end at the last chunk."""
-    scene = StabilityMapScene()
-    job = sm._Job(gen=scene._generation, key=scene.map_key, total=4, done=3)
-    scene._job = job
-    show = scene._show_progress
+def test_the_progress_bar_is_labelled(small, monkeypatch) -> None:
+    """Issue 23 item 13: every long phase has a labelled progress bar (the map's said nothing of what it counts); it
+    ends at the last chunk."""
+    held, go_on = threading.Event(), threading.Event()
+    real = sm.compute_chunk
 
-    def show_then_finish(j) -> None:
-        show(j)
-        if not j.finished:  # the worker's last chunk and its end, between the two reads of _apply
-            j.done, j.error, j.finished = 4, "error: stopped here (test)", True
+    def held_after_the_first(plane, n, start, stop, fixed):
+        if start > 0 and not go_on.is_set():
+            held.set()
+            assert go_on.wait(30)
+        return real(plane, n, start, stop, fixed)
 
-    scene._show_progress = show_then_finish
-    scene._apply()
-    scene._apply()
-    assert job.applied and scene.status == job.error
-    assert (scene.progress.value, scene.progress.max) == (4, 4)
-
-
-def test_the_progress_bar_is_labelled(small) -> None:
-    """Issue 23 item 13: every long phase has a labelled progress bar (the map's said nothing of what it counts)."""
+    monkeypatch.setattr(sm, "compute_chunk", held_after_the_first)
     scene = StabilityMapScene(plane="f-γ")
-    job = sm._Job(gen=scene._generation, key=scene.map_key, total=4, done=1)
-    scene._show_progress(job)
+    scene.view()[()]
+    assert held.wait(30)
+    scene.computation.update()  # headless: show the job's state now (served: the session's next tick does)
     assert scene.progress_label.object == "Computing the f-γ map (8 × 8 points): 1 of 4 chunks"
-    _computed(scene)
+    assert (scene.progress.value, scene.progress.max, scene.status) == (1, 4, "computing")
+    go_on.set()
+    scene.wait()
     assert scene.progress_label.object == "The f-γ map (8 × 8 points)" and scene.progress.value == scene.progress.max
+
+
+@pytest.mark.ui
+def test_new_inputs_mid_computation_cancel_it_in_the_browser(served_app: str, browser_page, monkeypatch) -> None:
+    """A user changes the resolution while the map is being computed: the page shows the new map's progress at once,
+    then the new map; the stale computation stops after its chunk and never reaches the page."""
+    held, go_on = threading.Event(), threading.Event()
+    real = sm.compute_chunk
+    computed: list[int] = []
+
+    def held_first(plane, n, start, stop, fixed):
+        computed.append(n)
+        if len(computed) == 1:  # the first chunk of the first map waits until the user has changed the inputs
+            held.set()
+            assert go_on.wait(60)
+        return real(plane, n, start, stop, fixed)
+
+    monkeypatch.setattr(sm, "compute_chunk", held_first)
+    page = browser_page
+    open_app(page, served_app, "Stability map")
+    medium, coarse = sm.RESOLUTIONS["medium"], sm.RESOLUTIONS["coarse"]
+    page.get_by_text(f"Computing the η-γ map ({medium} × {medium} points): 0 of").first.wait_for(timeout=60_000)
+    assert held.wait(60)
+    page.get_by_role("button", name="coarse").first.click()
+    page.get_by_text(f"Computing the η-γ map ({coarse} × {coarse} points)").first.wait_for(timeout=60_000)
+    go_on.set()
+    page.get_by_text(f"The η-γ map ({coarse} × {coarse} points)", exact=True).first.wait_for(timeout=120_000)
+    page.wait_for_function(_MAP_JS, timeout=60_000)
+    assert len(page.evaluate(_MAP_JS)["growth"]) == coarse * coarse
+    assert computed.count(medium) == 1  # the stale map stopped after its current chunk
+    assert page.console_errors == []

@@ -14,10 +14,20 @@ import pytest
 import model
 from app import thin_on_thick as tt
 from app.params import LabParams
-from app.thin_on_thick import CALLS, KW, ThinOnThickParams, ThinOnThickScene
+from app.thin_on_thick import KW, ThinOnThickParams, ThinOnThickScene
 from tests.conftest import open_app, save_screenshot, set_slider
+from tests.support.spies import Calls, spy_calls
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
+
+#: the scene's cache misses and model calls in the current test (tests/support/spies.py)
+calls = Calls()
+
+
+@pytest.fixture(autouse=True)
+def _spies(fresh_caches: None, monkeypatch: pytest.MonkeyPatch) -> None:
+    calls.clear()
+    spy_calls(monkeypatch, tt, calls)
 
 
 def _render_all(scene: ThinOnThickScene) -> None:
@@ -46,24 +56,24 @@ def test_each_group_computed_once_and_rerender_is_free() -> None:
     scene = ThinOnThickScene()
     _render_all(scene)
     _render_all(scene)
-    assert CALLS["compute_moduli_curve"] == 1
-    assert CALLS["compute_point"] == 1
-    assert CALLS["compute_gy_curve"] == 1
-    assert CALLS["compute_stress_line"] == 1
-    assert CALLS["thin_on_thick_response"] == 2  # G_y curve and G_y(c_R)
+    assert calls["compute_moduli_curve"] == 1
+    assert calls["compute_point"] == 1
+    assert calls["compute_gy_curve"] == 1
+    assert calls["compute_stress_line"] == 1
+    assert calls["thin_on_thick_response"] == 2  # G_y curve and G_y(c_R)
 
 
 @pytest.mark.parametrize("name, value", [("rho", 1000.0), ("sigma0_MPa", 3.0), ("c_s", 1200.0)])
 def test_material_inputs_recompute_only_the_stress_line(name: str, value: float) -> None:
     scene = ThinOnThickScene()
     _render_all(scene)
-    before = dict(CALLS)
+    before = dict(calls)
     setattr(scene.material, name, value)  # the page's shared material constants (the Lab-units panel's)
     _render_all(scene)
-    assert CALLS["compute_stress_line"] == before["compute_stress_line"] + 1
+    assert calls["compute_stress_line"] == before["compute_stress_line"] + 1
     for key in ("compute_moduli_curve", "compute_point", "compute_gy_curve", "thin_on_thick_response",
                 "effective_moduli"):
-        assert CALLS[key] == before[key], key
+        assert calls[key] == before[key], key
 
 
 def test_kW_does_not_recompute_the_moduli_curve() -> None:
@@ -71,10 +81,10 @@ def test_kW_does_not_recompute_the_moduli_curve() -> None:
     _render_all(scene)
     scene.params.log10_kW = 1.0
     _render_all(scene)
-    assert CALLS["compute_moduli_curve"] == 1
-    assert CALLS["compute_point"] == 2
-    assert CALLS["compute_gy_curve"] == 2
-    assert CALLS["compute_stress_line"] == 2
+    assert calls["compute_moduli_curve"] == 1
+    assert calls["compute_point"] == 2
+    assert calls["compute_gy_curve"] == 2
+    assert calls["compute_stress_line"] == 2
     # the marker moved, the curve is the same object's data
     marker = _el(scene.moduli_dmap[()], hv.Scatter, "current kW")
     assert marker.dimension_values("kW")[0] == 10.0
@@ -86,7 +96,7 @@ def test_nu_recomputes_everything_once() -> None:
     scene.params.nu = 0.25
     _render_all(scene)
     for key in ("compute_moduli_curve", "compute_point", "compute_gy_curve", "compute_stress_line"):
-        assert CALLS[key] == 2, key
+        assert calls[key] == 2, key
 
 
 def test_kW_is_rounded_so_the_default_is_exactly_5() -> None:

@@ -16,7 +16,7 @@ from unittest import mock
 import pytest
 
 from asymslide import serve, warmup
-from benchmarks.load_test import ServedApp
+from tests.support.served_app import ServedApp
 
 
 def test_every_server_process_loads_the_kernels_before_it_serves() -> None:

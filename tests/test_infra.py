@@ -220,7 +220,7 @@ def test_the_session_notices_a_change_of_the_working_tree() -> None:
 @pytest.mark.skipif(shutil.which("make") is None, reason="GNU make not installed")
 def test_make_serve_the_image_and_the_load_test_serve_alike() -> None:
     """All three run the launcher (asymslide/serve.py: panel serve's flags and the clean stop live there)."""
-    from benchmarks.load_test import ServedApp
+    from tests.support.served_app import ServedApp
 
     make = subprocess.run(["make", "--dry-run", "--always-make", "serve", "NUM_PROCS=3"], cwd=ROOT,
                           capture_output=True, text=True, timeout=60)

@@ -200,8 +200,7 @@ def _canonical(name: str) -> str:
 
 #: the import names each layer may use, besides the standard library and the project's own packages
 LAYER_FILES = {
-    "core": ["model/**/*.py", "asymslide/__init__.py", "asymslide/__main__.py", "asymslide/warmup.py",
-             "asymslide/processes.py"],
+    "core": ["model/**/*.py", "asymslide/__init__.py", "asymslide/__main__.py", "asymslide/warmup.py"],
     "atlas": ["atlas_engine/*.py", "asymslide/cli.py"],
     "app": ["app/*.py", "asymslide/serve.py"],
 }

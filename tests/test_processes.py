@@ -7,7 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from asymslide.processes import MARKER, alive, command_line
+from tests.support.processes import MARKER, alive, command_line
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -18,8 +18,8 @@ from pathlib import Path
 
 import pytest
 
-from asymslide.processes import alive, children, descendants
 from tests.conftest import _find_free_port
+from tests.support.processes import alive, children, descendants
 
 pytestmark = pytest.mark.slow
 

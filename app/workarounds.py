@@ -1,4 +1,16 @@
-"""Stylesheet URLs of a session whose page was not rendered with its document (not physics, not layout).
+"""Every Panel/Bokeh workaround of the app, in one place (not physics, not layout), each written for and checked
+against the library versions in :data:`CHECKED_WITH` (the pins of requirements.lock). tests/test_workarounds.py fails
+when the installed Panel or Bokeh is another version: then re-check each workaround below (is it still needed, does
+it still patch what it patches?) and update :data:`CHECKED_WITH` and the lock together.
+
+1. Stylesheet URLs of a session whose page was not rendered with its document (:func:`use_server_stylesheets`,
+   :func:`guard_detached_updates`; Panel internals: ``doc._template_variables``, ``patch_stylesheet``).
+2. One Bokeh model-graph walk per parameter change instead of one per refreshed plot (:func:`frozen_document`;
+   Bokeh internals: ``doc.models.invalidate`` / ``recompute``).
+
+(tests/support/spies.py relies on where ``pn.cache`` keeps the cached function; it checks that itself.)
+
+## 1. Stylesheet URLs
 
 Panel points its components' stylesheets at the server's own files (``static/extensions/panel/...``)
 only when it renders the HTML page *with the session's document*: it then records the URL in
@@ -20,16 +32,23 @@ models, now outside the document. A pane updated later (the Stability map finish
 another tab) re-renders its properties for ``model.document`` = None, so Panel patches the stylesheet objects
 -- shared with the live models of the session -- back to its CDN, and the browser requests them there.
 :func:`guard_detached_updates` makes such a patch use the URL of the session whose callback is running.
+
+## 2. frozen_document: see its docstring.
 """
 
 from __future__ import annotations
 
+import contextlib
 import functools
+from collections.abc import Iterator
 
 import panel as pn
 import panel.io.resources
 import panel.reactive
 from panel.io.resources import CDN_DIST, get_dist_path, patch_model_css
+
+#: the library versions the workarounds were written for and checked against (= requirements.lock)
+CHECKED_WITH = {"panel": "1.9.4", "bokeh": "3.9.2"}
 
 
 def use_server_stylesheets() -> bool:
@@ -69,3 +88,50 @@ def guard_detached_updates() -> None:
     for module in (panel.io.resources, panel.reactive):
         if not getattr(module.patch_stylesheet, "_asymslide_guard", False):
             module.patch_stylesheet = _session_dist_url(module.patch_stylesheet)
+
+
+def _skip_recompute() -> None:
+    """Stands in for ``doc.models.recompute`` when the model graph is known not to have changed."""
+
+
+@contextlib.contextmanager
+def frozen_document() -> Iterator[None]:
+    """Defer the Bokeh model-graph recompute to the end of a parameter change, and skip it when the
+    graph did not change.
+
+    HoloViews freezes the document around each plot it refreshes, and Bokeh walks every model of the
+    page when the outermost freeze ends whether or not a model reference changed. Inside
+    this context: nested freezes do not walk; at the end the walk happens once, and only if Bokeh
+    reported a changed reference (``models.invalidate``) or a root was added or removed. A slider
+    release that only sends new data (the usual case) walks nothing. Events are still sent as they
+    happen (unlike ``pn.io.hold``), so the first plot is not delayed by the others. A no-op outside a
+    Bokeh document (tests, scripts).
+    """
+    doc = pn.state.curdoc
+    models = getattr(doc, "models", None)
+    if models is None or "invalidate" in vars(models):  # no document, or inside another frozen_document
+        yield
+        return
+    roots = list(doc.roots)
+    changed = False
+
+    def invalidate() -> None:  # Bokeh calls this when a property change adds or drops model references
+        nonlocal changed
+        changed = True
+
+    models.invalidate = invalidate
+    error: BaseException | None = None
+    try:
+        with models.freeze():
+            try:
+                yield
+            except BaseException as exc:  # Bokeh's freeze() would stay frozen (no try/finally there)
+                error = exc
+            finally:
+                del models.invalidate
+                if not changed and list(doc.roots) == roots:
+                    models.recompute = _skip_recompute  # the walk freeze() ends with
+    finally:
+        vars(models).pop("recompute", None)
+    if error is not None:
+        raise error

@@ -1,22 +1,16 @@
-"""Finding processes on Linux through /proc: children, descendants, and processes carrying a marker in their
-environment (how the test suite and the benchmarks check that nothing they started outlives them)."""
+"""Finding processes on Linux through /proc: descendants, and processes carrying a marker in their environment (how
+the test suite and the benchmarks check that nothing they started outlives them). `make bench` ends with
+``python -m tests.support.processes $ASYMSLIDE_RUN_ID``."""
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
+from asymslide.serve import children  # the launcher's own (it waits for Panel's workers)
+
 #: environment variable whose value marks the processes started by one test session or benchmark run
 MARKER = "ASYMSLIDE_RUN_ID"
-
-
-def children(pid: int) -> list[int]:
-    """Direct children of `pid` (empty if it is gone)."""
-    try:
-        with open(f"/proc/{pid}/task/{pid}/children", encoding="ascii") as fh:
-            return [int(p) for p in fh.read().split()]
-    except OSError:
-        return []
 
 
 def descendants(pid: int) -> list[int]:
@@ -83,7 +77,7 @@ def stop_marked(value: str, grace: float, exclude: tuple[int, ...] = ()) -> list
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m asymslide.processes RUN_ID [GRACE]``: exit 1 (listing and killing them) if processes marked
+    """``python -m tests.support.processes RUN_ID [GRACE]``: exit 1 (listing and killing them) if processes marked
     with RUN_ID are still running after GRACE seconds (default 20). `make bench` ends with it."""
     import sys
 

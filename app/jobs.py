@@ -1,0 +1,299 @@
+"""Background jobs: every long computation of the app runs through here (not physics, not layout).
+
+Two pieces, one for each side of the thread boundary:
+
+- :class:`Job` -- one computation, ``work(job)``, on its own daemon thread. The work reports its progress per
+  phase (:meth:`Job.set_totals`, :meth:`Job.advance`, :meth:`Job.set_done`) and calls :meth:`Job.check` between
+  chunks: once the job is cancelled, ``check`` raises :class:`Cancelled`, so a stale computation stops after its
+  current chunk. An exception ends the job "failed" with its message (logged with its traceback; a :class:`Failed`
+  raised by the work is a failure it explains itself: its message is shown as it is, without a traceback). A job
+  knows nothing of sessions: several may follow one job (the default atlas is computed once per process for all).
+- :class:`Follower` -- shows one job at a time in one session by calling ``show(job, state)``, always with the
+  session's document locked on its event loop, never from the worker. The worker only says that something
+  changed; the follower then schedules one update on the session's next tick (``Document.add_next_tick_callback``,
+  the one Document method Bokeh allows from another thread), at most every :data:`UPDATE_INTERVAL` seconds, and
+  that update reads the job's latest state: updates cannot arrive out of order (a progress bar's maximum after its
+  values) and a burst of progress is one update. A job the follower has left (new inputs) is never shown again, so
+  its result cannot replace the current one.
+
+Served (``panel serve``, one or several processes) that is all. Without a server session (tests, scripts, a
+scene built headless) nothing is scheduled: :meth:`Follower.update` shows the job's current state, and
+:meth:`Follower.wait` waits for its end and shows it.
+
+Why threads and not Panel's async callbacks (``pn.state.execute`` of a coroutine awaiting ``asyncio.to_thread``):
+an async callback runs without the document lock (the Atlas tab updates Bokeh models directly), needs a running
+event loop (tests build scenes without one), and belongs to one session, while the default atlas is shared by every
+session of a process.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections.abc import Callable, Hashable, Mapping
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
+from typing import Any
+
+import panel as pn
+from panel.io.state import set_curdoc
+
+log = logging.getLogger(__name__)
+
+#: the shortest time (s) between two updates of a session by the same follower (progress of a fast computation
+#: would otherwise keep the session's event loop and websocket busy)
+UPDATE_INTERVAL = 0.15
+
+RUNNING, DONE, FAILED, CANCELLED = "running", "done", "failed", "cancelled"
+
+
+class Cancelled(Exception):  # noqa: N818 (not an error: how a cancelled job's work stops)
+    """Raised by :meth:`Job.check` in the worker once the job is cancelled: the work stops there."""
+
+
+class Failed(Exception):  # noqa: N818 (the job's outcome, as Cancelled)
+    """Raised by a job's work for a failure it explains itself: the message is shown as it is (no traceback)."""
+
+
+@dataclass(frozen=True)
+class JobState:
+    """A consistent snapshot of a job: its status, its progress per phase, and its result or error."""
+
+    status: str = RUNNING
+    done: Mapping[str, int] = field(default_factory=dict)
+    totals: Mapping[str, int] = field(default_factory=dict)
+    result: Any = None
+    error: str = ""
+
+    @property
+    def finished(self) -> bool:
+        return self.status != RUNNING
+
+
+class Job:
+    """``work(job)`` on a daemon thread named `name`, for the inputs `key`; `totals` are the phases' sizes if
+    they are known before the work starts (they are shown at once). :meth:`start` starts it."""
+
+    def __init__(self, work: Callable[[Job], Any], *, name: str, key: Hashable = None,
+                 totals: Mapping[str, int] | None = None) -> None:
+        self.key = key
+        self.name = name
+        self._work = work
+        self._lock = threading.Lock()
+        self._cancelled = threading.Event()
+        self._ended = threading.Event()
+        self._state = JobState(totals=MappingProxyType(dict(totals or {})),
+                               done=MappingProxyType(dict.fromkeys(totals or {}, 0)))
+        self._listeners: list[Callable[[], None]] = []
+        self._thread = threading.Thread(target=self._run, name=name, daemon=True)
+
+    def __repr__(self) -> str:
+        return f"<Job {self.name} {self.key!r}: {self._state.status}>"
+
+    def start(self) -> Job:
+        self._thread.start()
+        return self
+
+    # -- any thread ---------------------------------------------------------------------------
+
+    def state(self) -> JobState:
+        """The job's state now (a snapshot: progress, status and result are read together)."""
+        with self._lock:
+            return self._state
+
+    @property
+    def cancelled(self) -> bool:
+        return self._cancelled.is_set()
+
+    def cancel(self) -> None:
+        """Ask the work to stop at its next :meth:`check` (after its current chunk)."""
+        self._cancelled.set()
+
+    def wait(self, timeout: float | None = 60.0) -> JobState:
+        """Block until the job has ended (TimeoutError after `timeout` seconds; None: no limit); its final state."""
+        if not self._ended.wait(timeout):
+            raise TimeoutError(f"{self.name} did not finish within {timeout} s")
+        return self.state()
+
+    def subscribe(self, listener: Callable[[], None]) -> None:
+        """Call `listener()` after every change of the state, from the thread that changed it (the worker): it must
+        be quick and must not touch a document (:class:`Follower` schedules an update of its session)."""
+        with self._lock:
+            if listener not in self._listeners:
+                self._listeners.append(listener)
+
+    def unsubscribe(self, listener: Callable[[], None]) -> None:
+        with self._lock:
+            if listener in self._listeners:
+                self._listeners.remove(listener)
+
+    # -- the worker ---------------------------------------------------------------------------
+
+    def check(self) -> None:
+        """Raise :class:`Cancelled` if the job has been cancelled (call it between chunks)."""
+        if self._cancelled.is_set():
+            raise Cancelled(self.name)
+
+    def set_totals(self, totals: Mapping[str, int]) -> None:
+        """The size of each phase (grid points, chunks, ...), in the order the phases run."""
+        with self._lock:
+            done = {k: min(self._state.done.get(k, 0), n) for k, n in totals.items()}
+            self._state = replace(self._state, totals=MappingProxyType(dict(totals)), done=MappingProxyType(done))
+        self._notify()
+
+    def advance(self, phase: str, n: int = 1) -> None:
+        """`n` more units of `phase` done."""
+        with self._lock:
+            done = {**self._state.done, phase: self._state.done.get(phase, 0) + n}
+            self._state = replace(self._state, done=MappingProxyType(done))
+        self._notify()
+
+    def set_done(self, done: Mapping[str, int]) -> None:
+        """The units done of each phase named in `done` (e.g. read back from a store another process writes)."""
+        with self._lock:
+            self._state = replace(self._state, done=MappingProxyType({**self._state.done, **done}))
+        self._notify()
+
+    def _end(self, **outcome: Any) -> None:
+        with self._lock:
+            self._state = replace(self._state, **outcome)
+        self._ended.set()
+        self._notify()
+
+    def _notify(self) -> None:
+        with self._lock:
+            listeners = list(self._listeners)
+        for listener in listeners:
+            listener()
+
+    def _run(self) -> None:
+        try:
+            result = self._work(self)
+        except Cancelled:
+            self._end(status=CANCELLED)
+        except Failed as exc:
+            log.warning("%s failed: %s", self.name, exc)
+            self._end(status=FAILED, error=str(exc))
+        except Exception as exc:  # shown in the page; the session keeps working
+            log.exception("%s failed for %r", self.name, self.key)
+            self._end(status=FAILED, error=f"{type(exc).__name__}: {exc}")
+        else:
+            self._end(status=DONE, result=result)
+
+
+def served_document():
+    """The current session's Bokeh document, or None without a server session (tests, scripts)."""
+    doc = pn.state.curdoc
+    return doc if doc is not None and doc.session_context is not None else None
+
+
+class Follower:
+    """Shows the job it follows in one session: ``show(job, state)`` on the session's event loop after the job
+    changed (see the module's docstring), and once more at its end; never again once it follows another job.
+
+    Create it where the session is current (a scene's constructor or a render): the session is taken from
+    :func:`served_document` when a job is followed. When the session ends, a job started by :meth:`run` is cancelled.
+    """
+
+    def __init__(self, show: Callable[[Job, JobState], None], *, interval: float = UPDATE_INTERVAL) -> None:
+        self._show = show
+        self.interval = interval
+        self._lock = threading.Lock()
+        self._job: Job | None = None
+        self._owned = False
+        self._ended_shown: Job | None = None  # the job whose end has been shown
+        self._doc = None
+        self._docs: set[int] = set()  # documents whose end is watched
+        self._pending = False
+        self._last = 0.0
+
+    @property
+    def job(self) -> Job | None:
+        """The job followed (None: none, or it was cancelled)."""
+        return self._job
+
+    def run(self, work: Callable[[Job], Any], *, name: str, key: Hashable = None,
+            totals: Mapping[str, int] | None = None) -> Job:
+        """Start ``work`` as a new job of this session and follow it; the job followed before is cancelled (it
+        stops after its current chunk and is never shown)."""
+        job = Job(work, name=name, key=key, totals=totals)
+        self.follow(job, owned=True)
+        return job.start()
+
+    def follow(self, job: Job, *, owned: bool = False) -> None:
+        """Show `job` from now on. `owned`: the session's own job, cancelled with :meth:`cancel`, when another job
+        is followed, and when the session ends (a job shared by sessions is not)."""
+        self._leave()
+        doc = served_document()
+        with self._lock:
+            self._job, self._owned, self._doc = job, owned, doc
+        if doc is not None and id(doc) not in self._docs:
+            self._docs.add(id(doc))
+            doc.on_session_destroyed(lambda _context: self.cancel())
+        job.subscribe(self._changed)
+        if doc is None:
+            self.update()
+        else:
+            self._changed()  # the first update on the next tick: a tab being built is in the document by then
+
+    def cancel(self) -> None:
+        """Stop following the current job (its state is never shown again) and cancel it if it is the session's."""
+        self._leave()
+
+    def _leave(self) -> None:
+        with self._lock:
+            job, owned, self._job = self._job, self._owned, None
+        if job is not None:
+            job.unsubscribe(self._changed)
+            if owned:
+                job.cancel()
+
+    def wait(self, timeout: float | None = 60.0) -> JobState | None:
+        """Block until the followed job has ended; without a server session also show its end (tests, scripts).
+        None if no job is followed."""
+        job = self._job
+        if job is None:
+            return None
+        state = job.wait(timeout)
+        if self._doc is None:
+            self.update()
+        return state
+
+    def update(self) -> None:
+        """Show the followed job's state now (served: called on the session's event loop; headless: by the caller).
+        A job's end is shown once."""
+        job = self._job
+        if job is None or self._ended_shown is job:
+            return
+        state = job.state()
+        if state.finished:
+            self._ended_shown = job
+            job.unsubscribe(self._changed)
+        self._show(job, state)
+
+    # -- served: carry the worker's changes to the session ----------------------------------------
+
+    def _changed(self) -> None:
+        """A change of the followed job (any thread): schedule one update of the session unless one is pending."""
+        doc = self._doc
+        if doc is None:
+            return
+        with self._lock:
+            if self._pending:
+                return
+            self._pending = True
+        doc.add_next_tick_callback(self._tick)
+
+    def _tick(self) -> None:
+        """On the session's event loop: update, or wait until :attr:`interval` has passed since the last update."""
+        doc = self._doc
+        early = self._last + self.interval - time.monotonic()
+        if early > 0 and doc is not None:
+            doc.add_timeout_callback(self._tick, int(early * 1000) + 1)
+            return
+        with self._lock:
+            self._pending = False
+        self._last = time.monotonic()
+        with set_curdoc(doc):
+            self.update()

@@ -1,0 +1,93 @@
+"""app/jobs.py, the one background-job helper of the app: progress, cancellation on new inputs, errors shown, and a
+session shown only the job it follows (headless here: the served path is exercised by the browser tests)."""
+
+from __future__ import annotations
+
+import threading
+
+import pytest
+
+from app import jobs
+
+
+def _held(release: threading.Event, chunks: int = 3):
+    """Work of `chunks` chunks that waits for `release` after the first."""
+
+    def work(job: jobs.Job) -> str:
+        job.set_totals({"chunks": chunks})
+        for i in range(chunks):
+            job.check()
+            if i == 1:
+                assert release.wait(30)
+            job.advance("chunks")
+        return "result"
+
+    return work
+
+
+def test_a_job_reports_progress_and_its_result() -> None:
+    release = threading.Event()
+    job = jobs.Job(_held(release), name="test", key=1, totals={"chunks": 3}).start()
+    assert job.state().totals == {"chunks": 3}  # known at once
+    release.set()
+    state = job.wait(30)
+    assert (state.status, state.done, state.result, state.error) == (jobs.DONE, {"chunks": 3}, "result", "")
+
+
+def test_a_cancelled_job_stops_after_its_current_chunk() -> None:
+    release = threading.Event()
+    job = jobs.Job(_held(release), name="test").start()
+    job.cancel()
+    release.set()
+    state = job.wait(30)
+    assert state.status == jobs.CANCELLED and state.result is None and state.done["chunks"] <= 2
+
+
+def test_errors_end_the_job_with_their_message() -> None:
+    def broken(_job: jobs.Job) -> None:
+        raise ValueError("beta out of range (test)")
+
+    def explained(_job: jobs.Job) -> None:
+        raise jobs.Failed("the folder is read-only (test)")
+
+    assert jobs.Job(broken, name="t").start().wait(30).error == "ValueError: beta out of range (test)"
+    state = jobs.Job(explained, name="t").start().wait(30)
+    assert (state.status, state.error) == (jobs.FAILED, "the folder is read-only (test)")
+
+
+def test_a_follower_shows_only_the_job_it_follows_and_cancels_the_one_it_left() -> None:
+    shown: list[tuple[object, str]] = []
+    follower = jobs.Follower(lambda job, state: shown.append((job.key, state.status)))
+    first_release, second_release = threading.Event(), threading.Event()
+    first = follower.run(_held(first_release), name="t", key="first", totals={"chunks": 3})
+    assert shown == [("first", jobs.RUNNING)]  # headless: shown at once
+    second = follower.run(_held(second_release), name="t", key="second", totals={"chunks": 3})
+    assert first.cancelled and follower.job is second
+    first_release.set()
+    assert first.wait(30).status == jobs.CANCELLED
+    second_release.set()
+    assert follower.wait(30).status == jobs.DONE
+    assert shown == [("first", jobs.RUNNING), ("second", jobs.RUNNING), ("second", jobs.DONE)]
+    follower.update()  # an end is shown once
+    assert len(shown) == 3
+
+
+def test_a_shared_job_is_not_cancelled_by_a_follower_that_leaves() -> None:
+    release = threading.Event()
+    shared = jobs.Job(_held(release), name="shared").start()
+    one, two = jobs.Follower(lambda *_: None), jobs.Follower(lambda *_: None)
+    one.follow(shared)
+    two.follow(shared)
+    one.cancel()
+    assert not shared.cancelled and one.job is None and two.job is shared
+    release.set()
+    assert two.wait(30).status == jobs.DONE
+
+
+def test_wait_times_out() -> None:
+    release = threading.Event()
+    job = jobs.Job(_held(release), name="slow").start()
+    with pytest.raises(TimeoutError):
+        job.wait(0.05)
+    release.set()
+    job.wait(30)
