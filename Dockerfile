@@ -31,6 +31,7 @@ COPY model/ model/
 COPY app/ app/
 COPY asymslide/ asymslide/
 COPY static/ static/
+COPY docs/physics.md docs/physics.md
 RUN /opt/tools/bin/pip wheel --no-cache-dir --no-deps --wheel-dir /dist .
 
 # --- the dependencies -----------------------------------------------------------------------------------------------

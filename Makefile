@@ -62,7 +62,7 @@ test: venv  ## ruff, then every test (browser tests need /usr/bin/chromium)
 
 screenshots: venv  ## refresh the README's screenshots in docs/ (make test writes them to build/screenshots/)
 	ASYMSLIDE_UPDATE_SCREENSHOTS=1 $(PY) -m pytest -m ui tests/test_ui_smoke.py tests/test_app_atlas.py \
-	  tests/test_app_lab.py tests/test_app_rupture.py
+	  tests/test_app_lab.py tests/test_app_rupture.py tests/test_journeys.py::test_phone_layout_reflows_at_390_px
 
 # every process a benchmark starts carries this id in its environment; the last step fails if one is left
 bench: export ASYMSLIDE_RUN_ID := bench-$(shell date +%s%N)
@@ -72,6 +72,7 @@ bench: venv  ## run the benchmarks (timings live here, not in tests)
 	else echo "no benchmarks yet: add benchmarks/run.py or benchmarks/__main__.py"; fi
 	$(PY) benchmarks/latency.py  # browser slider-to-plot latency (needs $(CHROMIUM)); prints PASS/MISS, exits 0
 	$(PY) benchmarks/atlas_latency.py  # Atlas tab slice-to-paint latency (needs $(CHROMIUM)); into results.md
+	$(PY) benchmarks/first_page.py  # first page after start (numba cache and cold), All branches first open
 	$(PY) benchmarks/load_test.py  # 20 sessions for 60 s; exits 1 on errors, p95 > 1 s or unbounded memory
 	$(PY) -m asymslide.processes $$ASYMSLIDE_RUN_ID  # exits 1 if a benchmark left a process running
 

@@ -26,7 +26,18 @@ import param
 
 import model
 
-from .params import Physical, SpectrumParams, csv_download, fmt, from_log10, heading, make_widgets, physical_parameters
+from .docs import reference_card
+from .params import (
+    Physical,
+    SpectrumParams,
+    csv_download,
+    fmt,
+    from_log10,
+    heading,
+    make_widgets,
+    physical_parameters,
+    scene_layout,
+)
 
 # --------------------------------------------------------------------------------------------
 # grids, window limits, labels
@@ -213,14 +224,17 @@ class AllBranchesScene(pn.viewable.Viewer):
     params = param.ClassSelector(class_=SpectrumParams)
 
     # user-facing parameters of this scene (the physical ones are shared, in `params`)
-    log10_kH = Physical(math.log10(KH_DEFAULT), bounds=(-2.0, 2.0), step=0.01, label="kH", log10=True,
+    log10_kH = Physical(math.log10(KH_DEFAULT), bounds=(-2.0, 2.0), step=0.01, label="kH", log10=True, url="kH",
                         doc="kH: wavenumber k times the upper block's height H (slider: log10 kH)")
     re_max = Physical(WINDOW_DEFAULT[0], allow_None=True, step=0.5, label="window: max |Re z|", widget="input",
-                      doc="half-width of the window in Re z (validated, see window_problem)")
+                      url="re_max", doc="half-width of the window in Re z (validated, see window_problem)")
     im_min = Physical(WINDOW_DEFAULT[1], allow_None=True, step=1e-4, label="window: min Im z", widget="input",
-                      doc="lower edge of the window in Im z (validated)")
+                      url="im_min", doc="lower edge of the window in Im z (validated)")
     im_max = Physical(WINDOW_DEFAULT[2], allow_None=True, step=0.1, label="window: max Im z", widget="input",
-                      doc="upper edge of the window in Im z (validated)")
+                      url="im_max", doc="upper edge of the window in Im z (validated)")
+
+    #: the URL holds kH and the window only where they differ from the defaults
+    URL_CHANGED_ONLY = True
 
     # normalised keys, one per dependency group; a view depends only on the keys it uses
     args_key = param.Tuple(default=None, length=6, allow_None=True, precedence=-1)
@@ -468,6 +482,7 @@ class AllBranchesScene(pn.viewable.Viewer):
             pn.pane.HoloViews(self.count_dmap, sizing_mode="stretch_width", linked_axes=False),
             self.count_download,
             pn.pane.Markdown(HELP, sizing_mode="stretch_width"),
+            reference_card("3"),
             sizing_mode="stretch_width",
         )
-        return pn.Row(controls, plots, sizing_mode="stretch_width", name="All branches")
+        return scene_layout(controls, plots, "All branches")

@@ -28,18 +28,28 @@ import os
 import re
 import threading
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
-import contourpy
 import numpy as np
 import panel as pn
 import param
 from bokeh.models import CustomJSTickFormatter
 
+import model
 from asymslide import sweep as engine
 
-from .params import SpectrumParams, csv_table, fmt, frozen_document, heading
+from .common import (
+    ATLAS_POLL_MS,
+    COLOUR_LEGEND,
+    GROWTH_LABEL,
+    GROWTH_PALETTE,
+    LOG_TICKS,
+    MARGINAL,
+    NAN_COLOR,
+    neutral_lines,
+)
+from .params import SpectrumParams, csv_table, fmt, frozen_document, heading, scene_layout
 
 log = logging.getLogger(__name__)
 
@@ -59,13 +69,6 @@ DEFAULT_PREFIX = "default-"
 
 #: atlases whose variables are larger than this are read slice by slice from the store instead of held in memory
 MAX_IN_MEMORY = 512e6
-#: |growth| below this is drawn neutral and is no crossing of the neutral curve (as the Stability-map scene)
-MARGINAL = 1e-6
-#: how often (ms) a session shows the default atlas's progress
-POLL_MS = 300
-GROWTH_LABEL = "max Im[c/c_s]"
-NAN_COLOR = "#bdbdbd"
-LOG_TICKS = "return Math.pow(10, tick).toPrecision(3)"
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,99}$")
 
 
@@ -120,12 +123,18 @@ def resolve(name: str) -> Path | None:
 # ------------------------------------------------------------------------------------------------
 
 
+#: the phases of an atlas computation, in the order the engine runs them (its task kinds), with their labels
+PHASES = {"growth": "Growth rates (max Im[c/c_s] over kH at every grid point)",
+          "gamma_c": "Thresholds γ_c (exact, over the other axes)"}
+
+
 @dataclass
 class _DefaultJob:
-    """The computation of the default atlas in this process (or the wait for another process computing it)."""
+    """The computation of the default atlas in this process (or the wait for another process computing it): the grid
+    points done and to do per phase (the engine's task kinds, :data:`PHASES`)."""
 
-    points: int = 0
-    total: int = 1
+    done: dict[str, int] = field(default_factory=dict)
+    totals: dict[str, int] = field(default_factory=dict)
     finished: bool = False
     error: str = ""
     thread: threading.Thread | None = None
@@ -164,23 +173,27 @@ def _compute_default(job: _DefaultJob) -> None:
     try:
         directory.mkdir(parents=True, exist_ok=True)
         plan = engine.make_plan(DEFAULT_AXES, kH=DEFAULT_KH)
-        job.total = sum(engine.plan_points(plan).values())
+        job.totals = engine.plan_points(plan)
+        job.done = dict.fromkeys(job.totals, 0)
         with open(directory / f".{default_name()}.lock", "w") as lock:
             try:
                 fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:  # another server process computes it: follow its progress
                 while not default_ready():
-                    job.points = _points_done(path, plan)
-                    time.sleep(POLL_MS / 1000)
-                job.points = job.total
+                    job.done = _points_done(path, plan)
+                    time.sleep(ATLAS_POLL_MS / 1000)
+                job.done = dict(job.totals)
                 return
 
-            def progress(_kind: str, n: int) -> None:
-                job.points += n
+            def progress(kind: str, n: int) -> None:
+                job.done[kind] = job.done.get(kind, 0) + n
 
             CALLS["default_sweep"] += 1
             engine.sweep(DEFAULT_AXES, kH=DEFAULT_KH, store=path, progress=progress,
                          command="the Atlas tab's default atlas (app/atlas.py)")
+    except PermissionError as exc:  # a folder this server may read but not write (a mounted volume, say)
+        log.warning("the default atlas cannot be written: %s", exc)
+        job.error = read_only_message(directory, exc)
     except Exception as exc:  # the tab shows it; the session keeps working
         log.exception("computing the default atlas failed")
         job.error = f"{type(exc).__name__}: {exc}"
@@ -188,14 +201,23 @@ def _compute_default(job: _DefaultJob) -> None:
         job.finished = True
 
 
-def _points_done(path: Path, plan: engine.Plan) -> int:
+def read_only_message(directory: Path, exc: OSError) -> str:
+    """What the tab says when the atlas directory cannot be written: why, what still works, and how to fix it."""
+    return (f"the atlas directory {directory} is not writable by this server (user id {os.getuid()}; "
+            f"{exc.strerror or exc}), so the default atlas cannot be computed there. Atlases already in it still "
+            "open (choose one above). To fix it, make the folder writable for this user (e.g. `chown` it), or serve "
+            "with `--atlas-dir` (Docker: mount) a folder this user can write.")
+
+
+def _points_done(path: Path, plan: engine.Plan) -> dict[str, int]:
+    """Grid points per phase that another process has written to the store."""
     try:
         done = engine.done_chunks(path)
     except (OSError, ValueError, KeyError):
-        return 0
+        return {}
     blocks = {"growth": plan.growth_blocks(), "gamma_c": plan.gamma_c_blocks()}
-    return sum(math.prod(b - a for a, b in blocks[kind][i]) for kind, flags in done.items()
-               for i in np.flatnonzero(flags))
+    return {kind: sum(math.prod(b - a for a, b in blocks[kind][i]) for i in np.flatnonzero(flags))
+            for kind, flags in done.items()}
 
 
 # ------------------------------------------------------------------------------------------------
@@ -218,6 +240,13 @@ class Atlas:
     gamma_c_reason: object | None
     attrs: dict
     clim: float  # symmetric colour range of the growth over the whole atlas
+    #: the verdict class (0 stable, 1 unstable, 2 undetermined, -1 not computed) and its reason code
+    #: (model.VERDICT_STATUS), as the growth; None in atlases written before verdicts existed
+    verdict: object | None = None
+    verdict_reason: object | None = None
+    #: the whole boundary in γ (over the axes without gamma, last dimension `crossing`): gamma_c_crossing,
+    #: gamma_c_location, gamma_c_direction, gamma_c_crossing_reason; empty in atlases written before crossings existed
+    crossings: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def names(self) -> list[str]:
@@ -237,6 +266,30 @@ def _is_log(values: np.ndarray, attrs: dict) -> bool:
         return attrs["scale"] == "log"
     return bool(values.size > 2 and values[0] > 0 and np.allclose(np.diff(np.log(values)),
                                                                     math.log(values[1] / values[0])))
+
+
+#: the crossing variables the heat map draws (asymslide/sweep.py; docs/physics.md §9)
+CROSSING_VARIABLES = ("gamma_c_crossing", "gamma_c_location", "gamma_c_direction", "gamma_c_crossing_reason")
+#: verdict class of an undetermined point (model.VERDICTS)
+UNDETERMINED = 2
+
+
+#: the refused sign changes of the boundary in a few words (the full texts: model.CROSSING_STATUS)
+REFUSED_CROSSING = {2: "a jump where the masked part of the kH range changes",
+                    3: "a jump: the branch changes route (branch exchange)",
+                    4: "a pole-dense neutral mode",
+                    5: "the max growth is undefined in the bracket",
+                    6: "not certified"}
+
+
+def short_reason(code: int, texts: dict[int, str]) -> str:
+    """The reason of a verdict or crossing code in a few words: its text up to the first colon or parenthesis after
+    the class ("undetermined: pole-dense: ..." -> "pole-dense")."""
+    text = texts.get(int(code), f"reason {int(code)}")
+    head, _, rest = text.partition(": ")
+    if head in ("stable", "unstable", "undetermined") and rest:
+        text = rest
+    return re.split(r": | \(", text, maxsplit=1)[0]
 
 
 @functools.lru_cache(maxsize=4)
@@ -260,7 +313,10 @@ def _load(name: str, path: Path, stamp: str) -> Atlas:
     gc = reason = None
     if "gamma_c" in ds:
         gc, reason = ds["gamma_c"].values, ds["gamma_c_reason"].values
-    return Atlas(name, path, axes, log_axes, fixed, g, gc, reason, dict(ds.attrs), max(clim, 1e-12))
+    verdicts = {v: (ds[v].values if small else ds[v]) if v in ds else None for v in ("verdict", "verdict_reason")}
+    crossings = {v: ds[v].values for v in CROSSING_VARIABLES if v in ds}
+    return Atlas(name, path, axes, log_axes, fixed, g, gc, reason, dict(ds.attrs), max(clim, 1e-12),
+                 crossings=crossings if len(crossings) == len(CROSSING_VARIABLES) else {}, **verdicts)
 
 
 def load(name: str) -> Atlas:
@@ -271,16 +327,75 @@ def load(name: str) -> Atlas:
     return _load(name, path, stamp)
 
 
-def zero_contour(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> list[np.ndarray]:
-    """The line(s) z = 0 of z[y, x] on the plotted coordinates (|z| <= MARGINAL counts as stable; NaN masked),
-    clipped to the grid (contourpy puts a vertex on a cell edge at y0 + t dy, which can stick out by an ulp)."""
-    zz = np.where(np.abs(z) <= MARGINAL, -MARGINAL, z)
-    if not np.isfinite(zz).any() or x.size < 2 or y.size < 2:
-        return []
-    gen = contourpy.contour_generator(x, y, np.ma.masked_invalid(zz), line_type="Separate")
-    lo = [x.min(), y.min()]
-    hi = [x.max(), y.max()]
-    return [np.clip(s, lo, hi) for s in gen.lines(0.0) if len(s) > 1]
+# ------------------------------------------------------------------------------------------------
+# the 3-D neutral surface: marching tetrahedra that skip masked cells
+# ------------------------------------------------------------------------------------------------
+
+#: what a NaN growth means (the atlas engine stores model.growth_analysis: NaN where the branch could not be
+#: followed at any kH, or where the maximum could not be refined)
+NOT_COMPUTABLE = ("the Rayleigh branch could not be followed at any kH, or its maximum could not be refined "
+                  "(n_masked_kH in the CSV tells which)")
+
+#: what the CSV exports say about NaN growth rows
+NAN_ROWS = ("max_growth NaN: not computable (n_masked_kH = the number of kH grid points: the branch was not followed "
+            "at any kH; fewer: its maximum could not be refined)")
+
+#: colour of the 3-D neutral surface
+SURFACE_COLOR = "#1f4e79"
+
+#: a cube cell's corners (offsets along x, y, z) and its six tetrahedra around the diagonal from corner 0 to 6
+_CORNERS = np.array([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)])
+_TETRAHEDRA = np.array([(0, 5, 1, 6), (0, 1, 2, 6), (0, 2, 3, 6), (0, 3, 7, 6), (0, 7, 4, 6), (0, 4, 5, 6)])
+
+
+def neutral_surface(x: np.ndarray, y: np.ndarray, z: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The surface values = 0 of values[i, j, k] on the grid (x[i], y[j], z[k]), as (vertices (n, 3), triangles
+    (m, 3) of vertex indices): marching tetrahedra, i.e. linear interpolation along the edges of each grid cell's six
+    tetrahedra, exact for a linear field. |value| <= MARGINAL counts as not unstable (as the heat maps' neutral
+    curve). A cell with a masked (NaN) corner gets no surface: where the growth is not computable the boundary is
+    not drawn, rather than guessed (Plotly's isosurface draws nothing at all once a value is NaN)."""
+    v = np.where(np.abs(values) <= MARGINAL, -MARGINAL, np.asarray(values, dtype=float))
+    nx, ny, nz = v.shape
+    if min(nx, ny, nz) < 2:
+        return np.empty((0, 3)), np.empty((0, 3), dtype=int)
+    cells = np.stack(np.meshgrid(np.arange(nx - 1), np.arange(ny - 1), np.arange(nz - 1), indexing="ij"), -1)
+    cells = cells.reshape(-1, 3)
+    corner_idx = cells[:, None, :] + _CORNERS[None, :, :]  # (cells, 8, 3)
+    cell_finite = np.isfinite(v[corner_idx[..., 0], corner_idx[..., 1], corner_idx[..., 2]]).all(1)
+    tet_idx = corner_idx[:, _TETRAHEDRA, :].reshape(-1, 4, 3)  # (cells * 6, 4, 3)
+    val = v[tet_idx[..., 0], tet_idx[..., 1], tet_idx[..., 2]]  # (tets, 4)
+    pos = np.stack([x[tet_idx[..., 0]], y[tet_idx[..., 1]], z[tet_idx[..., 2]]], -1)  # (tets, 4, 3)
+    positive = val > 0
+    n_pos = positive.sum(1)
+    keep = np.repeat(cell_finite, len(_TETRAHEDRA)) & (n_pos > 0) & (n_pos < 4)
+    val, pos, positive, n_pos = val[keep], pos[keep], positive[keep], n_pos[keep]
+
+    def cross(a: np.ndarray, b: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """Where the field is 0 on the edge between vertex a[r] and b[r] of each tetrahedron r of rows."""
+        va, vb = val[rows, a], val[rows, b]
+        t = (va / (va - vb))[:, None]
+        return pos[rows, a] + t * (pos[rows, b] - pos[rows, a])
+
+    tris: list[np.ndarray] = []
+    order = np.argsort(~positive, axis=1, kind="stable")  # the positive vertices first
+    # one vertex apart from the other three (1 or 3 positive): one triangle
+    for n_odd, odd_first in ((1, True), (3, False)):
+        rows = np.flatnonzero(n_pos == n_odd)
+        if rows.size:
+            o = order[rows]
+            odd, rest = (o[:, 0], o[:, 1:]) if odd_first else (o[:, 3], o[:, :3])
+            tris.append(np.stack([cross(odd, rest[:, i], rows) for i in range(3)], 1))
+    # two positive, two negative: a quadrilateral, as two triangles
+    rows = np.flatnonzero(n_pos == 2)
+    if rows.size:
+        o = order[rows]
+        p0, p1, m0, m1 = o[:, 0], o[:, 1], o[:, 2], o[:, 3]
+        a, b, c, e = cross(p0, m0, rows), cross(p0, m1, rows), cross(p1, m1, rows), cross(p1, m0, rows)
+        tris += [np.stack([a, b, c], 1), np.stack([a, c, e], 1)]
+    if not tris:
+        return np.empty((0, 3)), np.empty((0, 3), dtype=int)
+    corners = np.concatenate(tris)  # (m, 3 corners, 3 coordinates)
+    return corners.reshape(-1, 3), np.arange(corners.shape[0] * 3).reshape(-1, 3)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -292,8 +407,13 @@ HEIGHT = 480
 
 
 #: the heat map's legend (HeatMap's colour mapper: growth > 0 red, as in the Stability map)
-COLOURS = ("Red: unstable, blue: stable, grey: not computable; black line: neutral curve (max growth = 0); "
-           "green dashes: the exact threshold γ_c (where γ is an axis).")
+COLOURS = (f"{COLOUR_LEGEND}; hatched: undetermined verdict (the reason on hover; the colour is the growth where the "
+           "branch is resolved). Where γ is an axis: every certified threshold γ_c, green where sliding becomes "
+           "unstable as γ grows, orange where it becomes stable; ×: a sign change of the max growth that is not a "
+           "threshold (a jump or a pole-dense mode, docs/physics.md §9).")
+#: colours of the certified crossings by direction (+1 destabilising, -1 stabilising as γ grows) and of the refused ones
+CROSSING_COLORS = {1: "#1b7837", -1: "#e08214", 0: "#2ca25f"}
+REFUSED_COLOR = "#404040"
 
 
 class HeatMap:
@@ -308,7 +428,6 @@ class HeatMap:
     def __init__(self, atlas: Atlas, x_axis: str, y_axis: str | None, on_tap) -> None:
         from bokeh.events import Tap
         from bokeh.models import ColorBar, ColumnDataSource, HoverTool, LinearColorMapper
-        from bokeh.palettes import RdBu11
         from bokeh.plotting import figure
 
         self.atlas, self.x_axis, self.y_axis = atlas, x_axis, y_axis
@@ -328,7 +447,7 @@ class HeatMap:
         for axis, name in ((fig.xaxis, x_axis), (fig.yaxis, y_axis)):
             if name is not None and atlas.log[name]:
                 axis.formatter = CustomJSTickFormatter(code=LOG_TICKS)
-        self.mapper = LinearColorMapper(palette=list(RdBu11), low=-atlas.clim, high=atlas.clim,  # high (unstable): red
+        self.mapper = LinearColorMapper(palette=list(GROWTH_PALETTE), low=-atlas.clim, high=atlas.clim,  # high: red
                                         nan_color=NAN_COLOR)
         if self.regular:
             self.cells = ColumnDataSource({"image": [np.zeros((y.size, x.size))], "x": [xr[0]], "y": [yr[0]],
@@ -345,28 +464,103 @@ class HeatMap:
                             fill_color={"field": "growth", "transform": self.mapper})
             field = "@growth"
         fig.add_tools(HoverTool(renderers=[heat], tooltips=[(atlas.label(x_axis), "$x"), (GROWTH_LABEL, field)]))
+        xc, yc = np.meshgrid((xr[:-1] + xr[1:]) / 2, (yr[:-1] + yr[1:]) / 2)
+        w, h = np.meshgrid(np.diff(xr), np.diff(yr))
+        self._cell_geometry = {"x": xc.ravel(), "y": yc.ravel(), "w": w.ravel(), "h": h.ravel()}
+        self.undetermined = ColumnDataSource({"x": [], "y": [], "w": [], "h": [], "why": []})
+        hatched = fig.rect(x="x", y="y", width="w", height="h", source=self.undetermined, fill_alpha=0, line_alpha=0,
+                           hatch_pattern="/", hatch_color="#252525", hatch_alpha=0.7, hatch_scale=8,
+                           legend_label="undetermined (hatched)")
+        fig.add_tools(HoverTool(renderers=[hatched], tooltips=[("verdict", "undetermined: @why")]))
         self.contour = ColumnDataSource({"xs": [], "ys": []})
         fig.multi_line(xs="xs", ys="ys", source=self.contour, line_color="black", line_width=2,
                        legend_label="neutral curve (growth = 0)")
-        self.gamma_c = ColumnDataSource({"x": [], "y": []})
-        fig.line(x="x", y="y", source=self.gamma_c, line_color="#2ca25f", line_width=3, line_dash="dashed",
-                 legend_label="γ_c (exact threshold)")
+        self.thresholds = {}
+        for direction, label in ((1, "γ_c: unstable above (certified)"), (-1, "γ_c: stable above (certified)"),
+                                 (0, "γ_c (an older atlas: the first threshold, direction not stored)")):
+            self.thresholds[direction] = ColumnDataSource({"xs": [], "ys": []})
+            fig.multi_line(xs="xs", ys="ys", source=self.thresholds[direction], line_color=CROSSING_COLORS[direction],
+                           line_width=3, line_dash="dashed", legend_label=label)
+        self.refused = ColumnDataSource({"x": [], "y": [], "why": []})
+        crosses = fig.scatter(x="x", y="y", source=self.refused, marker="x", size=9, line_width=2,
+                              line_color=REFUSED_COLOR, legend_label="sign change, not a threshold")
+        fig.add_tools(HoverTool(renderers=[crosses], tooltips=[("not a threshold", "@why")]))
         fig.legend.location = "top_left"
         fig.legend.background_fill_alpha = 0.8
         fig.add_layout(ColorBar(color_mapper=self.mapper, title=GROWTH_LABEL), "right")
         fig.on_event(Tap, lambda event: on_tap(x=event.x, y=event.y))
         self.figure = fig
 
-    def update(self, x: np.ndarray, y: np.ndarray, g: np.ndarray, gamma_c: tuple | None) -> None:
-        """Draw the slice g[y, x] (plotted coordinates) and the γ_c line (x, y) or none."""
+    def update(self, x: np.ndarray, y: np.ndarray, g: np.ndarray, why: np.ndarray | None,
+               boundary: Boundary | None) -> None:
+        """Draw the slice g[y, x] (plotted coordinates), hatch the cells whose `why` (the short reason of an
+        undetermined verdict, same shape as g; "" elsewhere) is set, and draw the γ boundary's slice (or none).
+        Legend entries of what the slice does not have are hidden."""
         if self.regular:
             self.cells.data.update(image=[g])
         else:
             self.cells.data.update(growth=g.ravel())
-        lines = zero_contour(x, y, g)
+        lines = neutral_lines(x, y, g)
         self.contour.data = {"xs": [line[:, 0] for line in lines], "ys": [line[:, 1] for line in lines]}
-        gx, gy = gamma_c if gamma_c is not None else (np.empty(0), np.empty(0))
-        self.gamma_c.data = {"x": gx, "y": gy}
+        flat = np.asarray(why).ravel() if why is not None else np.empty(0, dtype=str)
+        hit = np.flatnonzero(flat != "") if flat.size else np.empty(0, dtype=int)
+        self.undetermined.data = {**{k: v[hit] for k, v in self._cell_geometry.items()}, "why": flat[hit]}
+        b = boundary or Boundary()
+        for direction, source in self.thresholds.items():
+            source.data = {"xs": [p[0] for p in b.lines.get(direction, [])],
+                           "ys": [p[1] for p in b.lines.get(direction, [])]}
+        self.refused.data = {"x": b.refused[0], "y": b.refused[1], "why": b.refused[2]}
+        for item in self.figure.legend[0].items:
+            source = item.renderers[0].data_source
+            item.visible = bool(len(next(iter(source.data.values()), []))) or source is self.contour
+
+
+@dataclass
+class Boundary:
+    """The slice of an atlas's boundary in γ, in plotted coordinates: the certified thresholds as polylines by
+    direction (+1 destabilising, -1 stabilising as γ grows; {direction: [(x, y), ...]}) and the refused sign changes
+    as points (x, y, why)."""
+
+    lines: dict[int, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
+    refused: tuple[np.ndarray, np.ndarray, np.ndarray] = (np.empty(0), np.empty(0), np.empty(0, dtype=str))
+
+
+def _runs(values: np.ndarray, along: np.ndarray, keep: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The polylines (values[i], along[i]) over the runs of consecutive indices where `keep` holds (a point alone is
+    a run too: drawn as a dot-sized segment by its neighbours' absence, so it is still seen on hover)."""
+    out = []
+    idx = np.flatnonzero(keep)
+    if not idx.size:
+        return out
+    for run in np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1):
+        out.append((values[run], along[run]))
+    return out
+
+
+def verdict_coverage(verdict: np.ndarray, reason: np.ndarray) -> str:
+    """The readout line of an atlas's verdicts: how many points are certified stable or unstable, and why the others
+    are undetermined."""
+    v, r = np.asarray(verdict), np.asarray(reason)
+    computed = v >= 0
+    certified = int(np.isin(v, (0, 1)).sum())
+    why = ", ".join(f"{short_reason(code, model.VERDICT_STATUS)} {int(((v == UNDETERMINED) & (r == code)).sum())}"
+                    for code in np.unique(r[v == UNDETERMINED]))
+    share = f"{100 * certified / max(int(computed.sum()), 1):.1f} %"
+    return (f"**Verdict** certified (stable or unstable) at {certified} of {int(computed.sum())} points ({share})"
+            + (f"; undetermined (hatched): {why}" if why else ""))
+
+
+def crossing_coverage(reason: np.ndarray) -> str:
+    """The readout line of an atlas's boundary in γ: certified thresholds and refused sign changes by reason."""
+    r = np.asarray(reason)
+    points = r.reshape(-1, r.shape[-1])
+    certified = int(np.isin(r, (0, 1)).sum())
+    complete = int(np.all((points < 0) | np.isin(points, (0, 1)), axis=1).sum())
+    refused = ", ".join(f"{REFUSED_CROSSING.get(int(code), f'reason {int(code)}')} {int((r == code).sum())}"
+                        for code in np.unique(r[(r >= 0) & ~np.isin(r, (0, 1))]))
+    return (f"**Thresholds in γ** {certified} certified crossing(s); every sign change certified at {complete} of "
+            f"{points.shape[0]} points of the other axes" + (f"; refused (×, not thresholds): {refused}" if refused
+                                                             else ""))
 
 
 def _uniform(t: np.ndarray) -> bool:
@@ -386,14 +580,33 @@ def _edges(t: np.ndarray) -> np.ndarray:
 # ------------------------------------------------------------------------------------------------
 
 
+@dataclass(frozen=True)
+class AtlasRequest:
+    """What a URL asks the Atlas tab to show (validated names and numbers, see app.urlstate): the atlas, the heat
+    map's axes, the other axes' values (snapped to the grid) and the 3-D view's axes. Values that do not fit the
+    atlas, once it is open, are left out with a message."""
+
+    name: str | None = None
+    x: str | None = None
+    y: str | None = None
+    at: dict[str, float] = field(default_factory=dict)
+    surface: tuple[str, ...] = ()
+
+
 class AtlasScene(pn.viewable.Viewer):
-    """Heat map of a slice of an atlas, sliders over the other axes, the 3-D neutral surface, and the readout."""
+    """Heat map of a slice of an atlas, sliders over the other axes, the 3-D neutral surface, and the readout.
+
+    The state (which atlas, the two axes of the heat map, the grid index of every other axis, the three axes of the
+    3-D view) is set in one update when an atlas opens, and the selects show it: they are the scene's own widgets
+    (not ``from_param``), so a select never picks a value by itself while its options change (it did, half-way
+    through opening the default atlas, and drew a slice with x = y). The y select never offers the x axis; choosing
+    the y axis as x swaps the two."""
 
     params = param.ClassSelector(class_=SpectrumParams, doc="the shared parameters a click sets")
-    atlas = param.Selector(default=None, objects=[], allow_None=True, label="Atlas")
-    x_axis = param.Selector(default=None, objects=[], allow_None=True, label="x axis")
-    y_axis = param.Selector(default=None, objects=[], allow_None=True, label="y axis")
-    surface_axes = param.ListSelector(default=[], objects=[], label="3-D axes (three)")
+    atlas = param.String(default=None, allow_None=True, label="Atlas")
+    x_axis = param.String(default=None, allow_None=True, label="x axis")
+    y_axis = param.String(default=None, allow_None=True, label="y axis")
+    surface_axes = param.List(default=[], item_type=str, label="3-D axes (three)")
     #: grid index of every axis (those of the image are ignored); the sliders set it
     indices = param.Dict(default={}, precedence=-1)
     #: the loaded atlas (None until one is ready)
@@ -407,13 +620,29 @@ class AtlasScene(pn.viewable.Viewer):
         if "params" not in kwargs:
             kwargs["params"] = SpectrumParams()
         super().__init__(**kwargs)
-        self.progress = pn.indicators.Progress(value=0, max=100, bar_color="primary", sizing_mode="stretch_width",
-                                               height=18, visible=False)
+        if isinstance(requested, dict):
+            requested = AtlasRequest(**requested)
+        self._requested = requested if isinstance(requested, AtlasRequest) else AtlasRequest(name=requested)
+        self.phases = {kind: (pn.pane.Markdown("", sizing_mode="stretch_width", margin=(0, 10)),
+                              pn.indicators.Progress(value=0, max=100, bar_color="primary",
+                                                     sizing_mode="stretch_width", height=18))
+                       for kind in PHASES}
+        self.progress = pn.Column(*(w for pair in self.phases.values() for w in pair), visible=False,
+                                  sizing_mode="stretch_width")
         self.status = pn.pane.Markdown("", sizing_mode="stretch_width")
         self.alert = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
         self.sliders = pn.Column(sizing_mode="stretch_width")
+        self.atlas_select = pn.widgets.Select(label="Atlas", options=[], sizing_mode="stretch_width")
+        self.x_select = pn.widgets.Select(label="x axis", options={}, sizing_mode="stretch_width")
+        self.y_select = pn.widgets.Select(label="y axis", options={}, sizing_mode="stretch_width")
+        self.surface_select = pn.widgets.MultiChoice(label="3-D axes (three)", options={}, max_items=3, width=400)
+        self._syncing = False
+        self.atlas_select.param.watch(lambda e: self._from_widget("atlas", e.new), "value")
+        self.x_select.param.watch(lambda e: self._from_widget("x", e.new), "value")
+        self.y_select.param.watch(lambda e: self._from_widget("y", e.new), "value")
+        self.surface_select.param.watch(lambda e: self._from_widget("surface", e.new), "value")
         self._poller: pn.io.PeriodicCallback | None = None
-        self._requested = requested
+        self._job: _DefaultJob | None = None
         self._surface_key: tuple | None = None
         self._figures: dict[tuple, HeatMap] = {}
         self.image_pane = pn.pane.Bokeh(None, sizing_mode="stretch_width", height=HEIGHT)
@@ -422,8 +651,19 @@ class AtlasScene(pn.viewable.Viewer):
         self.surface_pane = pn.pane.Plotly(None, sizing_mode="stretch_width", height=460)
         self.param.watch(self._atlas_changed, "atlas")
         self.param.watch(self._axes_changed, ["x_axis", "y_axis"])
+        self.param.watch(self._sync_widgets, ["atlas", "data", "x_axis", "y_axis", "surface_axes"])
         self.param.watch(self._update_surface, ["data", "surface_axes", "indices", "surface_shown"])
         self.param.watch(lambda e: self._show(e.new), "message")
+
+    def url_state(self) -> dict[str, object]:
+        """What a URL needs to show this view again (app.urlstate.atlas_query): the atlas, the two axes, the other
+        axes' grid values and the 3-D axes; before an atlas is open, what was requested."""
+        d = self.data
+        if d is None:
+            r = self._requested
+            return {"name": r.name, "x": r.x, "y": r.y, "at": dict(r.at), "surface": r.surface}
+        at = {n: float(d.axes[n][self.indices.get(n, 0)]) for n in d.names if n not in (self.x_axis, self.y_axis)}
+        return {"name": d.name, "x": self.x_axis, "y": self.y_axis, "at": at, "surface": tuple(self.surface_axes)}
 
     # -- which atlas --------------------------------------------------------------------------
 
@@ -433,15 +673,16 @@ class AtlasScene(pn.viewable.Viewer):
         Not done when the scene is created (a page pays for this tab only when it is shown): :meth:`__panel__`
         does it, and tests call it."""
         names = list_atlases()
-        self.param.atlas.objects = names
-        want = self._requested or self.atlas
+        self._names = names
+        want = self._requested.name or self.atlas
         if want is not None and want not in names:
             self.message = (f"atlas '{want}' is not in {atlas_dir()} (available: {', '.join(names) or 'none'}): "
                             "showing the default atlas")
             want = None
-        self._requested = None
+            self._requested = AtlasRequest()
         if want is None and default_ready():
             want = default_name()
+        self._sync_widgets()
         if want is not None and want in names:
             if self.atlas == want and self.data is None:
                 self._atlas_changed()
@@ -451,7 +692,7 @@ class AtlasScene(pn.viewable.Viewer):
         """Compute the default atlas if needed (called when the tab is shown), with visible progress."""
         if self.data is not None or (self.atlas is not None and self.atlas != default_name()):
             return
-        job = ensure_default()
+        job = self._job = ensure_default()
         if job.finished and not job.error:
             self.refresh()
             return
@@ -460,19 +701,25 @@ class AtlasScene(pn.viewable.Viewer):
         doc = pn.state.curdoc
         if doc is not None and doc.session_context is not None:
             if self._poller is None or not self._poller.running:
-                self._poller = pn.state.add_periodic_callback(self._poll, period=POLL_MS)
+                self._poller = pn.state.add_periodic_callback(self._poll, period=ATLAS_POLL_MS)
         elif job.thread is not None:  # no server (tests, scripts): wait here
             job.thread.join()
             self._poll()
 
     def _poll(self) -> None:
-        job = ensure_default()
-        self.progress.value = int(100 * min(job.points, job.total) / max(job.total, 1))
+        """Show the default atlas's progress, one labelled bar per phase; open it when it is done."""
+        job = self._job  # the job this session follows (a failed one is retried only when the tab is shown again)
+        assert job is not None
+        for kind, (label, bar) in self.phases.items():
+            total, done = job.totals.get(kind, 0), min(job.done.get(kind, 0), job.totals.get(kind, 0))
+            bar.value = int(100 * done / total) if total else 0
+            label.object = f"{PHASES[kind]}: {done} of {total} grid points" if total else ""
+            bar.visible = label.visible = bool(total)
         if job.error:
             self.status.object = f"**Default atlas failed**: {job.error}"
         elif not job.finished:
-            self.status.object = (f"**Computing the default atlas** (once; stored in {atlas_dir()}): "
-                                  f"{job.points} of {job.total} grid points")
+            self.status.object = (f"**Computing the default atlas** (once; stored in {atlas_dir()}; about half a "
+                                  "minute on two cores), in two phases:")
             return
         if self._poller is not None:
             self._poller.stop()
@@ -482,6 +729,8 @@ class AtlasScene(pn.viewable.Viewer):
             self.refresh()
 
     def _atlas_changed(self, *_events) -> None:
+        """Open the atlas and set the whole state at once: its axes (the requested ones, else the current ones if it
+        has them, else its first two), the other axes' grid indices and the 3-D axes."""
         if self.atlas is None:
             return
         try:
@@ -489,21 +738,77 @@ class AtlasScene(pn.viewable.Viewer):
         except (OSError, ValueError, KeyError) as exc:
             self.message = f"atlas '{self.atlas}' could not be read: {exc}"
             return
+        request, self._requested = self._requested, AtlasRequest()
         names = data.names
-        x, y = (names + names)[:2] if len(names) > 1 else (names[0], None)
+        notes: list[str] = []
+        x, y = request.x or self.x_axis, request.y or self.y_axis
+        for which, axis in (("x", request.x), ("y", request.y)):
+            if axis is not None and axis not in names:
+                notes.append(f"{which} axis {axis} is not an axis of atlas {data.name}")
+        x, y = self._two_axes(names, x, y)
+        indices = {n: len(v) // 2 for n, v in data.axes.items()}
+        for name, value in request.at.items():
+            if name not in names:
+                notes.append(f"{name} is not an axis of atlas {data.name}")
+                continue
+            indices[name] = int(np.argmin(np.abs(data.axes[name] - value)))
+        surface = [n for n in request.surface if n in names]
+        if len(set(surface)) != 3:
+            if request.surface:
+                notes.append(f"the 3-D view needs three axes of atlas {data.name}")
+            surface = names[:3] if len(names) >= 3 else []
         with param.parameterized.batch_call_watchers(self):
-            self.param.x_axis.objects = names
-            self.param.y_axis.objects = [None, *names] if len(names) == 1 else names
-            self.param.surface_axes.objects = names
-            self.param.update(data=data, x_axis=x, y_axis=y, surface_axes=names[:3] if len(names) >= 3 else [],
-                              indices={n: len(v) // 2 for n, v in data.axes.items()})
+            self.param.update(data=data, x_axis=x, y_axis=y, surface_axes=surface, indices=indices)
         self._rebuild_sliders()
+        if notes:
+            self.message = "From the URL: " + "; ".join(notes) + " (left as they were)."
 
-    def _axes_changed(self, *events: param.parameterized.Event) -> None:
-        event = events[-1]
-        if self.x_axis == self.y_axis and self.data is not None:  # keep two different axes: swap
-            other = event.old if event.old is not None else next(n for n in self.data.names if n != event.new)
-            setattr(self, "y_axis" if event.name == "x_axis" else "x_axis", other)
+    @staticmethod
+    def _two_axes(names: list[str], x: str | None, y: str | None) -> tuple[str, str | None]:
+        """Two different axes of `names` for the heat map (x, y), keeping the given ones where they fit; y is None
+        for a 1-axis atlas."""
+        if len(names) == 1:
+            return names[0], None
+        x = x if x in names else names[0]
+        y = y if y in names and y != x else next(n for n in names if n != x)
+        return x, y
+
+    def _from_widget(self, which: str, value) -> None:
+        """A select changed by the user: set the state (the y select never offers x; x = y swaps the two)."""
+        if self._syncing:
+            return
+        if which == "atlas":
+            if value is not None and value != self.atlas:
+                self.atlas = value
+        elif which == "surface":
+            self.surface_axes = list(value)
+        elif self.data is not None and value is not None:
+            x, y = (value, self.y_axis) if which == "x" else (self.x_axis, value)
+            if x == y:  # x chosen as the y axis: swap
+                y = self.x_axis
+            x, y = self._two_axes(self.data.names, x, y)
+            with frozen_document():
+                self.param.update(x_axis=x, y_axis=y)
+
+    def _sync_widgets(self, *_events) -> None:
+        """Show the state in the selects (options and value in one update each; their watchers ignore it)."""
+        d = self.data
+        labels = {d.label(n) + (" (log)" if d.log[n] else ""): n for n in d.names} if d is not None else {}
+        names = getattr(self, "_names", [])
+        self._syncing = True
+        try:
+            self.atlas_select.param.update(options=list(names), value=self.atlas if self.atlas in names else None)
+            self.x_select.param.update(options=labels, value=self.x_axis if self.x_axis in labels.values() else None,
+                                       disabled=len(labels) < 2)
+            others = {k: v for k, v in labels.items() if v != self.x_axis}
+            self.y_select.param.update(options=others, value=self.y_axis if self.y_axis in others.values() else None,
+                                       disabled=len(others) < 2)
+            surface = [n for n in self.surface_axes if n in labels.values()]
+            self.surface_select.param.update(options=labels, value=surface)
+        finally:
+            self._syncing = False
+
+    def _axes_changed(self, *_events: param.parameterized.Event) -> None:
         self._rebuild_sliders()
 
     def _rebuild_sliders(self) -> None:
@@ -531,14 +836,27 @@ class AtlasScene(pn.viewable.Viewer):
 
     # -- the slice ----------------------------------------------------------------------------
 
-    def slice2d(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(x, y, growth[y, x]) of the current slice, in display coordinates; read from the cube only."""
+    def slice2d(self, variable: str | None = None):
+        """(x, y, growth[y, x]) of the current slice, in display coordinates; read from the cube only. `variable`:
+        another of the store's variables over the same axes instead of the growth (read from the store; None if the
+        store has none)."""
         CALLS["slice"] += 1
         d = self.data
         assert d is not None and self.x_axis is not None
         names = d.names
         index = tuple(slice(None) if n in (self.x_axis, self.y_axis) else self.indices.get(n, 0) for n in names)
-        cube = d.growth[index]
+        held = {None: d.growth, "verdict": d.verdict, "verdict_reason": d.verdict_reason}
+        if held.get(variable) is not None:
+            cube = held[variable][index]
+        elif variable is None:
+            return None
+        else:
+            import xarray as xr
+
+            with xr.open_zarr(d.path, consolidated=False) as ds:
+                if variable not in ds or list(ds[variable].dims) != names:
+                    return None
+                cube = ds[variable].values[index]
         values = np.asarray(getattr(cube, "values", cube), dtype=float)
         kept = [n for n in names if n in (self.x_axis, self.y_axis)]
         if self.y_axis is None:
@@ -547,22 +865,63 @@ class AtlasScene(pn.viewable.Viewer):
             values = values.T
         return d.display(self.x_axis), d.display(self.y_axis), values
 
-    def gamma_c_line(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """(x, y) of the gamma_c surface's slice in display coordinates, where γ is one of the image axes."""
+    def undetermined_reasons(self) -> np.ndarray | None:
+        """The short reason (model.VERDICT_STATUS) of every undetermined point of the current slice, "" elsewhere
+        (same shape as the slice's growth); None for an atlas without verdicts."""
+        verdict, reason = self.slice2d("verdict"), self.slice2d("verdict_reason")
+        if verdict is None or reason is None:
+            return None
+        codes = reason[2]
+        out = np.full(codes.shape, "", dtype=object)
+        for code in np.unique(codes[verdict[2] == UNDETERMINED]):
+            out[(verdict[2] == UNDETERMINED) & (codes == code)] = short_reason(code, model.VERDICT_STATUS)
+        return out
+
+    def boundary(self) -> Boundary | None:
+        """The slice of the atlas's boundary in γ where γ is one of the image axes: every certified crossing as a
+        polyline per crossing index and direction, and the refused sign changes (jumps, pole-dense modes) as points.
+        An atlas without the crossing variables draws its γ_c (the first certified crossing) with direction 0."""
         d = self.data
-        if d is None or d.gamma_c is None or "gamma" not in (self.x_axis, self.y_axis) or self.y_axis is None:
+        if d is None or "gamma" not in (self.x_axis, self.y_axis) or self.y_axis is None:
             return None
         other = self.y_axis if self.x_axis == "gamma" else self.x_axis
         gnames = [n for n in d.names if n != "gamma"]
         index = tuple(slice(None) if n == other else self.indices.get(n, 0) for n in gnames)
-        gc = np.asarray(d.gamma_c[index], dtype=float)
-        gc_disp = np.log10(gc) if d.log["gamma"] else gc
         along = d.display(other)
-        return (gc_disp, along) if self.x_axis == "gamma" else (along, gc_disp)
+
+        def shown(gamma: np.ndarray) -> np.ndarray:
+            return np.log10(gamma) if d.log["gamma"] else gamma
+
+        def xy(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            return (a, b) if self.x_axis == "gamma" else (b, a)
+
+        out = Boundary()
+        if not d.crossings:
+            if d.gamma_c is None:
+                return None
+            gc = np.asarray(d.gamma_c[index], dtype=float)
+            out.lines[0] = [xy(*run) for run in _runs(shown(gc), along, np.isfinite(gc))]
+            return out
+        c = {k: np.asarray(v[index]) for k, v in d.crossings.items()}  # (other, crossing)
+        for k in range(c["gamma_c_crossing"].shape[-1]):
+            value, direction = c["gamma_c_crossing"][:, k].astype(float), c["gamma_c_direction"][:, k]
+            for sign in (1, -1):
+                runs = _runs(shown(value), along, np.isfinite(value) & (direction == sign))
+                out.lines.setdefault(sign, []).extend(xy(*run) for run in runs)
+        reason, location = c["gamma_c_crossing_reason"], c["gamma_c_location"].astype(float)
+        bad = np.isfinite(location) & (reason >= 0) & ~np.isin(reason, (0, 1))
+        rows = np.nonzero(bad)
+        px, py = xy(shown(location[bad]), along[rows[0]])
+        why = np.array([REFUSED_CROSSING.get(int(r), f"reason {int(r)}") for r in reason[bad]], dtype=object)
+        out.refused = (px, py, why)
+        return out
 
     def heat_map(self) -> HeatMap | None:
-        """The figure of the current atlas and pair of axes (one per pair, kept: switching back is instant)."""
-        if self.data is None or self.x_axis is None:
+        """The figure of the current atlas and pair of axes (one per pair, kept: switching back is instant); None
+        until an atlas and two different axes of it are chosen."""
+        d = self.data
+        if d is None or self.x_axis not in d.names or self.x_axis == self.y_axis or (
+                self.y_axis is not None and self.y_axis not in d.names):
             return None
         key = (self.data.name, self.x_axis, self.y_axis)
         if key not in self._figures:
@@ -581,7 +940,7 @@ class AtlasScene(pn.viewable.Viewer):
     def _draw(self, heat: HeatMap) -> None:
         CALLS["image"] += 1
         x, y, g = self.slice2d()
-        heat.update(x, y, g, self.gamma_c_line())
+        heat.update(x, y, g, self.undetermined_reasons(), self.boundary())
 
     def _slice_changed(self, *_events) -> None:
         heat = self.heat_map()
@@ -642,7 +1001,8 @@ class AtlasScene(pn.viewable.Viewer):
 
     def surface_figure(self) -> dict | None:
         """A Plotly figure (dict) of the neutral surface growth = 0 over the three chosen axes (the others at the
-        sliders' values), or None."""
+        sliders' values): a triangle mesh (:func:`neutral_surface`, none through cells with a masked corner), the
+        masked grid points as grey markers, and axes spanning the atlas's grid. None without three axes."""
         d = self.data
         axes = list(self.surface_axes)
         if d is None or len(axes) != 3:
@@ -652,22 +1012,27 @@ class AtlasScene(pn.viewable.Viewer):
         cube = np.asarray(getattr(d.growth[index], "values", d.growth[index]), dtype=float)
         kept = [n for n in names if n in axes]
         cube = np.transpose(cube, [kept.index(n) for n in axes])  # to the chosen order
-        grids = np.meshgrid(*(d.display(n) for n in axes), indexing="ij")
-        finite = np.isfinite(cube)
-        if not finite.any():
-            return None
+        coords = [d.display(n) for n in axes]
+        vertices, triangles = neutral_surface(*coords, cube)
         titles = [d.label(n) + (" (log10)" if d.log[n] else "") for n in axes]
-        return {
-            "data": [{"type": "isosurface", "x": grids[0].ravel(), "y": grids[1].ravel(), "z": grids[2].ravel(),
-                      "value": cube.ravel(),
-                      "isomin": 0.0, "isomax": 0.0, "surface": {"count": 1}, "caps": {"x": {"show": False},
-                      "y": {"show": False}, "z": {"show": False}}, "colorscale": [[0, "#1f4e79"], [1, "#1f4e79"]],
-                      "showscale": False, "opacity": 0.75, "name": "growth = 0"}],
-            "layout": {"title": {"text": "Neutral surface (max growth = 0); drag to rotate"},
-                       "scene": {"xaxis": {"title": {"text": titles[0]}}, "yaxis": {"title": {"text": titles[1]}},
-                                 "zaxis": {"title": {"text": titles[2]}}},
-                       "margin": {"l": 0, "r": 0, "t": 40, "b": 0}, "height": 460},
-        }
+        masked = np.argwhere(~np.isfinite(cube))
+        data = [{"type": "mesh3d", "x": vertices[:, 0], "y": vertices[:, 1], "z": vertices[:, 2],
+                 "i": triangles[:, 0], "j": triangles[:, 1], "k": triangles[:, 2], "color": SURFACE_COLOR,
+                 "opacity": 0.8, "flatshading": False, "name": "neutral surface (max growth = 0)", "showlegend": True,
+                 "hoverinfo": "skip"}]
+        if masked.size:
+            data.append({"type": "scatter3d", "mode": "markers", "name": "not computable (masked)",
+                         "x": coords[0][masked[:, 0]], "y": coords[1][masked[:, 1]], "z": coords[2][masked[:, 2]],
+                         "marker": {"size": 3, "color": NAN_COLOR}, "hoverinfo": "skip"})
+        others = ", ".join(f"{d.label(n)} = {d.axes[n][self.indices.get(n, 0)]:.4g}" for n in names if n not in axes)
+        title = "Neutral surface (max growth = 0)" + (f" at {others}" if others else "") + "; drag to rotate"
+        if not len(triangles):
+            title += " — no sign change of the growth in this cube: no surface"
+        scene = {f"{a}axis": {"title": {"text": t}, "range": [float(c.min()), float(c.max())]}
+                 for a, t, c in zip("xyz", titles, coords, strict=True)}
+        return {"data": data,
+                "layout": {"title": {"text": title, "font": {"size": 14}}, "scene": scene, "height": 460,
+                           "margin": {"l": 0, "r": 0, "t": 40, "b": 0}, "legend": {"x": 0, "y": 1}}}
 
     def surface_key(self) -> tuple | None:
         """What the 3-D view depends on: the atlas, the three axes and the indices of the other axes."""
@@ -705,10 +1070,16 @@ class AtlasScene(pn.viewable.Viewer):
         _, _, g = self.slice2d()
         finite = np.isfinite(g)
         n_nan = int((~finite).sum())
-        unstable = int((g[finite] > MARGINAL).sum())
         largest = fmt(float(np.max(g[finite])) if finite.any() else math.nan)
-        return (f"**This slice** {unstable} of {int(finite.sum())} points unstable (growth > {MARGINAL:g}); "
-                f"largest growth {largest}; masked (grey) {n_nan}")
+        verdict = self.slice2d("verdict")
+        if verdict is None:
+            unstable = int((g[finite] > MARGINAL).sum())
+            return (f"**This slice** {unstable} of {int(finite.sum())} points unstable (growth > {MARGINAL:g}); "
+                    f"largest growth {largest}; not computable (dark grey) {n_nan}")
+        v = verdict[2]
+        return (f"**This slice** ({v.size} points) unstable {int((v == 1).sum())}, stable {int((v == 0).sum())}, "
+                f"undetermined (hatched) {int((v == UNDETERMINED).sum())}; largest growth {largest}; not computable "
+                f"(dark grey) {n_nan}")
 
     @param.depends("data")
     def readout(self) -> str:
@@ -723,26 +1094,47 @@ class AtlasScene(pn.viewable.Viewer):
                  f"{a.get('created')}; kH grid {a.get('kH_grid')}; rtol {a.get('rtol')}"]
         masked = int(np.sum(~np.isfinite(np.asarray(d.growth)))) if isinstance(d.growth, np.ndarray) else None
         if masked is not None:
-            lines.append(f"**Masked** {masked} point(s) of the atlas (grey): the Rayleigh branch could not be "
-                         "followed at any kH" if masked else "**Masked** none")
-        if d.gamma_c_reason is not None:
+            lines.append(f"**Not computable** {masked} point(s) of the atlas (dark grey): {NOT_COMPUTABLE}"
+                         if masked else "**Not computable** none")
+        if isinstance(d.verdict, np.ndarray):
+            lines.append(verdict_coverage(d.verdict, d.verdict_reason))
+        if d.crossings:
+            lines.append(crossing_coverage(d.crossings["gamma_c_crossing_reason"]))
+        elif d.gamma_c_reason is not None:
             r = np.asarray(d.gamma_c_reason)
-            jumps = int((r == 5).sum())
-            lines.append(f"**γ_c** found at {int((r == 0).sum())} of {r.size} points of the other axes"
-                         + (f"; {jumps} are jumps of the max growth where the branch's masked kH points change "
-                            "(no threshold, not drawn)" if jumps else ""))
+            lines.append(f"**γ_c** found at {int((r == 0).sum())} of {r.size} points of the other axes")
         return "\n\n".join(lines)
 
-    def csv(self) -> io.StringIO:
-        """The current slice as CSV: both axes (physical values) and the growth."""
+    def slice_description(self) -> str:
+        """The current slice in words: the atlas, the two axes, the other axes' values and the fixed ones."""
         d = self.data
         if d is None or self.x_axis is None:
-            return csv_table("asymslide atlas slice (none loaded)", {"x": [], "y": [], "growth": []})
-        x, y, g = self.slice2d()
+            return "none loaded"
+        at = [f"{n} = {float(d.axes[n][self.indices.get(n, 0)])!r}" for n in d.names
+              if n not in (self.x_axis, self.y_axis)]
+        fixed = [f"{k} = {float(v)!r}" for k, v in d.fixed.items()]
+        return (f"atlas {d.name}, x = {self.x_axis}, y = {self.y_axis}" + (f"; at {', '.join(at)}" if at else "")
+                + (f"; fixed {', '.join(fixed)}" if fixed else "") + f"; kH grid {d.attrs.get('kH_grid')}")
+
+    def csv(self) -> io.StringIO:
+        """The current slice as CSV: both axes (physical values), the max growth, the kH of the maximum and the
+        masked kH grid points, as stored (NaN growth: not computable, see the readout)."""
+        d = self.data
+        if d is None or self.x_axis is None:
+            return csv_table("asymslide atlas slice (none loaded)", {"x": [], "y": [], "max_growth": []})
+        _, _, g = self.slice2d()
         xs, ys = d.axes[self.x_axis], (d.axes[self.y_axis] if self.y_axis else np.array([math.nan]))
-        header = f"asymslide atlas {d.name}: {self._title()}"
-        return csv_table(header, {self.x_axis: np.tile(xs, ys.size), str(self.y_axis): np.repeat(ys, xs.size),
-                                  "max_growth": g.ravel()})
+        columns = {self.x_axis: np.tile(xs, ys.size), str(self.y_axis): np.repeat(ys, xs.size), "max_growth": g.ravel()}
+        for name, column in (("kH_at_max", "kH_at_max"), ("n_masked", "n_masked_kH"), ("verdict", "verdict"),
+                             ("verdict_reason", "verdict_reason")):
+            extra = self.slice2d(variable=name)
+            if extra is not None:
+                columns[column] = extra[2].ravel()
+        codes = "; ".join(f"{k} " + (model.VERDICT_STATUS[k].split(":")[0] if model.VERDICT_STATUS[k].startswith(
+            ("stable", "unstable")) else f"undetermined, {short_reason(k, model.VERDICT_STATUS)}")
+                          for k in model.VERDICT_STATUS)
+        return csv_table(f"asymslide atlas slice: {self.slice_description()}. {NAN_ROWS}. verdict: 0 stable, 1 "
+                         f"unstable, 2 undetermined; verdict_reason: {codes} (docs/physics.md §9)", columns)
 
     # -- layout -------------------------------------------------------------------------------
 
@@ -754,11 +1146,9 @@ class AtlasScene(pn.viewable.Viewer):
         # the readouts that change with a slider have a fixed size: a div that grows would make the browser lay
         # out the page again (and resize the 3-D plot), which cost more than the heat map's own update
         choose = pn.Column(
-            pn.widgets.Select.from_param(self.param.atlas, sizing_mode="stretch_width"),
-            pn.widgets.Select.from_param(self.param.x_axis, sizing_mode="stretch_width"),
-            pn.widgets.Select.from_param(self.param.y_axis, sizing_mode="stretch_width"),
+            self.atlas_select, self.x_select, self.y_select,
             heading("Other axes"), self.sliders,
-            pn.pane.Markdown(self.slice_readout, width=320, height=90),
+            pn.pane.Markdown(self.slice_readout, sizing_mode="stretch_width", height=90),
             pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
             width=340,
         )
@@ -772,14 +1162,15 @@ class AtlasScene(pn.viewable.Viewer):
                                                  label="Download slice (CSV)", color="primary", width=200),
                          sizing_mode="stretch_width")
         surface = pn.Column(
-            pn.widgets.MultiChoice.from_param(self.param.surface_axes, max_items=3, width=400),
+            self.surface_select,
             pn.pane.Markdown("The surface where the max growth is 0 over three axes of the atlas, the others at the "
-                             "sliders' values; drag to rotate, scroll to zoom.", sizing_mode="stretch_width"),
+                             "sliders' values (none is drawn through cells with a not computable corner); drag to "
+                             "rotate, scroll to zoom.", sizing_mode="stretch_width"),
             self.surface_pane, sizing_mode="stretch_width")
         # the 3-D view in its own tab: rendered (and recomputed) only while shown, so a slice change repaints the
         # heat map alone
         views = pn.Tabs(("Heat map", heat), ("3-D neutral surface", surface), dynamic=True,
                         sizing_mode="stretch_width")
         views.param.watch(lambda e: setattr(self, "surface_shown", e.new == 1), "active")
-        plots = pn.Column(self.alert, self.progress, self.status, help_text, views, sizing_mode="stretch_width")
-        return pn.Row(choose, plots, sizing_mode="stretch_width", name="Atlas")
+        plots = pn.Column(self.alert, self.status, self.progress, help_text, views, sizing_mode="stretch_width")
+        return scene_layout(choose, plots, "Atlas")

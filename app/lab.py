@@ -33,6 +33,7 @@ from bokeh.models import CustomJSTickFormatter, LinearAxis
 import model
 
 from . import spectrum as sp
+from .docs import reference_card
 from .params import (
     LabParams,
     SpectrumParams,
@@ -432,7 +433,8 @@ class LabScene(pn.viewable.Viewer):
 
     def csv(self) -> io.StringIO:
         """What the lab plot shows, with the phase speed: λ [mm], kH, growth rate [1/s], e-folding time [ms], phase
-        speed [m/s] (NaN where the model masked the point; e-folding time inf where the mode does not grow)."""
+        speed [m/s] (NaN where the model masked the point; the e-folding time only where the mode grows: NaN where
+        it decays, as the plot's right axis shows "—" there)."""
         d = self.data()
         p = self.params
         header = (f"asymslide lab spectrum; material = {p.material}, rho = {p.rho!r} kg/m^3, c_s = {p.c_s!r} m/s, "
@@ -442,9 +444,13 @@ class LabScene(pn.viewable.Viewer):
         if d is None:
             return csv_table(header + " (not valid)", {"wavelength_mm": [], "kH": [], "growth_rate_per_s": [],
                                                        "e_folding_time_ms": [], "phase_speed_m_per_s": []})
-        return csv_table(header, {"wavelength_mm": d["wavelength"] * 1e3, "kH": d["kH"],
-                                  "growth_rate_per_s": d["growth_rate"], "e_folding_time_ms": d["e_folding_time"] * 1e3,
-                                  "phase_speed_m_per_s": d["phase_speed"]})
+        with np.errstate(invalid="ignore"):
+            growing = d["growth_rate"] > 0
+        e_folding = np.where(growing, d["e_folding_time"] * 1e3, np.nan)
+        return csv_table(header + "; e_folding_time_ms only where the mode grows (NaN: it decays or is masked)",
+                         {"wavelength_mm": d["wavelength"] * 1e3, "kH": d["kH"],
+                          "growth_rate_per_s": d["growth_rate"], "e_folding_time_ms": e_folding,
+                          "phase_speed_m_per_s": d["phase_speed"]})
 
     def _body(self, with_plot: bool) -> list[pn.viewable.Viewable]:
         w = self.params.make_widgets()
@@ -454,6 +460,7 @@ class LabScene(pn.viewable.Viewer):
         fields = pn.GridBox(*w.values(), ncols=3, sizing_mode="stretch_width")
         body: list[pn.viewable.Viewable] = [
             pn.pane.Markdown(ASSUMPTION, sizing_mode="stretch_width"),
+            reference_card("12.3"),
             fields,
             pn.Row(link, apply, sizing_mode="stretch_width"),
             pn.panel(self.status),
@@ -462,7 +469,8 @@ class LabScene(pn.viewable.Viewer):
             pn.pane.Markdown(self.point_readout, sizing_mode="stretch_width"),
         ]
         if with_plot:
-            body += [pn.pane.HoloViews(self.plot_dmap, sizing_mode="stretch_width"),
+            # linked_axes=False: its λ axis must not take over (or be taken over by) another plot's range
+            body += [pn.pane.HoloViews(self.plot_dmap, sizing_mode="stretch_width", linked_axes=False),
                      csv_download(self.csv, "lab_spectrum.csv", "Download CSV (lab units)")]
         return body
 

@@ -6,13 +6,16 @@ Tests build the same page through :func:`create_app`.
 
 from __future__ import annotations
 
+import html
+
 import panel as pn
 import param
+from bokeh.models import Tooltip
 
 from app.all_branches import AllBranchesScene
-from app.atlas import AtlasScene
+from app.atlas import AtlasRequest, AtlasScene
 from app.lab import LabScene
-from app.params import LabParams, RuptureParams, SpectrumParams, frozen_document, set_with_material
+from app.params import CUSTOM, NARROW_PX, LabParams, RuptureParams, SpectrumParams, set_with_material
 from app.paths import CSS, FAVICON, LOGO
 from app.presets import Preset, load_presets, preset_args
 from app.rupture import RuptureScene
@@ -33,6 +36,18 @@ TAB_TITLES = ("Spectrum", "Stability map", "Thin-on-thick", "Rupture fronts", "A
 
 TITLE = "asymslide — frictional sliding without reflection symmetry"
 
+#: the page below NARROW_PX (phones): the header's title wraps in a smaller font instead of running off the screen
+PAGE_CSS = f"""
+@media (max-width: {NARROW_PX}px) {{
+  #header {{ padding-top: 4px; padding-bottom: 4px; flex-wrap: nowrap; }}
+  #header .title {{ font-size: 0.95rem; white-space: normal; line-height: 1.2; }}
+  #header .app-header {{ min-width: 0; flex: 1 1 auto; display: flex; align-items: center; }}
+  #header .app-logo {{ height: 26px; }}
+}}
+"""
+#: the tab titles wrap onto a second line where the page is narrower than they are (none is cut off)
+TABS_CSS = ":host .bk-headers-wrapper { flex-wrap: wrap; } :host .bk-headers-wrapper .bk-tab { white-space: nowrap; }"
+
 
 INTRO = """
 ## Frictional sliding without reflection symmetry
@@ -41,6 +56,8 @@ INTRO = """
 *same* material but *different* thicknesses can lose stability. Without a mirror symmetry
 across the interface, slip along it changes the normal stress on it, and through friction
 this feedback can make small perturbations grow.
+
+<div class="tab-list">
 
 **Spectrum**: the Rayleigh branch c(kH) of the linear stability spectrum (Sect. IV, Figs. 4a-b, 5).
 **Stability map**: where sliding is unstable in a parameter plane, and the threshold χ_c(β) (Fig. 4c).
@@ -55,10 +72,17 @@ threshold γ_c and the neutral surface in 3-D.
 stress, rate-and-state friction) that sets the sliders and reads the spectrum back in mm, 1/s and ms.
 The parameters are kept in the page's URL: copy it to share what you see.
 
+</div>
+
 > E. Aldam, Y. Bar-Sinai, I. Svetlizky, E. A. Brener, J. Fineberg and E. Bouchbinder,
 > *Frictional sliding without geometrical reflection symmetry*,
 > [Phys. Rev. X **6**, 041023 (2016)](https://doi.org/10.1103/PhysRevX.6.041023).
 """
+
+
+def below(text: str) -> Tooltip:
+    """A button's description shown below it, at most 300 px wide."""
+    return Tooltip(content=text, position="bottom", stylesheets=[":host { white-space: initial; max-width: 300px; }"])
 
 
 def request_args() -> dict[str, list[bytes]]:
@@ -84,11 +108,12 @@ class App:
         self._apply(updates)
         self.lab = LabScene(params=self.lab_params, spectrum=self.spectrum_params)  # in Spectrum and Stability map
         self.spectrum = SpectrumScene(params=self.spectrum_params, lab=self.lab)
-        self.map = StabilityMapScene(params=self.spectrum_params, lab=self.lab)
-        self.thin = ThinOnThickScene(params=self.thin_params)
-        self.rupture = RuptureScene(params=self.rupture_params)
-        self.branches = AllBranchesScene(params=self.spectrum_params)
-        self.atlas = AtlasScene(params=self.spectrum_params, requested=updates["atlas"].get("name"))
+        self.map = StabilityMapScene(params=self.spectrum_params, lab=self.lab, **updates["map"])
+        # the page's one set of material constants (ρ, c_s, σ₀, the material) is the Lab-units panel's
+        self.thin = ThinOnThickScene(params=self.thin_params, material=self.lab_params)
+        self.rupture = RuptureScene(params=self.rupture_params, material=self.lab_params)
+        self.branches = AllBranchesScene(params=self.spectrum_params, **updates["branches"])
+        self.atlas = AtlasScene(params=self.spectrum_params, requested=AtlasRequest(**updates["atlas"]))
         # the Stability-map, Thin-on-thick and All-branches scenes are built when their tab is first shown: a new
         # session pays only for what it opens on (about half of create_app's cost), and parameter changes
         # update only the widgets that exist (StabilityMapScene.ensure_map defers its pane updates for this)
@@ -100,19 +125,26 @@ class App:
             active=TABS.index(tab) if tab else 0,
             dynamic=True,  # only the visible scene is rendered (and computes)
             sizing_mode="stretch_width",
+            stylesheets=[TABS_CSS],
         )
         for index, key in enumerate(TABS):
             if key not in LAZY_TABS or index == self.tabs.active:
                 self._build_tab(index)
         self.tabs.param.watch(lambda e: self._build_tab(e.new), "active")
         self.presets = load_presets()
+        messages += self._refused(updates)
         self.show_messages(messages, "Some values in the URL were not used as given")
         self.spectrum_params.param.watch(self.write_url, list(self.spectrum_params.param))
         self.thin_params.param.watch(self.write_url, list(self.thin_params.param))
         self.lab_params.param.watch(self.write_url, list(self.lab_params.param))
         self.rupture_params.param.watch(self.write_url, list(self.rupture_params.param))
+        self.map.param.watch(self.write_url, ["plane", "resolution"])
+        self.branches.param.watch(self.write_url, ["log10_kH", "re_max", "im_min", "im_max"])
         self.tabs.param.watch(self.write_url, "active")
-        self.atlas.param.watch(self.write_url, "atlas")
+        self.atlas.param.watch(self.write_url, ["atlas", "data", "x_axis", "y_axis", "indices", "surface_axes"])
+        # the address bar shows what the page uses: values the banner reports as clamped or ignored are replaced
+        if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:
+            pn.state.onload(self.write_url)
         # a hidden All-branches tab defers its (up to ~1.5 s) recomputation until it is shown again
         branches_tab = TABS.index("branches")
         self.branches.active = self.tabs.active == branches_tab
@@ -128,12 +160,31 @@ class App:
         self.spectrum_params.param.update(**updates["spectrum"])
         self.thin_params.param.update(**updates["thin"])
         set_with_material(self.lab_params, updates["lab"])
-        set_with_material(self.rupture_params, updates["rupture"])
+        rupture = dict(updates["rupture"])
+        material = updates["lab"].get("material")
+        if material not in (None, CUSTOM) and "nu" not in rupture:  # a material named alone brings its ν too
+            rupture["nu"] = RuptureParams.material_nu(material)
+        self.rupture_params.param.update(**rupture)
+
+    def _refused(self, updates: Updates) -> list[str]:
+        """Messages for URL values that parse but that the model refuses (a negative height, c ≥ c_R, …): the
+        scenes say so too, but the lab panel is folded and the tabs may not be shown."""
+        out = []
+        if updates["lab"]:
+            error = self.lab.state().error
+            if error:
+                out.append(f"the lab values are not valid, the sliders do not follow them: {html.escape(error)}")
+        if updates["rupture"] or updates["lab"]:
+            out += [f"rupture fronts: {html.escape(m)} (empty: {', '.join(w)})"
+                    for m, w in self.rupture.errors().items()]
+        if updates["branches"] and self.branches.window_message:
+            out.append(f"All branches: {html.escape(self.branches.window_message)}")
+        return out
 
     def param_objects(self) -> dict[str, param.Parameterized]:
         """The parameter objects by URL target (app.urlstate.TARGETS)."""
         return {"spectrum": self.spectrum_params, "thin": self.thin_params, "lab": self.lab_params,
-                "rupture": self.rupture_params}
+                "rupture": self.rupture_params, "map": self.map, "branches": self.branches}
 
     def show_messages(self, messages: list[str], title: str) -> None:
         self.messages.object = f"**{title}:**\n\n" + "\n".join(f"- {m}" for m in messages) if messages else ""
@@ -144,14 +195,16 @@ class App:
         location = pn.state.location
         if location is not None:
             tab = TABS[self.tabs.active]
-            location.search = query_string(self.param_objects(), tab, self.atlas.atlas if tab == "atlas" else None)
+            search = query_string(self.param_objects(), tab, self.atlas.url_state() if tab == "atlas" else None)
+            if location.search != search:
+                location.search = search
 
     def apply_preset(self, preset: Preset) -> None:
-        """Reset to the defaults, set the preset's values and family of curves, and show its tab."""
-        with frozen_document():  # one model-graph recompute for all the plots refreshed
-            self._apply_preset(preset)
+        """Reset to the defaults, set the preset's values and family of curves, and show its tab.
 
-    def _apply_preset(self, preset: Preset) -> None:
+        Not inside :func:`~app.params.frozen_document`: showing another tab takes the old tab's models out of the
+        page and puts the new tab's in, and with the model graph frozen meanwhile Bokeh sent some of them to the
+        browser as references it did not know ("reference pNNNN isn't known"; the tab then stayed empty)."""
         updates, _, messages = parse_query(preset_args(preset))
         defaults = {name: p.default for name, p in self.spectrum_params.param.objects().items() if name != "name"}
         self.spectrum_params.param.update(**{**defaults, **updates["spectrum"]})  # one change event
@@ -161,7 +214,7 @@ class App:
         if preset.tab == "rupture":  # the rupture inputs start from the paper's, like the sliders from Fig. 4's
             rupture = {**{n: p.default for n, p in self.rupture_params.param.objects().items() if n != "name"},
                        **rupture}
-        set_with_material(self.rupture_params, rupture)
+        self.rupture_params.param.update(**rupture)
         if preset.compare_key == "kW":
             self.thin.compare_kW = list(preset.compare_values)
             self.spectrum.param.update(compare_key="", compare_values=[])
@@ -175,33 +228,38 @@ class App:
         self.write_url()  # also when the preset's values equal the current ones
 
     def clear_families(self, *_events) -> None:
-        with frozen_document():
-            self.spectrum.param.update(compare_key="", compare_values=[])
-            self.thin.compare_kW = []
+        self.spectrum.param.update(compare_key="", compare_values=[])
+        self.thin.compare_kW = []
         self.preset_info.object = ""
 
-    def preset_bar(self) -> pn.Row:
+    def preset_bar(self) -> pn.Column:
+        """The paper-figure buttons, wrapping onto more lines on a narrow page; a button's description shows below
+        it (to its right it covered the next button)."""
         buttons = []
         for preset in self.presets:
-            button = pn.widgets.Button(label=preset.label, description=preset.title, color="light", width=95)
+            button = pn.widgets.Button(label=preset.label, description=below(preset.title), color="light", width=95)
             button.on_click(lambda _e, p=preset: self.apply_preset(p))
             buttons.append(button)
         clear = pn.widgets.Button(label="Clear curves", color="light", width=110,
-                                  description="Remove the family of curves drawn by a preset")
+                                  description=below("Remove the family of curves drawn by a preset"))
         clear.on_click(self.clear_families)
         self.preset_info = pn.pane.Markdown("", sizing_mode="stretch_width")
-        return pn.Column(pn.Row(pn.pane.Markdown("**Paper figures:**", width=120), *buttons, clear),
+        return pn.Column(pn.FlexBox(pn.pane.Markdown("**Paper figures:**", width=120), *buttons, clear,
+                                    flex_wrap="wrap", align_items="center", sizing_mode="stretch_width"),
                          self.preset_info, sizing_mode="stretch_width")
 
     def template(self) -> pn.template.BootstrapTemplate:
         intro = pn.pane.Markdown(INTRO, stylesheets=[CSS.read_text(encoding="utf-8")], sizing_mode="stretch_width")
-        return pn.template.BootstrapTemplate(
+        template = pn.template.BootstrapTemplate(
             title=TITLE,
             logo=str(LOGO),
             favicon=str(FAVICON),
             main=[intro, self.messages, self.preset_bar(), self.tabs],
             header_background="#1f4e79",
+            meta_viewport="width=device-width, initial-scale=1",  # phones lay the page out at their own width
         )
+        template.config.raw_css = [*template.config.raw_css, PAGE_CSS]
+        return template
 
 
 def create_app(args: dict[str, list[bytes]] | None = None) -> pn.template.BootstrapTemplate:

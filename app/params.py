@@ -17,7 +17,7 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 import param
-from bokeh.models import CustomJSTickFormatter, Span
+from bokeh.models import CustomJSTickFormatter, GlyphRenderer, Span
 from param.parameterized import Undefined
 
 import model
@@ -25,7 +25,7 @@ import model
 hv.extension("bokeh", logo=False)
 # plotly.js with every page (served by this server from Panel's bundle): the Atlas tab's 3-D view is created after
 # the page has loaded (a lazily built tab), when it is too late to add a JavaScript library to the page
-pn.extension("plotly")
+pn.extension("plotly", "katex")  # katex: the equations of the Spectrum and All-branches tabs
 # Canvas, not WebGL: the plots hold at most a few thousand points, and copying the WebGL layer onto
 # the canvas (software GL without a GPU) was most of a browser update in Chromium's profile
 # (benchmarks/design_measurements.md). Image-based plots are unaffected.
@@ -58,6 +58,39 @@ def zero_line_hook(plot, _element) -> None:
     fig = plot.state
     if not any(getattr(r, "name", None) == ZERO_LINE for r in fig.center):
         fig.add_layout(Span(location=0, dimension="width", line_color="black", line_width=1, name=ZERO_LINE))
+
+
+#: fraction of the data's span added above and below it by :func:`fit_y_hook`
+Y_PADDING = 0.05
+
+
+def y_extent(fig) -> tuple[float, float] | None:
+    """(lowest, highest) finite y of what a Bokeh figure shows: its visible glyphs' y columns and its horizontal
+    lines (Spans: the zero line, a criterion level); None if it shows nothing."""
+    values = [np.array([s.location], dtype=float) for s in fig.center
+              if isinstance(s, Span) and s.dimension == "width" and s.visible and s.location is not None]
+    for r in fig.renderers:
+        if not isinstance(r, GlyphRenderer) or not r.visible:
+            continue
+        field = getattr(r.glyph, "y", None)
+        if isinstance(field, str) and field in r.data_source.data:
+            values.append(np.asarray(r.data_source.data[field], dtype=float).ravel())
+    finite = np.concatenate(values) if values else np.empty(0)
+    finite = finite[np.isfinite(finite)]
+    return (float(finite.min()), float(finite.max())) if finite.size else None
+
+
+def fit_y_hook(plot, _element) -> None:
+    """HoloViews plot hook: the y range spans every curve shown, with :data:`Y_PADDING`.
+
+    HoloViews computes an overlay's range from the layers of its first frame: the curves a preset adds later (a
+    family of γ, Δ or kW values) went off the plot. Hooks run after HoloViews' own range update, at every frame."""
+    extent = y_extent(plot.state)
+    if extent is None:
+        return
+    lo, hi = extent
+    pad = Y_PADDING * (hi - lo) if hi > lo else max(abs(lo) * 0.1, 1e-3)
+    plot.state.y_range.update(start=lo - pad, end=hi + pad)
 
 
 def csv_table(header: str, columns: Mapping[str, np.ndarray]) -> io.StringIO:
@@ -171,15 +204,17 @@ class Physical(param.Number):
 
 class Choice(param.Selector):
     """A choice from a fixed list (a material preset, plane strain or stress), declared once like :class:`Physical`:
-    ``label`` is shown, ``url`` is its key in the URL query, where only the listed ``objects`` are accepted."""
+    ``label`` is shown, ``url`` is its key in the URL query, where only the listed ``objects`` are accepted, or the
+    ASCII ``words`` given for them (object -> word: "eta-gamma" for the plane "η-γ")."""
 
-    __slots__ = ["url"]
-    _slot_defaults = dict(param.Selector._slot_defaults, url=None)
+    __slots__ = ["url", "words"]
+    _slot_defaults = dict(param.Selector._slot_defaults, url=None, words=None)
 
     def __init__(self, default: Any = Undefined, *, objects: Any = Undefined, url: Any = Undefined,
-                 **params: Any) -> None:
+                 words: Any = Undefined, **params: Any) -> None:
         super().__init__(default=default, objects=objects, **params)
         self.url = url
+        self.words = words
 
 
 class Switch(param.Boolean):
@@ -256,26 +291,28 @@ class SpectrumParams(param.Parameterized):
         η = ∞ is ticked."""
         w = make_widgets(self)
         w["xi"].disabled = self.Delta == 1
-        w["log10_eta"].disabled = self.eta_infinite
+        finite_format, infinite_format = w["log10_eta"].format, CustomJSTickFormatter(code=INFINITE_TICKS)
+
+        def show_eta(infinite: bool) -> None:  # the slider reads ∞ while η = ∞ is ticked (not its last finite value)
+            w["log10_eta"].param.update(disabled=infinite, format=infinite_format if infinite else finite_format)
+
+        show_eta(self.eta_infinite)
         self.param.watch(lambda e: setattr(w["xi"], "disabled", e.new == 1), "Delta")
-        self.param.watch(lambda e: setattr(w["log10_eta"], "disabled", e.new), "eta_infinite")
+        self.param.watch(lambda e: show_eta(e.new), "eta_infinite")
         return w
 
 
 class ThinOnThickParams(param.Parameterized):
     """The parameters of the thin-on-thick scene (paper Sect. III; docs/physics.md §6). Defaults: the PMMA
-    experiment of Sect. S-V (kW = 5, ν = 0.33, c_s = 1345 m/s, σ₀ = 4.5 MPa; ρ = 1180 kg/m³ is assumed: the
-    paper does not state it)."""
+    experiment of Sect. S-V (kW = 5, ν = 0.33). Its material constants c_s, ρ and σ₀ are the shared ones of the
+    Lab-units panel (:class:`LabParams`: PMMA, c_s = 1345 m/s, ρ = 1180 kg/m³ assumed, σ₀ = 4.5 MPa)."""
 
     log10_kW = Physical(math.log10(5.0), bounds=(-2.0, 2.0), step=0.01, label="kW", url="kW", log10=True,
                         doc="kW: wavenumber k times the thin block's width W (slider: log10 kW)")
     nu = Physical(0.33, bounds=(0.0, 0.49), step=0.005, label="ν", url="nu", doc="Poisson ratio ν")
-    c_s = Physical(1345.0, bounds=(1.0, 1e4), step=1.0, label="c_s [m/s]", url="c_s", widget="input",
-                   doc="shear wave speed c_s [m/s] (PMMA: 1345)")
-    rho = Physical(1180.0, bounds=(1.0, 3e4), step=10.0, label="ρ [kg/m³]", url="rho", widget="input",
-                   doc="density ρ [kg/m³]; μ = ρ c_s²")
-    sigma0_MPa = Physical(4.5, bounds=(1e-3, 1e4), step=0.1, label="σ₀ [MPa]", url="sigma0", widget="input",
-                          doc="normal stress σ₀ [MPa]")
+
+    #: the URL holds only the values that differ from the defaults
+    URL_CHANGED_ONLY = True
 
     @property
     def kW(self) -> float:
@@ -298,6 +335,9 @@ CUSTOM = "custom"
 class LabParams(param.Parameterized):
     """A laboratory setting in lab units (docs/physics.md §12), mapped onto γ, f, β, η, Δ, ξ by
     :func:`model.dimensionless_parameters` (the Lab-units panel of the Spectrum and Stability-map scenes).
+
+    Its material constants (:data:`SHARED_MATERIAL`: the material, ρ, c_s, σ₀) are the page's one set: the
+    Thin-on-thick and Rupture-fronts scenes use them too and show widgets bound to them.
 
     Defaults: the PMMA preset (ρ = 1180 kg/m³, an assumption; c_s = 1345 m/s, c_d = 2700 m/s), plane strain (the
     paper's Sect. IV), H₁ = 10 mm on a half-space (η = ∞), σ₀ = 4.5 MPa, f = 0.9, and rate-and-state a = 0.01,
@@ -357,24 +397,17 @@ class LabParams(param.Parameterized):
 class RuptureParams(param.Parameterized):
     """The inputs of the steady mode-II cohesive-zone model of a rupture front (supplement S-V C; docs/physics.md
     §13) and of Eq. dsigma at its peak slip velocity. Defaults: the paper's (model.PAPER_DEFAULTS: Γ = 1.1 J/m²,
-    X_c0 = 2.5 mm, σ₀ = 4.5 MPa, PMMA c_s = 1345 m/s, ν = 0.33, assumed ρ = 1180 kg/m³; kW = 3, 4, 5), at c = 0.9 c_R.
+    X_c0 = 2.5 mm, ν = 0.33; kW = 3, 4, 5), at c = 0.9 c_R. Its material constants ρ, c_s and σ₀ are the shared ones
+    of the Lab-units panel (:class:`LabParams`; the paper's PMMA c_s = 1345 m/s, σ₀ = 4.5 MPa, assumed
+    ρ = 1180 kg/m³); ν follows the shared material's preset (the source's ν where it reports one) and can be edited.
     """
 
-    c_over_cR = Physical(0.9, bounds=(0.0, 2.0), softbounds=(0.01, 0.999), step=0.001, label="c/c_R", url="c_cR",
+    c_over_cR = Physical(0.9, bounds=(0.01, 0.999), step=0.001, label="c/c_R", url="c_cR",
                          doc="rupture speed c over the Rayleigh speed c_R (plane stress); the model needs 0 < c < c_R")
     Gamma = Physical(model.PAPER_DEFAULTS.Gamma, bounds=(-1e6, 1e6), step=0.1, label="Γ [J/m²]", url="Gamma",
                      widget="input", doc="fracture energy Γ [J/m²], constant in c")
     X_c0_mm = Physical(model.PAPER_DEFAULTS.X_c0 * 1e3, bounds=(-1e6, 1e6), step=0.1, label="X_c0 [mm]", url="Xc0",
                        widget="input", doc="cohesive zone size X_c0 = X_c(c → 0) [mm]")
-    sigma0_MPa = Physical(model.PAPER_DEFAULTS.sigma0 / 1e6, bounds=(-1e6, 1e6), step=0.1, label="σ₀ [MPa]",
-                          url="rup_sigma0", widget="input", doc="normal stress σ₀ [MPa]")
-    material = Choice("PMMA", objects=[*model.material_names(), CUSTOM], label="Material", url="rup_material",
-                      doc="material preset: fills in ρ, c_s and ν (the source's ν where it reports one: PMMA 0.33 "
-                          "as in the paper; else from the bulk speeds); editing them makes it custom")
-    rho = Physical(model.PAPER_DEFAULTS.rho, bounds=(-1e6, 1e6), step=10.0, label="ρ [kg/m³]", url="rup_rho",
-                   widget="input", doc="density ρ [kg/m³] (PMMA: an assumption, the paper gives none); μ = ρ c_s²")
-    c_s = Physical(model.PAPER_DEFAULTS.c_s, bounds=(-1e6, 1e6), step=1.0, label="c_s [m/s]", url="rup_cs",
-                   widget="input", doc="shear wave speed c_s [m/s]")
     nu = Physical(model.PAPER_DEFAULTS.nu, bounds=(-100.0, 100.0), step=0.01, label="ν", url="rup_nu",
                   widget="input", doc="Poisson ratio ν (3-D); the plates are in plane stress")
     kW1 = Physical(model.PAPER_DEFAULTS.kW[0], bounds=(-1e6, 1e6), step=0.5, label="kW₁", url="kW1", widget="input",
@@ -384,22 +417,37 @@ class RuptureParams(param.Parameterized):
     kW3 = Physical(model.PAPER_DEFAULTS.kW[2], bounds=(-1e6, 1e6), step=0.5, label="kW₃", url="kW3", widget="input",
                    doc="third kW of the Δσ_yy/σ₀ curves")
 
-    MATERIAL_FIELDS = ("rho", "c_s", "nu")
     URL_CHANGED_ONLY = True
 
     @staticmethod
-    def material_values(name: str) -> dict[str, float]:
-        """ρ, c_s and ν of the material preset `name`: ν as the source reports it where it does, else from the
-        bulk speeds (model.Material.nu)."""
+    def material_nu(name: str) -> float:
+        """ν of the material preset `name` as the source reports it where it does, else from the bulk speeds
+        (model.Material.nu)."""
         m = model.material(name)
-        return {"rho": m.rho, "c_s": m.c_s, "nu": m.reported.get("nu", m.nu)}
+        return float(m.reported.get("nu", m.nu))
 
     def make_widgets(self) -> dict[str, pn.widgets.Widget]:
         """Fresh widgets bound to this object (:func:`make_widgets`)."""
         return make_widgets(self)
 
 
-def set_with_material(obj: LabParams | RuptureParams, updates: dict[str, Any]) -> None:
+#: the material constants of :class:`LabParams` that every scene uses (one set per page)
+SHARED_MATERIAL = ("material", "rho", "c_s", "sigma0_MPa")
+
+
+def material_heading(used_by: str) -> pn.pane.Markdown:
+    """The heading of a scene's shared material widgets, saying where else they act."""
+    return pn.pane.Markdown(f"### Material and normal stress\n\nShared with {used_by}: a change here changes them "
+                            "there too.", stylesheets=[HEADING_CSS], sizing_mode="stretch_width")
+
+
+def material_readout(lab: LabParams) -> str:
+    """The shared material constants a scene uses, in one line."""
+    return (f"**Lab values used** (shared): {lab.material}, ρ = {fmt(lab.rho)} kg/m³, c_s = {fmt(lab.c_s)} m/s, "
+            f"σ₀ = {fmt(lab.sigma0_MPa)} MPa")
+
+
+def set_with_material(obj: LabParams, updates: dict[str, Any]) -> None:
     """Set `updates` on `obj`; a material named there brings its preset's values, except those `updates` sets
     itself (a URL or a preset naming only the material gets its values; values given with it win, and the material
     then reads custom if they differ from the preset's)."""
@@ -416,7 +464,7 @@ def set_with_material(obj: LabParams | RuptureParams, updates: dict[str, Any]) -
         obj.material = CUSTOM
 
 
-def follow_material(obj: LabParams | RuptureParams) -> None:
+def follow_material(obj: LabParams) -> None:
     """Keep `obj`'s material choice and its values consistent: picking a preset fills in its values (those not set
     in the same update), and values that differ from the preset make the choice custom."""
     fields = set(obj.MATERIAL_FIELDS)
@@ -436,13 +484,34 @@ def follow_material(obj: LabParams | RuptureParams) -> None:
 
 #: tick labels of a log10 slider show the physical value
 LOG10_TICKS = "return Math.pow(10, tick).toPrecision(3)"
+#: a disabled slider whose value is ∞ (η = ∞ ticked) reads ∞
+INFINITE_TICKS = "return '∞'"
+
+
+class LabelledCheckbox(pn.widgets.CheckBoxGroup):
+    """A checkbox whose label toggles it as well (Bokeh's Checkbox draws its label as a separate element that
+    ignores clicks): a CheckBoxGroup of one option, the label, whose ``checked`` is True while it is ticked."""
+
+    checked = param.Boolean(default=False, doc="whether the box is ticked")
+
+    _rename = {**pn.widgets.CheckBoxGroup._rename, "checked": None}  # not a property of the Bokeh model
+
+    def __init__(self, *, label: str, checked: bool = False, **params: Any) -> None:
+        super().__init__(label=label, options=[label], value=[label] if checked else [], checked=checked, **params)
+        self.param.watch(lambda e: self.param.update(checked=bool(e.new)), "value")
+        self.param.watch(lambda e: self.param.update(value=[self.label] if e.new else []), "checked")
+
+
+def decimals(step: float) -> int:
+    """How many decimals a slider with this step shows (0.001: 3, so that 0.996 does not read 1)."""
+    return max(0, -math.floor(math.log10(step) + 1e-9)) if step > 0 else 2
 
 
 def make_widget(p: param.Parameter, value: Any) -> pn.widgets.Widget:
     """The widget of one declared parameter: a slider over its soft range (widened to include `value`, which a
-    URL or a preset may put outside), a number field, or a checkbox."""
+    URL or a preset may put outside) showing its step's decimals, a number field, or a checkbox."""
     if isinstance(p, param.Boolean):
-        return pn.widgets.Checkbox(label=p.label, value=value)
+        return LabelledCheckbox(label=p.label, checked=value)
     if isinstance(p, param.Selector):
         return pn.widgets.Select(label=p.label, options=list(p.objects), value=value, sizing_mode="stretch_width")
     if getattr(p, "widget", "slider") == "input":
@@ -450,18 +519,19 @@ def make_widget(p: param.Parameter, value: Any) -> pn.widgets.Widget:
         return pn.widgets.FloatInput(label=p.label, start=lo, end=hi, step=p.step, value=value,
                                      sizing_mode="stretch_width")
     lo, hi = p.softbounds if p.softbounds is not None else p.bounds
-    options: dict[str, Any] = {"format": CustomJSTickFormatter(code=LOG10_TICKS)} if getattr(p, "log10", False) else {}
+    options: dict[str, Any] = {"format": CustomJSTickFormatter(code=LOG10_TICKS) if getattr(p, "log10", False)
+                               else "0." + "0" * decimals(p.step) if decimals(p.step) else "0"}
     return pn.widgets.FloatSlider(label=p.label, start=min(lo, value), end=max(hi, value), step=p.step, value=value,
                                   sizing_mode="stretch_width", **options)
 
 
-def make_widgets(obj: param.Parameterized) -> dict[str, pn.widgets.Widget]:
+def make_widgets(obj: param.Parameterized, names: tuple[str, ...] | None = None) -> dict[str, pn.widgets.Widget]:
     """Widgets for every user-facing parameter of `obj` (:class:`Physical`, :class:`Choice` and Boolean ones with a
-    non-negative precedence), in declaration order, built from the declarations and bound both ways
-    (:func:`bind_two_way`)."""
+    non-negative precedence), or for those in `names`, in declaration order, built from the declarations and bound
+    both ways (:func:`bind_two_way`)."""
     widgets = {}
     for name, p in obj.param.objects("existing").items():
-        if name == "name" or (p.precedence is not None and p.precedence < 0):
+        if name == "name" or (p.precedence is not None and p.precedence < 0) or (names and name not in names):
             continue
         if isinstance(p, Physical | Choice | param.Boolean):
             widgets[name] = make_widget(p, getattr(obj, name))
@@ -473,28 +543,35 @@ def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]
     """Widget -> parameter (sliders on release, `value_throttled`; other widgets on `value`) and back.
 
     A value the parameter refuses (an emptied number field, a number beyond the declared bounds) puts the
-    parameter's value back into the widget: the session never sees an invalid parameter.
+    parameter's value back into the widget: the session never sees an invalid parameter. The binding keeps its own
+    copy of `widgets`: a caller may take widgets out of its dict to lay them out (the lab panel's link checkbox was
+    popped, and every change of it raised KeyError 'link' here).
     """
+    widgets = dict(widgets)
 
     def to_param(event: param.parameterized.Event, name: str) -> None:
         try:
             set_frozen(obj, name, event.new)
         except ValueError:
-            event.obj.value = getattr(obj, name)
+            setattr(event.obj, event.name if event.name != "value_throttled" else "value", getattr(obj, name))
+
+    def attribute(widget: pn.widgets.Widget) -> str:
+        return "checked" if isinstance(widget, LabelledCheckbox) else "value"
 
     for name, widget in widgets.items():
-        event = "value_throttled" if isinstance(widget, pn.widgets.FloatSlider) else "value"
+        event = "value_throttled" if isinstance(widget, pn.widgets.FloatSlider) else attribute(widget)
         widget.param.watch(lambda e, n=name: to_param(e, n), event)
 
     def to_widget(*events: param.parameterized.Event) -> None:
         for event in events:
             widget = widgets[event.name]
-            if widget.value == event.new or (event.new != event.new and widget.value != widget.value):
+            shown = getattr(widget, attribute(widget))
+            if shown == event.new or (event.new != event.new and shown != shown):
                 continue  # already shown (NaN != NaN would otherwise loop)
             if isinstance(widget, pn.widgets.FloatSlider):  # a value set from the URL or a preset may lie
                 widget.start = min(widget.start, event.new)  # outside the slider's soft range: widen it
                 widget.end = max(widget.end, event.new)
-            widget.value = event.new
+            setattr(widget, attribute(widget), event.new)
 
     obj.param.watch(to_widget, list(widgets))
 
@@ -509,7 +586,31 @@ def heading(text: str) -> pn.pane.Markdown:
     return pn.pane.Markdown(f"### {text}", stylesheets=[HEADING_CSS])
 
 
-def controls_column(widgets: dict[str, pn.widgets.Widget], readout) -> pn.Column:
-    """The left column of a scene: parameter widgets, then the readout."""
-    return pn.Column(heading("Parameters"), *widgets.values(), pn.pane.Markdown(readout, sizing_mode="stretch_width"),
-                     width=320)
+def controls_column(widgets: dict[str, pn.widgets.Widget], readout, extra: tuple = ()) -> pn.Column:
+    """The left column of a scene: parameter widgets, `extra` components (e.g. the shared material's widgets), then
+    the readout."""
+    return pn.Column(heading("Parameters"), *widgets.values(), *extra,
+                     pn.pane.Markdown(readout, sizing_mode="stretch_width"), width=320)
+
+
+def shared_material_widgets(lab: LabParams, used_by: str) -> tuple:
+    """The heading and widgets of the page's shared material constants (:data:`SHARED_MATERIAL`) for a scene's
+    controls."""
+    return (material_heading(used_by), *make_widgets(lab, SHARED_MATERIAL).values())
+
+
+#: below this page width (px) a scene's controls stack above its plots and both take the whole width (phones)
+NARROW_PX = 800
+#: the controls column of a scene: full width on a narrow page
+NARROW_CONTROLS_CSS = (f"@media (max-width: {NARROW_PX}px) {{ :host {{ width: 100% !important; "
+                       "min-width: 0 !important; flex: 1 1 100% !important; }} }}")
+
+
+def scene_layout(controls: pn.layout.ListLike, plots: pn.layout.ListLike, name: str) -> pn.FlexBox:
+    """A scene's tab: its controls column (fixed width) left of its plots (the rest of the width); on a page
+    narrower than :data:`NARROW_PX` the plots wrap below the controls and both span the page."""
+    controls.stylesheets = [*controls.stylesheets, NARROW_CONTROLS_CSS]
+    controls.styles = {**controls.styles, "flex": "0 0 auto"}
+    plots.styles = {**plots.styles, "flex": "1 1 440px", "min-width": "0"}
+    return pn.FlexBox(controls, plots, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width",
+                      name=name)

@@ -22,13 +22,27 @@ import param
 
 import model
 
-from .params import PALETTE, RuptureParams, controls_column, csv_download, csv_table, fmt, follow_material
+from .docs import reference_card
+from .params import (
+    CUSTOM,
+    PALETTE,
+    LabParams,
+    RuptureParams,
+    controls_column,
+    csv_download,
+    csv_table,
+    fmt,
+    material_readout,
+    scene_layout,
+    shared_material_widgets,
+)
 
 #: the plates of the experiment are thin: plane stress (model.PAPER_DEFAULTS.plane; Eq. dsigma's thin block is too)
 PLANE = model.PAPER_DEFAULTS.plane
 
-#: c/c_R grid of the curves (b)-(d); v_m diverges at c_R
-C_RATIO = np.linspace(0.01, 0.995, 200)
+#: c/c_R grid of the curves (b)-(d), up to the slider's end (RuptureParams.c_over_cR), so that the current speed's
+#: markers lie on the curves; v_m diverges at c_R
+C_RATIO = np.linspace(0.01, 0.999, 200)
 #: positions of the slip-velocity profile in units of X_c0: behind the tip to -4 X_c0, points crowded towards the
 #: tip (where X_c(c) = X_c0/f_II shrinks as c -> c_R), and a little ahead of it, where v = 0
 PROFILE_GRID = np.concatenate([-4.0 * np.linspace(1.0, 0.0, 600) ** 2, np.linspace(0.0, 0.5, 41)[1:]])
@@ -190,6 +204,8 @@ class RuptureScene(pn.viewable.Viewer):
     """Widgets, plots (a)-(d), readout and messages for one :class:`RuptureParams`."""
 
     params = param.ClassSelector(class_=RuptureParams)
+    #: the page's shared material constants (the material, ρ, c_s, σ₀; the Lab-units panel's)
+    material = param.ClassSelector(class_=LabParams)
     #: the model arguments per dependency group, SI units; a view depends only on the keys it uses
     front_key = param.Tuple(default=None, length=6, allow_None=True, precedence=-1)  # (c/c_R, Γ, X_c0, ρ, c_s, ν)
     curve_key = param.Tuple(default=None, length=5, allow_None=True, precedence=-1)  # (Γ, X_c0, ρ, c_s, ν)
@@ -197,20 +213,27 @@ class RuptureScene(pn.viewable.Viewer):
 
     def __init__(self, **kwargs) -> None:
         kwargs.setdefault("params", RuptureParams())
+        kwargs.setdefault("material", LabParams())
         super().__init__(**kwargs)
-        follow_material(self.params)
         self._update_keys()
         self.params.param.watch(self._update_keys, [n for n in self.params.param if n != "name"])
+        self.material.param.watch(self._update_keys, ["rho", "c_s", "sigma0_MPa"])
+        self.material.param.watch(self._material_chosen, "material")
         self.profile_dmap = hv.DynamicMap(self.profile_plot)
         self.vm_dmap = hv.DynamicMap(self.vm_plot)
         self.stress_dmap = hv.DynamicMap(self.stress_plot)
         self.stress_vm_dmap = hv.DynamicMap(self.stress_vm_plot)
 
+    def _material_chosen(self, event: param.parameterized.Event) -> None:
+        """A material preset chosen (in any scene): ν becomes its ν, as ρ and c_s become its values."""
+        if event.new != CUSTOM:
+            self.params.nu = RuptureParams.material_nu(event.new)
+
     def _update_keys(self, *_events) -> None:
-        p = self.params
-        curve = (float(p.Gamma), p.X_c0_mm * 1e-3, float(p.rho), float(p.c_s), float(p.nu))
+        p, m = self.params, self.material
+        curve = (float(p.Gamma), p.X_c0_mm * 1e-3, float(m.rho), float(m.c_s), float(p.nu))
         front = (float(p.c_over_cR), *curve)
-        stress = (p.sigma0_MPa * 1e6, float(p.kW1), float(p.kW2), float(p.kW3))
+        stress = (m.sigma0_MPa * 1e6, float(p.kW1), float(p.kW2), float(p.kW3))
         with param.parameterized.batch_call_watchers(self):
             for name, value in (("front_key", front), ("curve_key", curve), ("stress_key", stress)):
                 if value != getattr(self, name):
@@ -273,8 +296,9 @@ class RuptureScene(pn.viewable.Viewer):
         if "error" not in front:
             layers.append(hv.Scatter(([self.front_key[0]], [front["v_m"]]), C_LABEL, VM_LABEL, label="current c").opts(
                 color="#b2182b", size=9))
+        # log y: v_m diverges at c_R, which the curve approaches to 0.999 c_R (where the slider ends)
         return _overlay(layers, height=300, title="(b) Peak slip velocity v_m vs c/c_R", legend_position="top_left",
-                        xlabel=C_LABEL, ylabel=VM_LABEL)
+                        xlabel=C_LABEL, ylabel=VM_LABEL, logy=True)
 
     def _stress_layers(self, against_vm: bool) -> list[hv.Element]:
         xlabel = VM_LABEL if against_vm else C_LABEL
@@ -345,8 +369,9 @@ class RuptureScene(pn.viewable.Viewer):
     def readout(self) -> str:
         f = self.front()
         if "error" in f:
-            return "**Front** — (see the message above)"
+            return material_readout(self.material) + "\n\n**Front** — (see the message above)"
         lines = [
+            material_readout(self.material) + f", ν = {fmt(self.params.nu)}",
             f"**c** = {fmt(f['c'], 5)} m/s = {fmt(self.front_key[0])} c_R, **c_R** = {fmt(f['c_R'], 5)} m/s "
             "(plane stress)",
             f"**f_II(c)** = {fmt(f['f_II'])}",
@@ -385,18 +410,23 @@ class RuptureScene(pn.viewable.Viewer):
         return (f"c/c_R = {c!r}, " + text) if front else text
 
     def __panel__(self) -> pn.viewable.Viewable:
-        controls = controls_column(self.params.make_widgets(), self.readout)
+        controls = controls_column(self.params.make_widgets(), self.readout, extra=shared_material_widgets(
+            self.material, "the Lab-units panel and Thin-on-thick"))
         plots = pn.Column(
             pn.panel(self.messages),
             pn.pane.HoloViews(self.profile_dmap, sizing_mode="stretch_width"),
-            pn.Row(pn.pane.HoloViews(self.vm_dmap, sizing_mode="stretch_width"),
-                   pn.pane.HoloViews(self.stress_dmap, sizing_mode="stretch_width"), sizing_mode="stretch_width"),
+            pn.FlexBox(pn.pane.HoloViews(self.vm_dmap, sizing_mode="stretch_width",
+                                         styles={"flex": "1 1 360px", "min-width": "0"}),
+                       pn.pane.HoloViews(self.stress_dmap, sizing_mode="stretch_width",
+                                         styles={"flex": "1 1 360px", "min-width": "0"}),
+                       flex_wrap="wrap", sizing_mode="stretch_width"),
             pn.pane.HoloViews(self.stress_vm_dmap, sizing_mode="stretch_width"),
-            pn.Row(csv_download(self.csv_profile, "rupture_profile.csv", "CSV (a)"),
-                   csv_download(self.csv_curves, "rupture_curves.csv", "CSV (b)-(d)")),
+            pn.FlexBox(csv_download(self.csv_profile, "rupture_profile.csv", "CSV (a)"),
+                       csv_download(self.csv_curves, "rupture_curves.csv", "CSV (b)-(d)"), flex_wrap="wrap"),
             pn.pane.Markdown(ASSUMPTIONS, sizing_mode="stretch_width"),
+            reference_card("13.1"),
             pn.Card(pn.pane.Markdown(_sources(), sizing_mode="stretch_width"), title="Defaults and sources",
                     collapsed=True, sizing_mode="stretch_width"),
             sizing_mode="stretch_width",
         )
-        return pn.Row(controls, plots, sizing_mode="stretch_width", name="Rupture fronts")
+        return scene_layout(controls, plots, "Rupture fronts")

@@ -20,7 +20,17 @@ import param
 
 import model
 
-from .params import PALETTE, SpectrumParams, controls_column, csv_download, csv_table, fmt, zero_line_hook
+from .params import (
+    PALETTE,
+    SpectrumParams,
+    controls_column,
+    csv_download,
+    csv_table,
+    fit_y_hook,
+    fmt,
+    scene_layout,
+    zero_line_hook,
+)
 
 #: kH grid of the plots
 KH = np.logspace(-3, 3, 400)
@@ -39,8 +49,9 @@ IM_LABEL = "Im[c/c_s]"
 RE_LABEL = "Re[c/c_s]"
 GY_LABEL = "G_y(c_R, kH)"
 
-#: options shared by the three plots (besides title, height, legend position and y label)
-OVERLAY = dict(logx=True, responsive=True, framewise=True, xlabel="kH")
+#: options shared by the three plots (besides title, height, legend position and y label): the same kH range, the
+#: computed one (HoloViews padded the growth-rate plot's alone to 2.5e-4 ... 4e3)
+OVERLAY = dict(logx=True, responsive=True, framewise=True, xlabel="kH", xlim=(float(KH[0]), float(KH[-1])))
 
 
 @functools.cache
@@ -53,14 +64,26 @@ def styled(kind: type[hv.Element], vdim: str, label: str = "", **style: object) 
     """
     if kind is hv.HLine:
         return hv.HLine(0.0, label=label).opts(**style)
-    if kind is hv.VSpans:
-        return hv.VSpans([], label=label, datatype=["dictionary"]).opts(**style)
+    if kind is hv.VSpans:  # its x named kH: a default name ("x0") linked it to other plots' spans (the lab panel's)
+        return hv.VSpans([], kdims=["kH", "kH_end"], label=label, datatype=["dictionary"]).opts(**style)
     return kind(([], []), "kH", vdim, label=label, datatype=["dictionary"]).opts(**style)
+
+
+#: the legend label of the unstable band
+BAND_LABEL = "unstable band"
+
+
+def band_legend_hook(plot, _element) -> None:
+    """HoloViews plot hook: the legend lists the unstable band only while there is one."""
+    for legend in plot.state.legend:
+        for item in legend.items:
+            if getattr(item.label, "value", None) == BAND_LABEL:
+                item.visible = any(len(next(iter(r.data_source.data.values()), [])) for r in item.renderers)
 
 
 #: the styled templates of the plotted elements
 STYLE = {
-    "band": styled(hv.VSpans, IM_LABEL, "unstable band", color="#f4a582", alpha=0.35),
+    "band": styled(hv.VSpans, IM_LABEL, BAND_LABEL, color="#f4a582", alpha=0.35),
     "im branch": styled(hv.Curve, IM_LABEL, "Rayleigh branch", color="#1f4e79", line_width=2),
     "im linear": styled(hv.Curve, IM_LABEL, "linear expansion", color="#b2182b", line_dash="dashed", line_width=1.5),
     "re branch": styled(hv.Curve, RE_LABEL, "Rayleigh branch", color="#1f4e79", line_width=2),
@@ -81,12 +104,12 @@ def styled_overlay(**options: object) -> hv.Overlay:
 #: the styled overlays of the three plots (growth rate, phase velocity, G_y criterion)
 OVERLAYS = {
     "im": styled_overlay(title="Growth rate", height=PLOT_HEIGHTS[0], legend_position="top_right",
-                         ylabel=IM_LABEL, hooks=[zero_line_hook], **OVERLAY),
+                         ylabel=IM_LABEL, hooks=[zero_line_hook, band_legend_hook, fit_y_hook], **OVERLAY),
     "re": styled_overlay(title="Phase velocity", height=PLOT_HEIGHTS[1], legend_position="top_right",
-                         ylabel=RE_LABEL, **OVERLAY),
+                         ylabel=RE_LABEL, hooks=[fit_y_hook], **OVERLAY),
     "gy": styled_overlay(height=PLOT_HEIGHTS[2], legend_position="bottom_right",
                          title="Slip–normal-stress coupling at c = c_R (unstable approx. where G_y is below the "
-                               "dashed line)", ylabel=GY_LABEL, hooks=[zero_line_hook], **OVERLAY),
+                               "dashed line)", ylabel=GY_LABEL, hooks=[zero_line_hook, fit_y_hook], **OVERLAY),
 }
 
 
@@ -211,17 +234,41 @@ class SpectrumScene(pn.viewable.Viewer):
             self._gy_curve = ((beta, eta), STYLE["gy"].clone((d["kH"], d["gy"])))
         return self._gy_curve[1]
 
-    def csv(self) -> io.StringIO:
-        """What the plots show, as CSV (kH, z on the Rayleigh branch, its error and status, linear expansion,
-        G_y at the Rayleigh speed)."""
-        d = self.data()
-        gy = compute_gy_rayleigh(self.inputs[2], self.inputs[3])
+    def _csv_header(self, what: str) -> str:
         names = ("gamma", "f", "beta", "eta", "Delta", "xi")
-        header = "asymslide spectrum (Rayleigh branch); " + ", ".join(
+        return f"asymslide spectrum, {what}; " + ", ".join(
             f"{n} = {v!r}" for n, v in zip(names, self.inputs, strict=True))
-        return csv_table(header, {"kH": d["kH"], "Re_z": d["z"].real, "Im_z": d["z"].imag, "error": d["error"],
-                                  "status": d["status"], "linear_Re_z": d["linear"].real,
-                                  "linear_Im_z": d["linear"].imag, "G_y_at_z_R": gy["gy"]})
+
+    def _family_columns(self, part: str, name: str) -> dict[str, np.ndarray]:
+        """The preset's family of curves as CSV columns (`name`(key=value))."""
+        return {f"{name}({self.compare_key}={value!r})":
+                getattr(compute_spectrum(*family_args(self.inputs, self.compare_key, value))["z"], part)
+                for value in self.compare_values}
+
+    def csv_growth(self) -> io.StringIO:
+        """What the growth-rate plot shows: kH, Im z on the Rayleigh branch with its error and status, the linear
+        expansion, the preset's family of curves; the unstable band in the header."""
+        d = self.data()
+        band = (f"unstable band {d['kH_min']!r} < kH < {d['kH_max']!r}" if np.isfinite(d["kH_min"])
+                and np.isfinite(d["kH_max"]) else "no unstable band on the kH range")
+        return csv_table(self._csv_header(f"growth rate (Rayleigh branch); {band}"),
+                         {"kH": d["kH"], "Im_z": d["z"].imag, "error": d["error"], "status": d["status"],
+                          "linear_Im_z": d["linear"].imag, **self._family_columns("imag", "Im_z")})
+
+    def csv_phase(self) -> io.StringIO:
+        """What the phase-velocity plot shows: kH, Re z with its error and status, the linear expansion, the family."""
+        d = self.data()
+        return csv_table(self._csv_header("phase velocity (Rayleigh branch)"),
+                         {"kH": d["kH"], "Re_z": d["z"].real, "error": d["error"], "status": d["status"],
+                          "linear_Re_z": d["linear"].real, **self._family_columns("real", "Re_z")})
+
+    def csv_gy(self) -> io.StringIO:
+        """What the G_y plot shows: kH, G_y(c_R, kH), and the criterion level -c_R/(c_s γ f) in the header."""
+        gamma, f, beta, eta = self.inputs[:4]
+        gy = compute_gy_rayleigh(beta, eta)
+        level = float(model.criterion_gy_level(gamma=gamma, f=f, beta=beta))
+        return csv_table(self._csv_header(f"G_y at the Rayleigh speed z_R = {gy['z_R']!r}; criterion level "
+                                          f"-c_R/(c_s gamma f) = {level!r}"), {"kH": gy["kH"], "G_y_at_z_R": gy["gy"]})
 
     @param.depends("inputs")
     def readout(self) -> str:
@@ -229,7 +276,14 @@ class SpectrumScene(pn.viewable.Viewer):
         z, status, error = d["z"], d["status"], d["error"]
         shown = np.isfinite(z)
         rel = float(np.max(error[shown] / np.abs(z[shown]))) if shown.any() else np.nan
-        lines = [f"**Max growth** Im[c/c_s] = {fmt(d['growth'])} at kH = {fmt(d['kH_at_max'])}"]
+        at_edge = np.isfinite(d["kH_at_max"]) and (np.isclose(d["kH_at_max"], KH[0], rtol=1e-9)
+                                                    or np.isclose(d["kH_at_max"], KH[-1], rtol=1e-9))
+        if at_edge:  # the largest value on the range is at its end: no maximum inside it
+            side = "smaller" if np.isclose(d["kH_at_max"], KH[0], rtol=1e-9) else "larger"
+            lines = [f"**Largest growth on the range** Im[c/c_s] = {fmt(d['growth'])} at its end, kH = "
+                     f"{fmt(d['kH_at_max'])}: not a maximum (Im[c/c_s] still grows towards {side} kH)"]
+        else:
+            lines = [f"**Max growth** Im[c/c_s] = {fmt(d['growth'])} at kH = {fmt(d['kH_at_max'])}"]
         if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]):
             lines.append(f"**Unstable band** {fmt(d['kH_min'])} < kH < {fmt(d['kH_max'])}")
         elif np.isfinite(d["growth"]) and d["growth"] > 0:
@@ -248,6 +302,12 @@ class SpectrumScene(pn.viewable.Viewer):
     def plot_pane(self, index: int) -> pn.pane.HoloViews:
         """Live plot `index`: 0 growth rate, 1 phase velocity, 2 G_y criterion (top to bottom)."""
         return pn.pane.HoloViews((self.im_dmap, self.re_dmap, self.gy_dmap)[index], sizing_mode="stretch_width")
+
+    def downloads(self) -> list[pn.widgets.FileDownload]:
+        """One CSV button per plot, below it: what that plot shows."""
+        return [csv_download(self.csv_growth, "spectrum_growth_rate.csv", "Growth rate (CSV)"),
+                csv_download(self.csv_phase, "spectrum_phase_velocity.csv", "Phase velocity (CSV)"),
+                csv_download(self.csv_gy, "spectrum_gy.csv", "G_y criterion (CSV)")]
 
     def _load_plots(self, slots: list[pn.Column], index: int = 0) -> None:
         """Render the plot of slot `index`, then schedule the next one on the server's event loop."""
@@ -272,9 +332,8 @@ class SpectrumScene(pn.viewable.Viewer):
                 slot.objects = [self.plot_pane(index)]
         plots = pn.Column(
             *([self.lab.panel(with_plot=True)] if self.lab is not None else []),
-            pn.pane.LaTeX(EQUATION, renderer="katex", styles={"font-size": "1.15em"}),
-            *slots,
-            csv_download(self.csv, "spectrum.csv", "Download CSV"),
+            pn.pane.LaTeX(EQUATION, renderer="katex", styles={"font-size": "1.15em"}, sizing_mode="stretch_width"),
+            *(w for pair in zip(slots, self.downloads(), strict=True) for w in pair),
             sizing_mode="stretch_width",
         )
-        return pn.Row(controls, plots, sizing_mode="stretch_width", name="Spectrum")
+        return scene_layout(controls, plots, "Spectrum")

@@ -35,7 +35,6 @@ import time
 from dataclasses import dataclass
 from functools import partial
 
-import contourpy
 import holoviews as hv
 import numpy as np
 import panel as pn
@@ -43,7 +42,8 @@ import param
 
 import model
 
-from .params import SpectrumParams, controls_column, csv_download, csv_table, fmt, frozen_document
+from .common import COLOUR_LEGEND, GROWTH_CMAP, GROWTH_LABEL, MAP_POLL_MS, MARGINAL, NAN_COLOR, neutral_lines
+from .params import Choice, SpectrumParams, controls_column, csv_download, csv_table, fmt, frozen_document, scene_layout
 
 log = logging.getLogger(__name__)
 
@@ -58,10 +58,6 @@ KH = np.logspace(-3, 3, 96)
 #: ~0.6 / 0.9 / 2.0 s coarse / medium / fine (2-4x that when the cores are busy); the others take <= 0.2 s at η = ∞
 RESOLUTIONS = {"coarse": 24, "medium": 40, "fine": 64}
 
-#: |max growth| at or below this is drawn as neutral: not counted unstable and not a neutral-curve crossing
-#: (where the branch only tends to Im z = 0 at the end of the kH grid the maximum is 0 up to round-off)
-MARGINAL = 1e-6
-
 #: a chunk has up to 256 parameter points per CPU (the model runs blocks of 256 on parallel threads), and a map
 #: has at least MIN_CHUNKS chunks (progress steps, and how soon a stale computation stops)
 CHUNK_POINTS = 256 * (os.cpu_count() or 1)
@@ -75,12 +71,6 @@ BETA_CRITERION = np.linspace(0.025, 0.70, 28)
 BETA_EXACT = BETA_CRITERION[1::2].copy()
 #: Fig. 4c y range; a current χ off this range is drawn at its edge
 CHI_RANGE = (0.0, 5.0)
-
-#: how often (ms) a served session shows the progress of a computation
-POLL_MS = 150
-
-GROWTH_LABEL = "max Im[c/c_s]"
-NAN_COLOR = "#bdbdbd"
 
 #: number of calls (keys: the cached ``compute_*`` functions, the model functions, "chunks_cancelled"), for tests
 CALLS: collections.Counter[str] = collections.Counter()
@@ -131,6 +121,10 @@ class Axis:
 PLANE_ARGS = (("eta", "gamma"), ("Delta", "xi"), ("f", "gamma"), ("beta", "gamma"))
 PLANES: dict[str, tuple[Axis, Axis]] = {
     f"{Axis.of(x).label}-{Axis.of(y).label}": (Axis.of(x), Axis.of(y)) for x, y in PLANE_ARGS}
+
+
+#: the planes' URL words ("eta-gamma" for "η-γ")
+PLANE_WORDS = {f"{Axis.of(x).label}-{Axis.of(y).label}": f"{x}-{y}" for x, y in PLANE_ARGS}
 
 
 def plane_axes(plane: str, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -280,11 +274,8 @@ def neutral_curve(plane: str, x: np.ndarray, y: np.ndarray, growth: np.ndarray) 
     """The zero contour of the growth (|growth| <= MARGINAL counted as not unstable; NaN masked), interpolated
     in the plotted (log or linear) coordinates; a list of (m, 2) arrays of (x, y)."""
     ax, ay = PLANES[plane]
-    z = np.where(np.abs(growth) <= MARGINAL, -MARGINAL, growth)
-    if not np.isfinite(z).any():
-        return []
-    gen = contourpy.contour_generator(ax.scale(x), ay.scale(y), np.ma.masked_invalid(z), line_type="Separate")
-    return [np.column_stack([ax.unscale(s[:, 0]), ay.unscale(s[:, 1])]) for s in gen.lines(0.0) if len(s) > 1]
+    return [np.column_stack([ax.unscale(s[:, 0]), ay.unscale(s[:, 1])])
+            for s in neutral_lines(ax.scale(x), ay.scale(y), growth)]
 
 
 def _round_sig(v: float, digits: int = 3) -> float:
@@ -295,8 +286,8 @@ class StabilityMapScene(pn.viewable.Viewer):
     """Heat map of the maximal growth rate over a parameter plane, with Fig. 4c, for one :class:`SpectrumParams`."""
 
     params = param.ClassSelector(class_=SpectrumParams)
-    plane = param.Selector(objects=list(PLANES), default="η-γ", label="Plane (x-y)")
-    resolution = param.Selector(objects=list(RESOLUTIONS), default="medium", label="Resolution")
+    plane = Choice("η-γ", objects=list(PLANES), label="Plane (x-y)", url="map", words=PLANE_WORDS)
+    resolution = Choice("medium", objects=list(RESOLUTIONS), label="Resolution", url="map_res")
     #: what the map depends on (see :func:`key_for`); changes only when the map must be recomputed
     map_key = param.Tuple(default=None, length=3, allow_None=True, precedence=-1)
     #: the last finished map (possibly for an older key)
@@ -305,6 +296,9 @@ class StabilityMapScene(pn.viewable.Viewer):
     status = param.String("idle", precedence=-1)
     #: the Lab-units panel (an app.lab.LabScene, shared with the Spectrum scene) shown above the map; None: none
     lab = param.ClassSelector(class_=pn.viewable.Viewer, default=None, allow_None=True, precedence=-1)
+
+    #: the URL holds the plane and resolution only where they differ from the defaults
+    URL_CHANGED_ONLY = True
 
     def __init__(self, **kwargs):
         if "params" not in kwargs:
@@ -320,6 +314,7 @@ class StabilityMapScene(pn.viewable.Viewer):
         self.tap_streams: dict[str, hv.streams.Tap] = {}
         self.progress = pn.indicators.Progress(value=0, max=1, bar_color="primary", sizing_mode="stretch_width",
                                                height=18)
+        self.progress_label = pn.pane.Markdown("", sizing_mode="stretch_width", margin=(0, 10))
         self.map_key = key_for(self.plane, self.resolution, self.params.model_args())
         self.params.param.watch(self._update_key, list(self.params.param))
         self.param.watch(self._update_key, ["plane", "resolution"])
@@ -375,7 +370,7 @@ class StabilityMapScene(pn.viewable.Viewer):
                 self._docs.add(id(doc))
                 doc.on_session_destroyed(lambda _ctx: self.cancel())
             if self._poller is None or not self._poller.running:
-                self._poller = pn.state.add_periodic_callback(self._apply, period=POLL_MS)
+                self._poller = pn.state.add_periodic_callback(self._apply, period=MAP_POLL_MS)
         if served:
             # on the session's next turn: a map started while its tab is being built (the tab is built when first
             # shown) must not update panes whose models are not in the document yet -- Panel would then re-point
@@ -413,6 +408,9 @@ class StabilityMapScene(pn.viewable.Viewer):
             self.progress.value = 0
             self.progress.max = job.total
         self.progress.value = job.done
+        plane, n, _ = job.key
+        self.progress_label.object = (f"Computing the {plane} map ({n} × {n} points): {job.done} of {job.total} "
+                                      "chunks" if job.done < job.total else f"The {plane} map ({n} × {n} points)")
 
     def _apply(self) -> None:
         """Carry the current job's state to the page (on the session's event loop when served; from the worker
@@ -527,7 +525,7 @@ class StabilityMapScene(pn.viewable.Viewer):
         xd, yd = self._dims(plane)
         return hv.QuadMesh((ax.edges(x.size), ay.edges(y.size), growth), kdims=[xd, yd],
                            vdims=[hv.Dimension("growth", label=GROWTH_LABEL)]).opts(
-            cmap="RdBu_r", clim=(-top, top), colorbar=True, clabel=GROWTH_LABEL, framewise=True, alpha=alpha,
+            cmap=GROWTH_CMAP, clim=(-top, top), colorbar=True, clabel=GROWTH_LABEL, framewise=True, alpha=alpha,
             clipping_colors={"NaN": NAN_COLOR}, line_alpha=0, logx=ax.log, logy=ay.log, tools=["hover"],
             hover_tooltips=[(ax.label, "$x"), (ay.label, "$y"), (GROWTH_LABEL, "@growth")],
             responsive=True, height=460, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi))
@@ -642,8 +640,16 @@ class StabilityMapScene(pn.viewable.Viewer):
                          f"(max Im[c/c_s] > {MARGINAL:g}); largest growth {fmt(largest)}")
             if marginal:
                 lines.append(f"**Marginal** {marginal} point(s) with |max Im| ≤ {MARGINAL:g}, drawn neutral")
-            lines.append(f"**Masked** {n_nan} point(s) (grey): the Rayleigh branch could not be followed at any kH"
-                         if n_nan else "**Masked** none")
+            everywhere = int((~finite & (res.n_masked >= KH.size)).sum())
+            if everywhere:
+                lines.append(f"**Not computable** {everywhere} point(s) (dark grey): the Rayleigh branch could not be "
+                             "followed at any kH")
+            if n_nan - everywhere:
+                lines.append(f"**Not computable** {n_nan - everywhere} point(s) (dark grey): the branch was followed "
+                             "on (part of) the kH grid, but its maximum could not be refined (no value is shown "
+                             "rather than an unrefined one)")
+            if not n_nan:
+                lines.append("**Not computable** none")
             if partial_mask:
                 lines.append(f"**Partly masked** {partial_mask} point(s): branch not followable on part of the kH "
                              "grid; maximum over the rest")
@@ -661,7 +667,9 @@ class StabilityMapScene(pn.viewable.Viewer):
         plane, n, fixed = self.map_key
         ax, ay = PLANES[plane]
         header = (f"asymslide stability map, plane {ax.name}-{ay.name}; max over kH = logspace(-3, 3, {KH.size}); "
-                  + ", ".join(f"{k} = {v!r}" for k, v in fixed))
+                  + ", ".join(f"{k} = {v!r}" for k, v in fixed)
+                  + f". max_growth NaN: not computable (n_masked_kH = {KH.size}: the branch was not followed at any "
+                    "kH; fewer: its maximum could not be refined)")
         if res is None or res.key != self.map_key:
             return csv_table(header + " (not computed yet)",
                              {ax.name: [], ay.name: [], "max_growth": [], "kH_at_max": [], "n_masked_kH": []})
@@ -692,10 +700,10 @@ class StabilityMapScene(pn.viewable.Viewer):
         self.param.watch(lambda e: setattr(map_pane, "object", self.view(e.new)), "plane")
         plots = pn.Column(
             *([self.lab.panel(with_plot=False)] if self.lab is not None else []),
-            pn.Row(plane, resolution),
+            pn.FlexBox(plane, resolution, flex_wrap="wrap", sizing_mode="stretch_width"),
+            self.progress_label,
             self.progress,
-            pn.pane.Markdown("Click the map to move the sliders there. Red: unstable, blue: stable, grey: not "
-                             "computable; black line: neutral curve; star: current parameters.",
+            pn.pane.Markdown(f"Click the map to move the sliders there. {COLOUR_LEGEND}; star: current parameters.",
                              sizing_mode="stretch_width"),
             map_pane,
             self.map_download,
@@ -704,4 +712,4 @@ class StabilityMapScene(pn.viewable.Viewer):
             self.fig4c_download,
             sizing_mode="stretch_width",
         )
-        return pn.Row(controls, plots, sizing_mode="stretch_width", name="Stability map")
+        return scene_layout(controls, plots, "Stability map")

@@ -9,7 +9,9 @@ and changing kW recomputes neither the μ_eff(kW) curve nor anything that depend
 from __future__ import annotations
 
 import collections
+import html
 import io
+import math
 
 import holoviews as hv
 import numpy as np
@@ -18,7 +20,20 @@ import param
 
 import model
 
-from .params import PALETTE, ThinOnThickParams, controls_column, csv_download, csv_table, fmt, physical_parameters
+from .params import (
+    PALETTE,
+    LabParams,
+    ThinOnThickParams,
+    controls_column,
+    csv_download,
+    csv_table,
+    fit_y_hook,
+    fmt,
+    material_readout,
+    physical_parameters,
+    scene_layout,
+    shared_material_widgets,
+)
 
 #: kW grid of the effective-moduli plots (Fig. 3a and inset)
 KW = np.logspace(-2, 3, 400)
@@ -95,14 +110,20 @@ def compute_gy_curve(kW: float, nu: float) -> dict:
 
 @pn.cache(max_items=256)
 def compute_stress_line(kW: float, nu: float, c_s: float, rho: float, sigma0: float) -> dict:
-    """Δσ_yy/σ₀ on :data:`V` at c = c_R of the thin block (Fig. 3c); sigma0 in Pa, mu = rho c_s^2."""
+    """Δσ_yy/σ₀ on :data:`V` at c = c_R of the thin block (Fig. 3c); sigma0 in Pa, mu = rho c_s^2. The shared lab
+    values may be anything a user typed: the model's message (``{"error": ...}``) where it refuses them."""
     CALLS["compute_stress_line"] += 1
-    c = compute_point(kW, nu)["z_R"] * c_s
-    mu = float(model.shear_modulus(rho, c_s))
-    CALLS["normal_stress_change"] += 2
-    with _quiet():
-        ds = model.normal_stress_change(V, c=c, c_s=c_s, kW=kW, nu=nu, mu=mu) / sigma0
-        slope = float(model.normal_stress_change(1.0, c=c, c_s=c_s, kW=kW, nu=nu, mu=mu)) / sigma0
+    if not (math.isfinite(sigma0) and sigma0 > 0):
+        return {"error": f"sigma0 must be in (0, inf) Pa; got {sigma0:g}"}
+    try:
+        c = compute_point(kW, nu)["z_R"] * c_s
+        mu = float(model.shear_modulus(rho, c_s))
+        CALLS["normal_stress_change"] += 2
+        with _quiet():
+            ds = model.normal_stress_change(V, c=c, c_s=c_s, kW=kW, nu=nu, mu=mu) / sigma0
+            slope = float(model.normal_stress_change(1.0, c=c, c_s=c_s, kW=kW, nu=nu, mu=mu)) / sigma0
+    except ValueError as exc:
+        return {"error": str(exc)}
     return {"v": V, "ds": ds, "slope": slope, "c": c, "mu": mu}
 
 
@@ -110,6 +131,8 @@ class ThinOnThickScene(pn.viewable.Viewer):
     """Widgets, plots (Fig. 3a-c) and readout for one :class:`ThinOnThickParams`."""
 
     params = param.ClassSelector(class_=ThinOnThickParams)
+    #: the page's shared material constants (c_s, ρ, σ₀; the Lab-units panel's)
+    material = param.ClassSelector(class_=LabParams)
     #: normalised model arguments per dependency group; a plot depends only on the keys it uses
     nu_key = param.Number(default=None, allow_None=True)
     point_key = param.Tuple(default=None, length=2, allow_None=True)  # (kW, nu)
@@ -118,20 +141,21 @@ class ThinOnThickScene(pn.viewable.Viewer):
     compare_kW = param.List(default=[], item_type=float)
 
     def __init__(self, **kwargs):
-        if "params" not in kwargs:
-            kwargs["params"] = ThinOnThickParams()
+        kwargs.setdefault("params", ThinOnThickParams())
+        kwargs.setdefault("material", LabParams())
         super().__init__(**kwargs)
         self._update_keys()
         self.params.param.watch(self._update_keys, list(physical_parameters(ThinOnThickParams)))
+        self.material.param.watch(self._update_keys, ["c_s", "rho", "sigma0_MPa"])
         self.moduli_dmap = hv.DynamicMap(self.moduli_plot)
         self.nu_eff_dmap = hv.DynamicMap(self.nu_eff_plot)
         self.gy_dmap = hv.DynamicMap(self.gy_plot)
         self.stress_dmap = hv.DynamicMap(self.stress_plot)
 
     def _update_keys(self, *_events) -> None:
-        p = self.params
+        p, m = self.params, self.material
         kw, nu = p.kW, float(p.nu)
-        stress = (kw, nu, float(p.c_s), float(p.rho), float(p.sigma0_MPa) * 1e6)
+        stress = (kw, nu, float(m.c_s), float(m.rho), float(m.sigma0_MPa) * 1e6)
         with param.parameterized.batch_call_watchers(self):
             if nu != self.nu_key:
                 self.nu_key = nu
@@ -157,7 +181,7 @@ class ThinOnThickScene(pn.viewable.Viewer):
             color=PALETTE[i % len(PALETTE)], size=8, marker="square") for i, q in enumerate(self.family_points())]
         return hv.Overlay([one, curve, *fam, marker]).opts(
             hv.opts.Overlay(logx=True, responsive=True, height=320, title="(a) Effective shear modulus",
-                            show_legend=False, framewise=True, xlabel="kW", ylabel=MU_LABEL))
+                            show_legend=False, framewise=True, xlabel="kW", ylabel=MU_LABEL, hooks=[fit_y_hook]))
 
     @param.depends("nu_key", "point_key", "compare_kW")
     def nu_eff_plot(self) -> hv.Overlay:
@@ -169,7 +193,7 @@ class ThinOnThickScene(pn.viewable.Viewer):
             color=PALETTE[i % len(PALETTE)], size=6, marker="square") for i, q in enumerate(self.family_points())]
         return hv.Overlay([curve, *fam, marker]).opts(
             hv.opts.Overlay(logx=True, width=300, height=220, title="(a, inset) ν_eff",
-                            show_legend=False, framewise=True, xlabel="kW", ylabel=NU_LABEL))
+                            show_legend=False, framewise=True, xlabel="kW", ylabel=NU_LABEL, hooks=[fit_y_hook]))
 
     @param.depends("point_key", "compare_kW")
     def gy_plot(self) -> hv.Overlay:
@@ -186,22 +210,35 @@ class ThinOnThickScene(pn.viewable.Viewer):
         return hv.Overlay([zero, c_r, *fam, curve]).opts(
             hv.opts.Overlay(responsive=True, height=300, title=f"(b) G_y at kW = {fmt(pt['kW'], 4)}",
                             show_legend=bool(fam), legend_position="bottom_left", framewise=True,
-                            xlabel=Z_LABEL, ylabel=GY_LABEL))
+                            xlabel=Z_LABEL, ylabel=GY_LABEL, hooks=[fit_y_hook]))
 
     @param.depends("stress_key")
     def stress_plot(self) -> hv.Overlay:
         d = compute_stress_line(*self.stress_key)
         zero = hv.HLine(0.0).opts(color="black", line_width=1)
-        curve = hv.Curve((d["v"], d["ds"]), V_LABEL, DS_LABEL, label=DS_LABEL).opts(color="#b2182b", line_width=2)
+        v, ds = (d["v"], d["ds"]) if "error" not in d else ([], [])
+        curve = hv.Curve((v, ds), V_LABEL, DS_LABEL, label=DS_LABEL).opts(color="#b2182b", line_width=2)
         return (zero * curve).opts(
             hv.opts.Overlay(responsive=True, height=300, title="(c) Normal-stress change at c = c_R",
                             show_legend=False, framewise=True, xlabel=V_LABEL, ylabel=DS_LABEL))
 
     @param.depends("stress_key")
+    def messages(self) -> pn.viewable.Viewable:
+        """The model's message where it refuses the shared lab values (plot (c) is then empty), or nothing."""
+        d = compute_stress_line(*self.stress_key)
+        if "error" not in d:
+            return pn.pane.Markdown("", margin=0)
+        return pn.pane.Alert(f"**The shared lab values are not valid** (c_s, ρ or σ₀; plot (c) is empty): "
+                             f"{html.escape(d['error'], quote=False)}", alert_type="danger",
+                             sizing_mode="stretch_width")
+
+    @param.depends("stress_key")
     def readout(self) -> str:
         pt = self.point()
         d = compute_stress_line(*self.stress_key)
-        lines = [
+        if "error" in d:
+            d = {"c": math.nan, "slope": math.nan, "mu": math.nan, "ds": np.array([math.nan])}
+        lines = [material_readout(self.material),
             f"**kW** = {fmt(pt['kW'], 4)}, **ν** = {fmt(pt['nu'], 4)}",
             f"**μ_eff/μ** = {fmt(pt['mu_ratio'], 10)}",
             f"**μ_eff/μ − 1** = {pt['excess']:.6e}" if np.isfinite(pt["excess"]) else "**μ_eff/μ − 1** = —",
@@ -230,20 +267,25 @@ class ThinOnThickScene(pn.viewable.Viewer):
     def csv_stress(self) -> io.StringIO:
         d = compute_stress_line(*self.stress_key)
         kw, nu, c_s, rho, sigma0 = self.stress_key
+        if "error" in d:
+            d = {"v": np.empty(0), "ds": np.empty(0)}
         return csv_table(f"asymslide thin-on-thick Fig. 3c at c = c_R; kW = {kw!r}, nu = {nu!r}, c_s = {c_s!r} m/s, "
                          f"rho = {rho!r} kg/m^3, sigma0 = {sigma0!r} Pa",
                          {"v_m_per_s": d["v"], "dsigma_yy_over_sigma0": d["ds"]})
 
     def __panel__(self) -> pn.viewable.Viewable:
-        controls = controls_column(self.params.make_widgets(), self.readout)
+        controls = controls_column(self.params.make_widgets(), self.readout, extra=shared_material_widgets(
+            self.material, "the Lab-units panel and Rupture fronts"))
         plots = pn.Column(
-            pn.Row(pn.pane.HoloViews(self.moduli_dmap, sizing_mode="stretch_width"),
-                   pn.pane.HoloViews(self.nu_eff_dmap), sizing_mode="stretch_width"),
+            pn.panel(self.messages),
+            pn.FlexBox(pn.pane.HoloViews(self.moduli_dmap, sizing_mode="stretch_width",
+                                         styles={"flex": "1 1 400px", "min-width": "0"}),
+                       pn.pane.HoloViews(self.nu_eff_dmap), flex_wrap="wrap", sizing_mode="stretch_width"),
             pn.pane.HoloViews(self.gy_dmap, sizing_mode="stretch_width"),
             pn.pane.HoloViews(self.stress_dmap, sizing_mode="stretch_width"),
-            pn.Row(csv_download(self.csv_moduli, "thin_on_thick_moduli.csv", "CSV (a)"),
-                   csv_download(self.csv_gy, "thin_on_thick_gy.csv", "CSV (b)"),
-                   csv_download(self.csv_stress, "thin_on_thick_stress.csv", "CSV (c)")),
+            pn.FlexBox(csv_download(self.csv_moduli, "thin_on_thick_moduli.csv", "CSV (a)"),
+                       csv_download(self.csv_gy, "thin_on_thick_gy.csv", "CSV (b)"),
+                       csv_download(self.csv_stress, "thin_on_thick_stress.csv", "CSV (c)"), flex_wrap="wrap"),
             sizing_mode="stretch_width",
         )
-        return pn.Row(controls, plots, sizing_mode="stretch_width", name="Thin-on-thick")
+        return scene_layout(controls, plots, "Thin-on-thick")

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import param
 
+from .all_branches import AllBranchesScene
 from .params import (
     Choice,
     LabParams,
@@ -28,6 +29,7 @@ from .params import (
     ThinOnThickParams,
     declared_parameters,
 )
+from .stability_map import StabilityMapScene
 
 #: longest raw value quoted back in a message (values are HTML-escaped as well)
 MAX_QUOTE = 24
@@ -35,9 +37,22 @@ MAX_QUOTE = 24
 #: query value of each tab, in tab order
 TABS = ("spectrum", "map", "thin", "rupture", "branches", "atlas")
 
-#: the parameter classes whose declarations have URL keys, by target name (the keys of :data:`Updates`)
+#: the parameter classes whose declarations have URL keys, by target name (the keys of :data:`Updates`): the shared
+#: parameters and the scenes' own settings (the map's plane and resolution, the All-branches kH and window)
 TARGETS: dict[str, type[param.Parameterized]] = {
-    "spectrum": SpectrumParams, "thin": ThinOnThickParams, "lab": LabParams, "rupture": RuptureParams}
+    "spectrum": SpectrumParams, "thin": ThinOnThickParams, "lab": LabParams, "rupture": RuptureParams,
+    "map": StabilityMapScene, "branches": AllBranchesScene}
+
+#: keys of earlier versions, read as the keys that replaced them (old links keep working): the thin-on-thick and
+#: rupture-front material constants are now the one shared set of the Lab-units panel
+ALIASES = {"c_s": "lab_cs", "rho": "lab_rho", "sigma0": "lab_sigma0", "rup_cs": "lab_cs", "rup_rho": "lab_rho",
+           "rup_sigma0": "lab_sigma0", "rup_material": "material"}
+
+#: the Atlas tab's keys: the atlas (a name listed in the atlas directory), the heat map's axes, the 3-D view's axes
+#: (comma-separated) and, per other axis, its value ("at_" + the axis: snapped to the atlas's grid)
+ATLAS_KEYS = {"atlas": "name", "ax": "x", "ay": "y", "surface": "surface"}
+ATLAS_AT = "at_"
+ATLAS_AXES = SpectrumParams.MODEL_ARGS
 
 #: words for ∞ (a Physical with ``infinite``) and for a switch
 INFINITY_WORDS = {"inf", "infinity", "∞"}
@@ -59,14 +74,16 @@ class QueryParam:
     kind: str = "number"  # "number", "choice" or "switch"
     infinite: str | None = None  # the Boolean parameter meaning ∞ ("inf" in the URL)
     choices: tuple[str, ...] = ()
+    words: tuple[str, ...] = ()  # a choice's URL words, in the order of choices
 
 
 def _query_param(target: str, name: str, p: Physical | Choice | Switch) -> QueryParam:
     if isinstance(p, Choice):
-        return QueryParam(p.url, target, name, p.label, kind="choice", choices=tuple(p.objects))
+        words = tuple((p.words or {}).get(o, o) for o in p.objects)
+        return QueryParam(p.url, target, name, p.label, kind="choice", choices=tuple(p.objects), words=words)
     if isinstance(p, Switch):
         return QueryParam(p.url, target, name, p.label, kind="switch")
-    lo, hi = p.physical_bounds()
+    lo, hi = p.physical_bounds() if p.bounds is not None else (-math.inf, math.inf)
     return QueryParam(p.url, target, name, p.label, lo, hi, p.log10, infinite=p.infinite)
 
 
@@ -109,11 +126,13 @@ def _parse_value(q: QueryParam, raw: str, updates: Updates, messages: list[str])
     """Put the validated value of one key into `updates`, or a message into `messages`."""
     target = updates[q.target]
     if q.kind == "choice":
-        match = [c for c in q.choices if c.casefold() == raw.strip().casefold()]
+        word = raw.strip().casefold()
+        match = [c for c, w in zip(q.choices, q.words or q.choices, strict=True)
+                 if word in (c.casefold(), w.casefold())]
         if match:
             target[q.attribute] = match[0]
         else:
-            messages.append(f"{q.symbol} = '{_quote(raw)}' is not one of {', '.join(q.choices)}: ignored.")
+            messages.append(f"{q.symbol} = '{_quote(raw)}' is not one of {', '.join(q.words or q.choices)}: ignored.")
         return
     if q.kind == "switch":
         word = raw.strip().lower()
@@ -162,17 +181,10 @@ def parse_query(args: Mapping[str, Iterable[bytes | str]]) -> tuple[Updates, str
             else:
                 messages.append(f"tab = '{_quote(raw)}' is not one of {', '.join(TABS)}: ignored.")
             continue
-        if key == "atlas":  # a name from the listing of the one atlas directory, never a path
-            from .atlas import list_atlases
-
-            names = list_atlases()
-            if raw in names:
-                updates["atlas"]["name"] = raw
-            else:
-                messages.append(f"atlas = '{_quote(raw)}' is not one of the atlases ({', '.join(names) or 'none'}): "
-                                "ignored.")
+        if key in ATLAS_KEYS or key.startswith(ATLAS_AT):
+            _parse_atlas(key, raw, updates["atlas"], messages)
             continue
-        q = BY_KEY.get(key)
+        q = BY_KEY.get(ALIASES.get(key, key))
         if q is None:
             messages.append(f"unknown parameter '{_quote(key)}': ignored.")
             continue
@@ -180,10 +192,63 @@ def parse_query(args: Mapping[str, Iterable[bytes | str]]) -> tuple[Updates, str
     return updates, tab, messages
 
 
+def _parse_atlas(key: str, raw: str, atlas: dict[str, object], messages: list[str]) -> None:
+    """One of the Atlas tab's keys into `atlas` (the fields of app.atlas.AtlasRequest), or a message. Only names of
+    the atlas directory's listing and of the six parameters are accepted, never a path."""
+    if key == "atlas":
+        from .atlas import list_atlases
+
+        names = list_atlases()
+        if raw in names:
+            atlas["name"] = raw
+        else:
+            messages.append(f"atlas = '{_quote(raw)}' is not one of the atlases ({', '.join(names) or 'none'}): "
+                            "ignored.")
+        return
+    if key in ("ax", "ay"):
+        if raw in ATLAS_AXES:
+            atlas[ATLAS_KEYS[key]] = raw
+        else:
+            messages.append(f"{key} = '{_quote(raw)}' is not one of {', '.join(ATLAS_AXES)}: ignored.")
+        return
+    if key == "surface":
+        axes = tuple(a.strip() for a in raw.split(","))
+        if len(axes) == 3 and len(set(axes)) == 3 and all(a in ATLAS_AXES for a in axes):
+            atlas["surface"] = axes
+        else:
+            messages.append(f"surface = '{_quote(raw)}' is not three different ones of {', '.join(ATLAS_AXES)}: "
+                            "ignored.")
+        return
+    axis = key[len(ATLAS_AT):]
+    x = parse_number(raw)
+    if axis not in ATLAS_AXES:
+        messages.append(f"unknown parameter '{_quote(key)}': ignored.")
+    elif x is None:
+        messages.append(f"{key} = '{_quote(raw)}' is not a finite number: ignored.")
+    else:
+        atlas.setdefault("at", {})[axis] = x
+
+
+def atlas_query(state: Mapping[str, object]) -> dict[str, str]:
+    """The Atlas tab's URL keys for its state (app.atlas.AtlasScene.url_state: name, x, y, at, surface)."""
+    out: dict[str, str] = {}
+    if state.get("name"):
+        out["atlas"] = str(state["name"])
+    for key in ("ax", "ay"):
+        value = state.get(ATLAS_KEYS[key])
+        if value:
+            out[key] = str(value)
+    for axis, value in dict(state.get("at") or {}).items():
+        out[ATLAS_AT + axis] = f"{value:.6g}"
+    if state.get("surface"):
+        out["surface"] = ",".join(state["surface"])
+    return out
+
+
 def _url_value(q: QueryParam, obj: param.Parameterized) -> str:
     v = getattr(obj, q.attribute)
     if q.kind == "choice":
-        return str(v)
+        return q.words[q.choices.index(v)] if q.words and v in q.choices else str(v)
     if q.kind == "switch":
         return "1" if v else "0"
     if q.infinite and getattr(obj, q.infinite):
@@ -196,10 +261,12 @@ def _is_default(q: QueryParam, obj: param.Parameterized) -> bool:
     return all(getattr(obj, n) == obj.param[n].default for n in names)
 
 
-def query_string(objects: Mapping[str, param.Parameterized], tab: str, atlas: str | None = None) -> str:
+def query_string(objects: Mapping[str, param.Parameterized], tab: str, atlas: Mapping[str, object] | None = None
+                 ) -> str:
     """The URL search string (``?...``) for the current parameter values; `objects` maps targets (keys of
     :data:`TARGETS`) to the parameter objects (a target left out is not written). A class with
-    ``URL_CHANGED_ONLY`` writes only the values that differ from its defaults. `atlas`: the Atlas tab's atlas."""
+    ``URL_CHANGED_ONLY`` writes only the values that differ from its defaults. `atlas`: the Atlas tab's state
+    (:func:`atlas_query`)."""
     values: dict[str, str] = {}
     for q in QUERY:
         obj = objects.get(q.target)
@@ -212,5 +279,5 @@ def query_string(objects: Mapping[str, param.Parameterized], tab: str, atlas: st
         values[q.key] = _url_value(q, obj)
     values["tab"] = tab
     if atlas:
-        values["atlas"] = atlas
-    return "?" + urllib.parse.urlencode(values)
+        values.update(atlas_query(atlas))
+    return "?" + urllib.parse.urlencode(values, safe=",")

@@ -40,7 +40,7 @@ EXTRA_PURPOSE = {"app": "the web app", "atlas": "the atlas engine"}
 def _serve(args: argparse.Namespace) -> int:
     """Run the server until it exits or a stop signal arrives. SIGTERM (docker stop, systemctl stop) is the normal
     way to stop a server: once every server process has stopped, that is exit 0, not 128 + 15."""
-    from .serve import panel_command, run
+    from .serve import panel_command, run, warm_kernels
 
     origins = args.allow_websocket_origin or [f"localhost:{args.port}", f"127.0.0.1:{args.port}"]
     cmd = panel_command(port=args.port, address=args.address, origins=origins, num_procs=args.num_procs,
@@ -48,7 +48,10 @@ def _serve(args: argparse.Namespace) -> int:
     env = dict(os.environ)
     if args.atlas_dir:
         env["ASYMSLIDE_ATLAS_DIR"] = str(Path(args.atlas_dir).expanduser().resolve())
-    code = run(cmd, env=env)
+    # kernels compiled before the server accepts a page: by each server process itself (--setup), and with several
+    # processes once before, by the launcher, so that they load the cache instead of compiling it side by side
+    stopped = warm_kernels(env) if args.num_procs > 1 else None
+    code = stopped if stopped is not None else run(cmd, env=env)
     return 0 if code == 128 + signal.SIGTERM else code
 
 

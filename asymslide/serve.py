@@ -50,18 +50,52 @@ def static_dir() -> Path:
     return STATIC_DIR
 
 
+def setup_script() -> Path:
+    """The script every Panel process runs before it serves a page (``--setup``): it loads the model's kernels."""
+    return Path(__file__).resolve().parent / "panel_setup.py"
+
+
+def warm_kernels(env: dict[str, str] | None = None) -> int | None:
+    """Compile the model's kernels into numba's cache (``asymslide warmup``, in a subprocess: the launcher itself
+    stays small), printing "compiling kernels ..." and "kernels ready" before the server starts; the server
+    processes then load them from the cache (:func:`setup_script`). A failure is reported and the server starts
+    anyway (it then compiles the kernels itself). A stop signal meanwhile stops the warm-up: the exit status to
+    return (128 + the signal) is returned; None otherwise."""
+    received: list[int] = []
+    proc = subprocess.Popen([sys.executable, "-m", "asymslide", "warmup"], env=env)
+
+    def on_signal(signum: int, _frame: object) -> None:
+        received.append(signum)
+        proc.terminate()
+
+    previous = {sig: signal.signal(sig, on_signal) for sig in STOP_SIGNALS}
+    try:
+        status = proc.wait()
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+    if received:
+        return 128 + received[0]
+    if status != 0:
+        print(f"asymslide: compiling the kernels failed (exit status {status}); the server compiles them when they "
+              "are first used", file=sys.stderr, flush=True)
+    return None
+
+
 def panel_command(*, port: int, address: str, origins: Sequence[str], num_procs: int, liveness: bool = False,
                   extra: Sequence[str] = ()) -> list[str]:
     """The ``panel serve`` command line: the app, this server's static files, `num_procs` processes, pages
-    rendered from one cached session (``--reuse-sessions``), and the hosts whose pages may open the
-    websocket (never '*')."""
+    rendered from one cached session (``--reuse-sessions``), the kernels loaded in every process before it serves
+    (``--setup``, :func:`setup_script`), and the hosts whose pages may open the websocket (never '*')."""
     if num_procs < 1:
         raise ValueError(f"num_procs must be >= 1; got {num_procs}")
     if any(o.strip() in ("*", "") for o in origins):
         raise ValueError("allowed websocket origins must be host[:port] names, not '*' or empty")
     cmd = [sys.executable, "-m", "panel", "serve", str(app_main()), "--port", str(port), "--address", address,
            *(f"--allow-websocket-origin={o}" for o in origins), "--static-dirs", f"assets={static_dir()}",
-           "--num-procs", str(num_procs), "--reuse-sessions"]
+           "--num-procs", str(num_procs), "--reuse-sessions", "--setup", str(setup_script()),
+           # the app at / too (not a redirect to /main, which drops the query: a shared /?tab=atlas&... link keeps it)
+           "--index", app_main().stem]
     if liveness:
         cmd.append("--liveness")
     return [*cmd, *extra]

@@ -135,7 +135,12 @@ class ServedApp:
         self.ws_url = f"ws://127.0.0.1:{self.port}/main/ws"
         self.args = [sys.executable, "-m", "asymslide", *serve_args(self.port, num_procs), "--", *extra_args]
         self.log: list[str] = []
+        self.log_times: list[float] = []  # time.monotonic() when each line of `log` arrived
+        self._log_lock = threading.Lock()
         self.error_lines: list[str] = []
+        #: how long the server may take to answer after its start (the launcher compiles numba's kernels first:
+        #: minutes without a cache on a busy host)
+        self.start_timeout = 300.0
         self.proc: subprocess.Popen[str] | None = None
         self._readers: list[threading.Thread] = []
 
@@ -149,7 +154,7 @@ class ServedApp:
             t.start()
             self._readers.append(t)
         try:
-            self._wait_until_up()
+            self._wait_until_up(self.start_timeout)
         except BaseException:
             self.stop()
             raise
@@ -162,7 +167,9 @@ class ServedApp:
         in_traceback = False
         for line in stream:
             line = line.rstrip("\n")
-            self.log.append(line)
+            with self._log_lock:  # stdout's and stderr's readers: each line with its own time, in arrival order
+                self.log_times.append(time.monotonic())
+                self.log.append(line)
             if ERROR_LINE.search(line):
                 self.error_lines.append(line)
                 in_traceback = line.startswith("Traceback")
@@ -379,8 +386,8 @@ class AppSession:
             if o["name"].endswith("Slider") and attrs.get("title") in PARAM_TITLES.values():
                 self.sliders.setdefault(attrs["title"], o["id"])
                 self.params.setdefault(attrs["title"], float(attrs["value"]))
-            if o["name"].endswith("Checkbox") and attrs.get("label") == ETA_INFINITE_LABEL:
-                self.params.setdefault(ETA_INFINITE_LABEL, float(bool(attrs.get("active"))))
+            if o["name"].endswith("CheckboxGroup") and attrs.get("labels") == [ETA_INFINITE_LABEL]:
+                self.params.setdefault(ETA_INFINITE_LABEL, float(bool(attrs.get("active"))))  # [0] ticked, [] not
         self._find_im_curve(objs, reply.buffers)
         missing = [t for t in (*PARAM_TITLES.values(), ETA_INFINITE_LABEL) if t not in self.params]
         if missing:

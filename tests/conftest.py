@@ -8,7 +8,9 @@ where a missing browser is an error.
 from __future__ import annotations
 
 import hashlib
+import logging
 import os
+import re
 import socket
 import subprocess
 import time
@@ -46,6 +48,12 @@ RUN_ID = f"pytest-{os.getpid()}-{uuid.uuid4().hex[:8]}"
 os.environ[MARKER] = RUN_ID
 #: how long processes may take to exit after the last test before they count as left behind
 LEFTOVER_GRACE = float(os.environ.get("ASYMSLIDE_LEFTOVER_GRACE", "20"))
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line(
+        "markers", "expected_errors(server=(), browser=()): regular expressions of server log errors and browser "
+                   "console/page errors a test provokes on purpose (any other one fails the test)")
 
 
 def in_ci() -> bool:
@@ -159,9 +167,77 @@ def _wait_until_up(url: str, server_thread, timeout: float = 120.0) -> None:
     raise RuntimeError(f"app at {url} did not come up within {timeout} s: {last_error!r}")
 
 
+def expected_errors(request: pytest.FixtureRequest, kind: str) -> list[re.Pattern[str]]:
+    """The patterns of the errors of `kind` ("server" or "browser") the test names as expected
+    (``@pytest.mark.expected_errors(server=[...], browser=[...])``)."""
+    marker = request.node.get_closest_marker("expected_errors")
+    return [re.compile(p) for p in (marker.kwargs.get(kind, ()) if marker else ())]
+
+
+def unexpected(errors: list[str], patterns: list[re.Pattern[str]]) -> list[str]:
+    """The errors no pattern matches."""
+    return [e for e in errors if not any(p.search(e) for p in patterns)]
+
+
+class ServerLog(logging.Handler):
+    """Collects what an in-process server logs as a failure: records at ERROR or above, or with a traceback (Bokeh
+    and Panel log callback errors, periodic-callback errors and failed messages this way), and warnings that report
+    a failure (a HoloViews plot hook that raised). Attached to the root logger, to Bokeh's (which does not propagate
+    to the root when Bokeh installed its own handler) and to param's (HoloViews' warnings)."""
+
+    LOGGERS = ("", "bokeh", "param")
+
+    def __init__(self) -> None:
+        super().__init__(level=logging.DEBUG)
+        self.errors: list[str] = []
+        self._seen: set[int] = set()
+        self.setFormatter(logging.Formatter("%(name)s %(levelname)s: %(message)s"))
+
+    #: exceptions of a connection the browser closed (a test's page closing while the server still writes to it):
+    #: not the app's errors
+    DISCONNECTS = ("WebSocketClosedError", "StreamClosedError", "CancelledError")
+
+    #: warnings that report a failure all the same (HoloViews: a plot hook that raised)
+    FAILURE_WARNINGS = ("could not be applied", "Traceback")
+
+    def emit(self, record: logging.LogRecord) -> None:
+        failed_warning = record.levelno >= logging.WARNING and any(w in record.getMessage()
+                                                                   for w in self.FAILURE_WARNINGS)
+        if not (record.levelno >= logging.ERROR or record.exc_info or failed_warning) or id(record) in self._seen:
+            return
+        self._seen.add(id(record))
+        exc = record.exc_info[1] if record.exc_info else None
+        if exc is not None and type(exc).__name__ in self.DISCONNECTS:
+            return
+        if exc is None and any(name in record.getMessage() for name in self.DISCONNECTS):
+            return
+        self.errors.append(self.format(record))
+
+    def __enter__(self) -> ServerLog:
+        for name in self.LOGGERS:
+            logging.getLogger(name).addHandler(self)
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        for name in self.LOGGERS:
+            logging.getLogger(name).removeHandler(self)
+
+
 @pytest.fixture
-def served_app(free_port: int) -> Iterator[str]:
-    """Serve ``app.main.create_app`` on a background thread; yield its URL; stop it afterwards."""
+def server_log(request: pytest.FixtureRequest) -> Iterator[ServerLog]:
+    """The in-process server's errors while the test runs; the test fails at teardown on any it does not name as
+    expected (``expected_errors(server=...)``)."""
+    with ServerLog() as log:
+        yield log
+    errors = unexpected(log.errors, expected_errors(request, "server"))
+    if errors:
+        pytest.fail("the server logged errors:\n" + "\n\n".join(errors), pytrace=False)
+
+
+@pytest.fixture
+def served_app(free_port: int, server_log: ServerLog) -> Iterator[str]:
+    """Serve ``app.main.create_app`` on a background thread; yield its URL; stop it afterwards. The test fails on
+    any error the server logs meanwhile (:func:`server_log`)."""
     import panel as pn
 
     from app.main import create_app
@@ -205,22 +281,45 @@ def _browser():
             browser.close()
 
 
-@pytest.fixture
-def browser_page(_browser):
-    """A fresh Chromium page. Console errors and uncaught page errors are collected in
-    ``page.console_errors``; the test fails at teardown if there are any."""
-    context = _browser.new_context(viewport={"width": 1280, "height": 800})
-    page = context.new_page()
+def watch_errors(page) -> list[str]:
+    """Collect the page's console errors and uncaught page errors (BokehJS reports a failed update, e.g. an unknown
+    model reference, as one) into a list, also set as ``page.console_errors``."""
     errors: list[str] = []
     page.console_errors = errors
     page.on("console", lambda msg: errors.append(f"console.{msg.type}: {msg.text}") if msg.type == "error" else None)
     page.on("pageerror", lambda exc: errors.append(f"pageerror: {exc}"))
+    return errors
+
+
+@pytest.fixture
+def browser_context(_browser, request: pytest.FixtureRequest):
+    """A factory of fresh browser pages (each in its own context, e.g. a phone's): ``new_page(**context_options)``.
+    Every page's console and page errors are collected; the test fails at teardown on any it does not name as
+    expected (``expected_errors(browser=...)``)."""
+    contexts, all_errors = [], []
+
+    def new_page(**options):
+        context = _browser.new_context(**{"viewport": {"width": 1280, "height": 800}, **options})
+        contexts.append(context)
+        page = context.new_page()
+        all_errors.append(watch_errors(page))
+        return page
+
     try:
-        yield page
+        yield new_page
     finally:
-        context.close()
+        for context in contexts:
+            context.close()
+    errors = unexpected([e for errs in all_errors for e in errs], expected_errors(request, "browser"))
     if errors:
         pytest.fail("browser console errors:\n" + "\n".join(errors), pytrace=False)
+
+
+@pytest.fixture
+def browser_page(browser_context):
+    """A fresh Chromium page (1280 x 800). Console errors and uncaught page errors are collected in
+    ``page.console_errors``; the test fails at teardown on any it does not name as expected."""
+    return browser_context()
 
 
 def screenshot_path(name: str) -> Path:

@@ -29,6 +29,19 @@ def atlas_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return directory
 
 
+#: a finite-η atlas with every kind of boundary: undetermined (pole-dense) cells at small γ, certified thresholds and a
+#: refused sign change (a jump at Δ = 0.2)
+BOUNDARY_AXES = {"gamma": np.geomspace(0.1, 10, 9), "Delta": np.linspace(0.2, 1, 5)}
+BOUNDARY_FIXED = {"eta": 10.0, "xi": 1.0}
+
+
+@pytest.fixture(scope="module")
+def boundary_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    directory = tmp_path_factory.mktemp("boundary")
+    S.sweep(BOUNDARY_AXES, fixed=BOUNDARY_FIXED, kH=KH, store=directory / "boundary.zarr")
+    return directory
+
+
 @pytest.fixture
 def atlas_dir(atlas_store: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(atlas_store))
@@ -75,17 +88,25 @@ def test_slice_is_the_stored_cube_and_a_slice_change_calls_no_model_function(atl
         np.testing.assert_array_equal(heat.cells.data["image"][0], want)  # Bokeh's image: row 0 at the bottom
         assert heat.cells.data["x"][0] == pytest.approx(np.log10(0.3) - 1 / 7)
         assert heat.cells.data["dw"][0] == pytest.approx(2 + 2 / 7)
-        line = scene.gamma_c_line()
-        np.testing.assert_allclose(10 ** line[0], stored.gamma_c.isel(f=i).values, rtol=1e-15)  # γ_c(β)
-        np.testing.assert_array_equal(line[1], AXES["beta"])
-        np.testing.assert_array_equal(heat.gamma_c.data["x"], line[0])
+        drawn = _drawn_thresholds(heat)
+        stored_c = stored.gamma_c_crossing.isel(f=i).transpose("beta", "crossing").values
+        want = {(round(float(np.log10(g)), 12), float(b)) for b, row in zip(AXES["beta"], stored_c, strict=True)
+                for g in row[np.isfinite(row)]}
+        assert want and {(round(x, 12), y) for x, y in drawn} == want  # every certified γ_c(β), nothing else
     scene.x_axis, scene.y_axis = "f", "gamma"
     heat = _heat(scene)
     want = stored.growth.isel(beta=scene.indices["beta"]).values  # rows: gamma, columns: f
     np.testing.assert_array_equal(heat.cells.data["image"][0], want)
-    assert heat.gamma_c.data["y"].size == len(AXES["f"])  # γ on y: the γ_c(f) line
+    stored_c = stored.gamma_c_crossing.isel(beta=scene.indices["beta"]).values
+    assert len(_drawn_thresholds(heat)) == int(np.isfinite(stored_c).sum())  # γ on y: the γ_c(f) lines
     assert A.CALLS["load"] == 1  # read once; the slices come from memory
     assert [w.label for w in scene.sliders.objects] == ["β"]
+
+
+def _drawn_thresholds(heat: A.HeatMap) -> list[tuple[float, float]]:
+    """Every vertex of the drawn threshold lines (both directions), in plotted coordinates."""
+    return [(float(x), float(y)) for source in heat.thresholds.values()
+            for xs, ys in zip(source.data["xs"], source.data["ys"], strict=True) for x, y in zip(xs, ys, strict=True)]
 
 
 def test_neutral_curve_separates_the_signs(atlas_dir: Path) -> None:
@@ -122,7 +143,33 @@ def test_colours_are_the_legend_and_the_stability_map(atlas_dir: Path) -> None:
     stability_map = process_cmap("RdBu_r", len(mapper.palette))  # app/stability_map.py's colour map
     assert _rgb(stability_map[-1])[0] > _rgb(stability_map[-1])[2] and _rgb(stability_map[0])[2] > \
         _rgb(stability_map[0])[0]
-    assert A.COLOURS.startswith("Red: unstable, blue: stable")
+    assert A.COLOURS.startswith("Red: unstable (max growth > 0), blue: stable")
+
+
+def _lab(color: str) -> np.ndarray:
+    """CIE L*a*b* (D65) of an sRGB colour '#rrggbb'."""
+    c = np.array(_rgb(color)) / 255
+    lin = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    xyz = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]]) @ lin
+    t = xyz / np.array([0.95047, 1.0, 1.08883])
+    f = np.where(t > (6 / 29) ** 3, np.cbrt(t), t / (3 * (6 / 29) ** 2) + 4 / 29)
+    return np.array([116 * f[1] - 16, 500 * (f[0] - f[1]), 200 * (f[1] - f[2])])
+
+
+def test_not_computable_never_looks_like_nearly_neutral_growth() -> None:
+    """Item 9 of issue 23: the grey of 'not computable' must not look like the palette's centre (growth ~ 0) nor
+    like any other growth colour, in both heat maps (CIE76 colour difference; ~2 is just noticeable)."""
+    from holoviews.plotting.util import process_cmap
+
+    from app import common
+
+    palettes = {"atlas": list(common.GROWTH_PALETTE), "stability map": process_cmap(common.GROWTH_CMAP, 64)}
+    nan = _lab(common.NAN_COLOR)
+    for name, palette in palettes.items():
+        centre = palette[len(palette) // 2]
+        assert np.linalg.norm(nan - _lab(centre)) > 40, name
+        assert min(np.linalg.norm(nan - _lab(c)) for c in palette) > 20, name
+    assert "dark grey: not computable" in common.COLOUR_LEGEND and "white: nearly neutral" in common.COLOUR_LEGEND
 
 
 def test_click_sets_all_six_shared_parameters(atlas_dir: Path) -> None:
@@ -140,16 +187,43 @@ def test_click_sets_all_six_shared_parameters(atlas_dir: Path) -> None:
     assert not params.eta_infinite and params.log10_eta == pytest.approx(3.0) and params.gamma == pytest.approx(0.5)
 
 
-def test_surface_figure_is_the_neutral_isosurface(atlas_dir: Path) -> None:
+def test_neutral_surface_is_exact_for_a_linear_field_and_skips_masked_cells() -> None:
+    x, y, z = np.linspace(0, 1, 6), np.linspace(-1, 2, 7), np.geomspace(0.1, 3, 5)
+    X, Y, Z = np.meshgrid(x, y, z, indexing="ij")
+    field = 0.4 * X + 0.3 * Y - 0.5 * Z - 0.1234  # no grid value within MARGINAL of 0
+    vertices, triangles = A.neutral_surface(x, y, z, field)
+    assert len(triangles) > 20 and triangles.max() < len(vertices)
+    plane = 0.4 * vertices[:, 0] + 0.3 * vertices[:, 1] - 0.5 * vertices[:, 2] - 0.1234
+    np.testing.assert_allclose(plane, 0.0, atol=1e-12)  # linear interpolation on tetrahedron edges is exact here
+    # a masked grid point: no triangle in the eight cells around it (the boundary is not guessed there)
+    masked = field.copy()
+    masked[2, 3, 2] = np.nan
+    v2, t2 = A.neutral_surface(x, y, z, masked)
+    centroids = v2[t2].mean(axis=1)
+    around = ((centroids[:, 0] > x[1]) & (centroids[:, 0] < x[3]) & (centroids[:, 1] > y[2]) & (centroids[:, 1] < y[4])
+              & (centroids[:, 2] > z[1]) & (centroids[:, 2] < z[3]))
+    assert 0 < len(t2) < len(triangles) and not around.any()
+    assert len(A.neutral_surface(x, y, z, np.abs(field) + 1)[1]) == 0  # no sign change: no surface
+
+
+def test_surface_figure_is_the_neutral_surface_over_the_atlas_ranges(atlas_dir: Path) -> None:
     scene = A.AtlasScene(requested="small")
     scene.refresh()
     fig = scene.surface_figure()
-    iso = fig["data"][0]
-    assert iso["type"] == "isosurface" and iso["isomin"] == iso["isomax"] == 0.0
-    assert len(iso["x"]) == len(iso["value"]) == math.prod(len(v) for v in AXES.values())
-    stored = xr.open_zarr(atlas_dir / "small.zarr", consolidated=False).growth.values
-    np.testing.assert_array_equal(np.array(iso["value"], dtype=float), stored.ravel())
+    mesh = fig["data"][0]
+    assert mesh["type"] == "mesh3d" and len(mesh["x"]) > 0 and len(mesh["i"]) == len(mesh["x"]) // 3
+    stored = xr.open_zarr(atlas_dir / "small.zarr", consolidated=False).growth
+    assert (stored > 0).any() and (stored < 0).any()
+    shown = [np.log10(AXES["gamma"]), AXES["beta"], AXES["f"]]
+    for axis, values, coords in zip("xyz", shown, (mesh["x"], mesh["y"], mesh["z"]), strict=True):
+        lo, hi = fig["layout"]["scene"][f"{axis}axis"]["range"]
+        assert (lo, hi) == pytest.approx((values.min(), values.max()), rel=1e-12)  # the atlas's grid, not -1..1
+        assert lo - 1e-12 <= np.min(coords) and np.max(coords) <= hi + 1e-12
     assert fig["layout"]["scene"]["xaxis"]["title"]["text"] == "γ (log10)"
+    n_nan = int(np.isnan(stored.values).sum())
+    assert len(fig["data"]) == (2 if n_nan else 1)
+    if n_nan:
+        assert len(fig["data"][1]["x"]) == n_nan
     scene.surface_shown = True
     assert scene.surface_pane.object is not None
     scene.surface_axes = ["gamma", "beta"]
@@ -175,6 +249,74 @@ def test_default_atlas_is_computed_on_first_use(tmp_path: Path, monkeypatch: pyt
     assert again.data is not None and A.CALLS["default_sweep"] == 1
 
 
+def test_a_folder_the_server_cannot_write_is_explained_and_its_atlases_still_open(
+        atlas_store: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 26: a mounted atlas folder the server's user cannot write (simulated: tests run as root, who may write
+    anything) -> the tab says why the default atlas is not computed and how to fix it; the folder's atlases open."""
+    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(atlas_store))
+    monkeypatch.setattr(A, "_default_job", None)
+
+    def read_only(path, *args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(path))
+
+    monkeypatch.setattr(A, "open", read_only, raising=False)
+    scene = A.AtlasScene()
+    scene.refresh()
+    scene.start_default()
+    assert "is not writable by this server" in scene.status.object and "--atlas-dir" in scene.status.object
+    assert "Permission denied" in scene.status.object and "Traceback" not in scene.status.object
+    scene.atlas = "small"  # what the folder has still opens
+    assert scene.data is not None and scene.data.name == "small"
+    monkeypatch.setattr(A, "_default_job", None)
+
+
+def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 23 item 1: the tab is built while the default atlas does not exist yet (as on first use: the selects are
+    on the page, empty); when the computation ends, the poll opens it: the selects show the atlas and two different
+    axes, the sliders the other axes, and the heat map a 2-D slice -- without a reload."""
+    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
+    axes = {"gamma": np.geomspace(0.5, 10, 4), "eta": np.geomspace(2, 100, 3), "f": np.array([0.5, 0.9])}
+    monkeypatch.setattr(A, "DEFAULT_AXES", axes)
+    monkeypatch.setattr(A, "DEFAULT_KH", KH)
+    monkeypatch.setattr(A, "_default_job", None)
+    monkeypatch.setattr(A, "default_ready", lambda: False)
+    job = A._DefaultJob(totals={"growth": 24}, done={"growth": 5})
+    monkeypatch.setattr(A, "ensure_default", lambda: job)
+    scene = A.AtlasScene()
+    scene.__panel__()
+    assert scene.data is None and scene.x_select.value is None and scene.progress.visible
+    label, bar = scene.phases["growth"]
+    assert "Growth rates" in label.object and "5 of 24" in label.object and bar.value == 20
+    S.sweep(axes, kH=KH, store=tmp_path / f"{A.default_name()}.zarr")
+    monkeypatch.setattr(A, "default_ready", lambda: True)
+    job.done, job.finished = {"growth": 24}, True
+    scene._poll()
+    assert scene.data is not None and not scene.progress.visible
+    assert scene.atlas_select.value == A.default_name() and scene.atlas_select.options == [A.default_name()]
+    assert (scene.x_select.value, scene.y_select.value) == ("gamma", "eta")
+    assert [w.label for w in scene.sliders.objects] == ["f"]
+    heat = scene.heat_map()
+    assert scene.image_pane.object is heat.figure and heat.cells.data["image"][0].shape == (3, 4)
+
+
+def test_x_and_y_axes_cannot_be_the_same(atlas_dir: Path) -> None:
+    scene = A.AtlasScene(requested="small")
+    scene.refresh()
+    assert (scene.x_axis, scene.y_axis) == ("gamma", "beta")
+    assert "gamma" not in scene.y_select.options.values() and set(scene.y_select.options.values()) == {"beta", "f"}
+    scene.y_select.value = "f"  # the user picks another y
+    assert (scene.x_axis, scene.y_axis) == ("gamma", "f") and scene.heat_map().y_axis == "f"
+    scene.x_select.value = "f"  # x = the current y: the two swap
+    assert (scene.x_axis, scene.y_axis) == ("f", "gamma") and scene.y_select.value == "gamma"
+    assert "f" not in scene.y_select.options.values()
+    assert [w.label for w in scene.sliders.objects] == ["β"]
+    x, y, g = scene.slice2d()
+    assert g.shape == (y.size, x.size) == (len(AXES["gamma"]), len(AXES["f"]))
+    scene.param.update(x_axis="beta", y_axis="beta")  # forced from code: nothing is drawn for it
+    assert scene.heat_map() is None
+
+
 def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: Path,
                                                   monkeypatch: pytest.MonkeyPatch) -> None:
     import shutil
@@ -193,7 +335,7 @@ def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: P
     app = create_app({"tab": ["atlas"], "atlas": ["eta-gamma"]}).app
     assert app.tabs.active == TABS.index("atlas") and not app.messages.visible
     assert app.atlas.atlas == "eta-gamma" and app.atlas.data is not None  # built: the tab is the active one
-    assert "atlas=eta-gamma" in query_string(app.param_objects(), "atlas", app.atlas.atlas)
+    assert "atlas=eta-gamma" in query_string(app.param_objects(), "atlas", app.atlas.url_state())
     for bad in ("../eta-gamma", "/etc/passwd", "nope"):
         other = create_app({"tab": ["atlas"], "atlas": [bad]}).app
         assert other.messages.visible and "is not one of the atlases" in other.messages.object
@@ -252,3 +394,91 @@ def test_atlas_tab_in_the_browser(atlas_dir: Path, served_app: str, browser_page
     page.locator(".js-plotly-plot").first.wait_for(state="visible", timeout=60_000)  # rendered offline
     save_screenshot(page, "screenshot_atlas_3d.png", paint_ms=800)  # the 3-D plot's first paint
     # browser_page fails the test on any console error (e.g. plotly.js not served by this server)
+
+
+def test_a_shared_url_restores_the_atlas_view(atlas_dir: Path) -> None:
+    """Issue 23 item 10: the atlas, its heat-map axes, the other axes' values and the 3-D axes go into the URL, and
+    the URL brings them back; values that do not fit are reported and left as they were."""
+    import urllib.parse
+
+    from app.main import create_app
+    from app.urlstate import query_string
+
+    app = create_app({"tab": ["atlas"], "atlas": ["small"]}).app
+    scene = app.atlas
+    scene.x_select.value = "beta"  # the current y: the two swap
+    scene._set_index("f", 1)
+    scene.surface_axes = ["f", "beta", "gamma"]
+    query = query_string(app.param_objects(), "atlas", scene.url_state())
+    args = urllib.parse.parse_qs(query[1:])
+    assert args["atlas"] == ["small"] and args["ax"] == ["beta"] and args["ay"] == ["gamma"]
+    assert float(args["at_f"][0]) == pytest.approx(AXES["f"][1]) and args["surface"] == ["f,beta,gamma"]
+    again = create_app(args).app
+    restored = again.atlas
+    assert not again.messages.visible
+    assert (restored.atlas, restored.x_axis, restored.y_axis) == ("small", "beta", "gamma")
+    assert restored.indices["f"] == 1 and restored.surface_axes == ["f", "beta", "gamma"]
+    assert query_string(again.param_objects(), "atlas", restored.url_state()) == query
+    odd = create_app({"tab": ["atlas"], "atlas": ["eta-gamma"], "ax": ["beta"], "at_f": ["0.5"],
+                      "at_gamma": ["x"], "ay": ["../x"]}).app
+    assert "at_gamma = 'x' is not a finite number" in odd.messages.object and "ay = '../x'" in odd.messages.object
+    assert (odd.atlas.x_axis, odd.atlas.y_axis) == ("eta", "gamma")  # the atlas's own axes
+    assert "x axis beta is not an axis of atlas eta-gamma" in odd.atlas.message
+
+
+def test_undetermined_cells_are_hatched_with_their_reason_and_every_crossing_is_drawn(
+        boundary_store: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 24: the heat map hatches the undetermined cells (a pole-dense one tells so on hover), draws every certified
+    crossing by direction and marks the refused sign changes; the readouts count them."""
+    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(boundary_store))
+    stored = xr.open_zarr(boundary_store / "boundary.zarr", consolidated=False)
+    scene = A.AtlasScene(requested="boundary")
+    scene.refresh()
+    assert (scene.x_axis, scene.y_axis) == ("gamma", "Delta")
+    heat = _heat(scene)
+    verdict = stored.verdict.transpose("Delta", "gamma").values  # rows: Delta (y), columns: gamma (x)
+    reason = stored.verdict_reason.transpose("Delta", "gamma").values
+    undetermined = verdict == 2
+    assert undetermined.any() and (verdict != 2).any()
+    drawn = set(zip(np.round(heat.undetermined.data["x"], 12), np.round(heat.undetermined.data["y"], 12), strict=True))
+    gx, dy = np.meshgrid(np.log10(BOUNDARY_AXES["gamma"]), BOUNDARY_AXES["Delta"])
+    assert drawn == set(zip(np.round(gx[undetermined], 12), np.round(dy[undetermined], 12), strict=True))
+    pole_dense = {model.VERDICT_STATUS[int(c)].split(": ")[1] for c in reason[undetermined]}
+    assert pole_dense == {"pole-dense"} and set(heat.undetermined.data["why"]) == {"pole-dense"}
+    # every certified crossing, with its direction; the refused ones as markers
+    crossing = stored.gamma_c_crossing.values  # (Delta, crossing)
+    direction = stored.gamma_c_direction.values
+    for sign in (1, -1):
+        want = {(round(float(np.log10(g)), 12), float(d)) for d, row, dirs in
+                zip(BOUNDARY_AXES["Delta"], crossing, direction, strict=True) for g, s in zip(row, dirs, strict=True)
+                if np.isfinite(g) and s == sign}
+        source = heat.thresholds[sign].data
+        got = {(round(float(x), 12), float(y)) for xs, ys in zip(source["xs"], source["ys"], strict=True)
+               for x, y in zip(xs, ys, strict=True)}
+        assert got == want
+    assert heat.thresholds[1].data["xs"], "no destabilising threshold drawn"
+    reasons = stored.gamma_c_crossing_reason.values
+    refused = (reasons >= 0) & ~np.isin(reasons, (0, 1))
+    assert refused.any()
+    np.testing.assert_allclose(10 ** np.asarray(heat.refused.data["x"]), stored.gamma_c_location.values[refused])
+    assert set(heat.refused.data["why"]) == {A.REFUSED_CROSSING[int(r)] for r in reasons[refused]}
+    # legend: what the slice has, nothing else (no older-atlas γ_c entry, no stabilising one here)
+    shown = {item.label["value"] for item in heat.figure.legend[0].items if item.visible}
+    assert "undetermined (hatched)" in shown and "γ_c: unstable above (certified)" in shown
+    assert "sign change, not a threshold" in shown
+    assert not any("older atlas" in label for label in shown)
+    assert "γ_c: stable above (certified)" not in shown
+    # readouts
+    assert f"undetermined (hatched) {int(undetermined.sum())}" in scene.slice_readout()
+    text = scene.readout()
+    assert f"certified (stable or unstable) at {int((verdict != 2).sum())} of {verdict.size} points" in text
+    assert f"pole-dense {int(undetermined.sum())}" in text
+    assert "refused (×, not thresholds): a jump: the branch changes route (branch exchange) 1" in text
+    # the CSV has the verdict and its reason per point
+    lines = scene.csv().getvalue().splitlines()
+    header = next(line for line in lines if not line.startswith("#"))
+    assert "verdict" in header.split(",") and "verdict_reason" in header.split(",")
+
+
+def test_refused_crossing_labels_are_model_codes() -> None:
+    assert set(A.REFUSED_CROSSING) <= set(model.CROSSING_STATUS) - {0, 1}

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import pytest
 
+from app.all_branches import AllBranchesScene
 from app.params import (
     Choice,
     LabParams,
@@ -17,23 +18,29 @@ from app.params import (
     physical_parameters,
 )
 from app.spectrum import FAMILY
-from app.stability_map import PLANES
+from app.stability_map import PLANES, StabilityMapScene
 from app.urlstate import QUERY, TARGETS, parse_query
 
 CLASSES = (("spectrum", SpectrumParams), ("thin", ThinOnThickParams), ("lab", LabParams), ("rupture", RuptureParams))
+#: scenes whose own settings are in the URL too (issue 23 item 10: the map's plane and resolution, the All-branches
+#: kH and window)
+SCENES = (("map", StabilityMapScene), ("branches", AllBranchesScene))
 
 
 def test_every_url_key_is_a_declared_parameter_with_its_range_and_symbol() -> None:
-    assert tuple(TARGETS.items()) == CLASSES
-    declared = [(target, name, p) for target, cls in CLASSES for name, p in declared_parameters(cls).items() if p.url]
+    assert tuple(TARGETS.items()) == CLASSES + SCENES
+    declared = [(target, name, p) for target, cls in CLASSES + SCENES for name, p in declared_parameters(cls).items()
+                if p.url]
     assert [q.key for q in QUERY] == [p.url for _, _, p in declared]
     assert len({q.key for q in QUERY}) == len(QUERY)
     for q, (target, name, p) in zip(QUERY, declared, strict=True):
         assert (q.target, q.attribute, q.symbol) == (target, name, p.label)
         if isinstance(p, Physical):
-            assert (q.kind, q.log10, q.infinite, (q.lo, q.hi)) == ("number", p.log10, p.infinite, p.physical_bounds())
+            bounds = p.physical_bounds() if p.bounds is not None else (float("-inf"), float("inf"))
+            assert (q.kind, q.log10, q.infinite, (q.lo, q.hi)) == ("number", p.log10, p.infinite, bounds)
         elif isinstance(p, Choice):
-            assert (q.kind, q.choices) == ("choice", tuple(p.objects))
+            words = tuple((p.words or {}).get(o, o) for o in p.objects)
+            assert (q.kind, q.choices, q.words) == ("choice", tuple(p.objects), words)
         else:
             assert isinstance(p, Switch) and q.kind == "switch"
 
@@ -90,3 +97,41 @@ def test_symbols_and_meanings_come_from_the_model() -> None:
     for name in SpectrumParams.MODEL_ARGS:
         decl, p = SpectrumParams.declaration(name), model.PARAMETERS[name]
         assert decl.label == p.symbol and decl.doc.startswith(p.description)
+
+
+def test_sliders_show_as_many_decimals_as_their_step() -> None:
+    """Issue 23 item 12: the c/c_R slider read "1" at 0.996."""
+    from app.params import decimals
+
+    assert [decimals(s) for s in (1.0, 0.5, 0.1, 0.01, 0.005, 0.001)] == [0, 1, 1, 2, 3, 3]
+    w = RuptureParams().make_widgets()
+    assert w["c_over_cR"].format == "0.000" and (w["c_over_cR"].start, w["c_over_cR"].end) == (0.01, 0.999)
+    assert SpectrumParams().make_widgets()["beta"].format == "0.000"
+
+
+def test_the_eta_slider_reads_infinity_while_eta_is_infinite() -> None:
+    """Issue 23 item 12: with η = ∞ ticked the slider still read 1.00e+8 (its last finite value)."""
+    p = SpectrumParams()
+    w = p.make_widgets()
+    assert w["log10_eta"].disabled and w["log10_eta"].format.code == "return '∞'"
+    w["eta_infinite"].checked = False
+    assert not p.eta_infinite and not w["log10_eta"].disabled
+    assert "Math.pow(10, tick)" in w["log10_eta"].format.code  # the finite value again
+    p.eta_infinite = True
+    assert w["eta_infinite"].value == ["η = ∞"] and w["log10_eta"].format.code == "return '∞'"
+
+
+def test_references_to_the_physics_notes_open_their_section() -> None:
+    """Issue 23 item 12: "docs/physics.md §12.3" was text, not something to follow. Each such reference in a scene is
+    a card that opens on that section."""
+    from app import all_branches, lab, rupture
+    from app.docs import reference_card, section
+
+    for text, number in ((lab.ASSUMPTION, "12.3"), (rupture.ASSUMPTIONS, "13.1"), (all_branches.HELP, "3")):
+        assert f"docs/physics.md §{number}" in text
+        title, body = section(number)
+        card = reference_card(number)
+        assert card.title == f"docs/physics.md §{number}: {title}" and card.collapsed and not card.objects
+        card.collapsed = False
+        assert card.objects[0].object == body and len(body) > 200
+    assert "Dieterich" in section("12.3")[1] or "rate-and-state" in section("12.3")[1].lower()

@@ -64,13 +64,43 @@ def test_values_are_parsed_with_float_only() -> None:
 
 
 def test_good_query_sets_every_parameter_and_tab() -> None:
-    query = "gamma=4.5&f=0.6&beta=0.25&eta=20&Delta=0.5&xi=2&kW=0.7&nu=0.25&c_s=1000&rho=2000&sigma0=3&tab=branches"
+    query = ("gamma=4.5&f=0.6&beta=0.25&eta=20&Delta=0.5&xi=2&kW=0.7&nu=0.25&lab_cs=1000&lab_rho=2000&lab_sigma0=3"
+             "&map=f-gamma&map_res=fine&kH=0.8&re_max=3&im_min=0.001&im_max=1.5&tab=branches")
     app = create_app(_args(query)).app
-    p, t = app.spectrum_params, app.thin_params
+    p, t, lab = app.spectrum_params, app.thin_params, app.lab_params
     assert not app.messages.visible
     assert p.model_args() == pytest.approx((4.5, 0.6, 0.25, 20.0, 0.5, 2.0), rel=1e-14)
-    assert (t.kW, t.nu, t.c_s, t.rho, t.sigma0_MPa) == pytest.approx((0.7, 0.25, 1000.0, 2000.0, 3.0), rel=1e-14)
+    assert (t.kW, t.nu, lab.c_s, lab.rho, lab.sigma0_MPa) == pytest.approx((0.7, 0.25, 1000.0, 2000.0, 3.0), rel=1e-14)
+    assert (app.map.plane, app.map.resolution) == ("f-γ", "fine")
+    b = app.branches
+    assert (10**b.log10_kH, b.re_max, b.im_min, b.im_max) == pytest.approx((0.8, 3.0, 1e-3, 1.5), rel=1e-12)
     assert app.tabs.active == TABS.index("branches")
+
+
+def test_old_links_with_the_material_of_thin_on_thick_or_rupture_fronts_still_work() -> None:
+    """The page has one set of material constants (the Lab-units panel's); the keys of the former copies in the
+    Thin-on-thick and Rupture-fronts scenes set it."""
+    app = create_app(_args("c_s=1000&rho=2000&sigma0=3&rup_material=Homalite-100")).app
+    lab = app.lab_params
+    assert not app.messages.visible
+    assert (lab.material, lab.c_s, lab.rho, lab.sigma0_MPa) == ("custom", 1000.0, 2000.0, 3.0)
+    assert app.thin.stress_key[2:] == (1000.0, 2000.0, 3e6) and app.rupture.front_key[3:5] == (2000.0, 1000.0)
+    homalite = create_app(_args("rup_material=Homalite-100")).app
+    assert homalite.lab_params.material == "Homalite-100" and homalite.rupture_params.nu == 0.35
+
+
+def test_url_shows_only_what_was_used_and_reports_what_the_model_refuses() -> None:
+    """Issue 23 item 10: c/c_R = 1.5 is clamped with a message (it was a red error box), a negative height is in the
+    banner (the lab panel, folded, was the only place that said so), thin-on-thick defaults are not written."""
+    app = create_app(_args("c_cR=1.5&H1=-5&tab=rupture")).app
+    text = app.messages.object
+    assert "c/c_R = 1.5 is outside 0.01 … 0.999: set to 0.999" in text
+    assert "the lab values are not valid" in text and "H1 must be in (0, inf) m" in text
+    assert app.rupture_params.c_over_cR == 0.999 and not app.rupture.errors()
+    q = _args(query_string(app.param_objects(), "rupture")[1:])
+    assert q["c_cR"] == ["0.999"] and q["H1"] == ["-5"]
+    default = _args(query_string(create_app({}).app.param_objects(), "spectrum")[1:])
+    assert not {"kW", "nu", "map", "map_res", "kH", "re_max", "im_min", "im_max"} & set(default)
 
 
 def test_query_string_round_trip() -> None:
@@ -81,8 +111,9 @@ def test_query_string_round_trip() -> None:
     assert again.spectrum_params.model_args() == pytest.approx(app.spectrum_params.model_args(), rel=1e-5)
     assert again.thin_params.kW == pytest.approx(12.0, rel=1e-5)
     assert again.tabs.active == TABS.index("map")
-    # every key of the spectrum and thin-on-thick parameters is written; lab and rupture keys only when changed
-    assert {q.key for q in QUERY if q.target in ("spectrum", "thin")} - {"xi"} <= set(_args(query[1:]))
+    # every key of the spectrum parameters is written; the others only when changed
+    assert {q.key for q in QUERY if q.target == "spectrum"} - {"xi"} <= set(_args(query[1:]))
+    assert {"kW"} == {q.key for q in QUERY if q.target == "thin"} & set(_args(query[1:]))
 
 
 def test_eta_infinite_is_written_as_inf_and_xi_omitted_at_delta_one() -> None:
@@ -121,7 +152,7 @@ def test_preset_sets_values_family_and_tab(preset) -> None:
     if preset.compare_key == "kW":
         assert app.thin.compare_kW == list(preset.compare_values)
     elif preset.tab == "rupture":
-        assert app.rupture_params.material == "PMMA"  # the paper's values are the PMMA preset's
+        assert app.lab_params.material == "PMMA"  # the paper's values are the PMMA preset's (shared material)
     else:
         assert app.spectrum.compare_values == list(preset.compare_values)
     assert preset.label in app.preset_info.object
@@ -171,14 +202,24 @@ def _read_csv(buffer: io.StringIO) -> tuple[list[str], np.ndarray]:
 
 
 def test_spectrum_csv_equals_the_plotted_data() -> None:
+    """One CSV per plot (issue 23 item 12: one button served three plots), each with what the plot shows, the
+    preset's family of curves included."""
     scene = sp.SpectrumScene()
-    names, data = _read_csv(scene.csv())
+    scene.param.update(compare_key="gamma", compare_values=[2.0, 10.0])
     d = scene.data()
-    assert names[:3] == ["kH", "Re_z", "Im_z"]
-    np.testing.assert_array_equal(data[:, 0], d["kH"])
-    np.testing.assert_array_equal(data[:, 1], d["z"].real)
-    np.testing.assert_array_equal(data[:, 2], d["z"].imag)
-    np.testing.assert_array_equal(data[:, names.index("status")], d["status"])
+    for csv, part, name in ((scene.csv_growth, "imag", "Im_z"), (scene.csv_phase, "real", "Re_z")):
+        names, data = _read_csv(csv())
+        assert names[:2] == ["kH", name] and names[-2:] == [f"{name}(gamma=2.0)", f"{name}(gamma=10.0)"]
+        np.testing.assert_array_equal(data[:, 0], d["kH"])
+        np.testing.assert_array_equal(data[:, 1], getattr(d["z"], part))
+        np.testing.assert_array_equal(data[:, names.index("status")], d["status"])
+        np.testing.assert_array_equal(data[:, -1], getattr(model.spectrum(d["kH"], gamma=10.0, f=0.9, beta=0.3), part))
+    names, data = _read_csv(scene.csv_gy())
+    assert names == ["kH", "G_y_at_z_R"]
+    z_r = float(model.rayleigh_speed(0.3))
+    np.testing.assert_array_equal(data[:, 1], np.real(model.response_functions(np.full(d["kH"].shape, z_r), d["kH"],
+                                                                                beta=0.3, eta=math.inf)[1]))
+    assert "criterion level" in scene.csv_gy().getvalue().splitlines()[0]
 
 
 def test_thin_on_thick_csv_equals_the_plotted_data() -> None:

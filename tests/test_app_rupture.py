@@ -17,7 +17,7 @@ import pytest
 
 import model
 from app.main import create_app
-from app.params import CUSTOM, RuptureParams
+from app.params import CUSTOM, LabParams, RuptureParams, follow_material
 from app.rupture import C_RATIO, CALLS, PROFILE_GRID, RuptureScene
 from app.urlstate import TABS, query_string
 from tests.conftest import open_app, save_screenshot
@@ -80,18 +80,27 @@ def test_a_change_recomputes_only_what_depends_on_it(change: dict, delta: dict) 
     scene = RuptureScene()
     _render_all(scene)
     before = _counts()
-    scene.params.param.update(**change)
+    _set(scene, change)
     _render_all(scene)
     after = _counts()
     assert {k: after[k] - before[k] for k in after if after[k] != before[k]} == delta
 
 
 def test_the_paper_inputs_are_the_defaults() -> None:
-    p = RuptureParams()
-    assert (p.Gamma, p.X_c0_mm * 1e-3, p.sigma0_MPa * 1e6, p.rho, p.c_s, p.nu) == pytest.approx(
+    """Γ, X_c0, ν and kW are the scene's; ρ, c_s and σ₀ the page's shared material constants (the Lab-units
+    panel's), whose defaults are the paper's PMMA values too."""
+    p, m = RuptureParams(), LabParams()
+    assert (p.Gamma, p.X_c0_mm * 1e-3, m.sigma0_MPa * 1e6, m.rho, m.c_s, p.nu) == pytest.approx(
         (P.Gamma, P.X_c0, P.sigma0, P.rho, P.c_s, P.nu), rel=1e-15)
-    assert (p.kW1, p.kW2, p.kW3) == P.kW and p.material == "PMMA"
-    assert RuptureScene().params.material == "PMMA"  # PMMA's preset gives the paper's nu = 0.33
+    assert (p.kW1, p.kW2, p.kW3) == P.kW and m.material == "PMMA"
+    assert RuptureParams.material_nu("PMMA") == P.nu  # PMMA's preset gives the paper's nu = 0.33
+
+
+def _set(scene: RuptureScene, change: dict) -> None:
+    """Set `change` on the scene's own parameters or on the shared material constants, whichever has it."""
+    own = {k: v for k, v in change.items() if k in scene.params.param}
+    scene.params.param.update(**own)
+    scene.material.param.update(**{k: v for k, v in change.items() if k not in own})
 
 
 # --------------------------------------------------------------------------------------------
@@ -204,9 +213,6 @@ def _message(scene: RuptureScene) -> str:
 
 
 @pytest.mark.parametrize(("change", "needles", "empty"), [
-    ({"c_over_cR": 1.0}, ["c/c_R = 1: c must be in (0, c_R)"], ["profile"]),
-    ({"c_over_cR": 1.2}, ["c/c_R = 1.2: c must be in (0, c_R)", "c_R = 1236.1"], ["profile"]),
-    ({"c_over_cR": 0.0}, ["c must be in (0, inf)"], ["profile"]),
     ({"nu": 0.7}, ["nu must be in (-1, 0.5); got 0.7"], ["profile", "vm", "stress"]),
     ({"nu": -1.5}, ["nu must be in (-1, 0.5); got -1.5"], ["profile", "vm", "stress"]),
     ({"nu": -0.2}, ["Eq. dsigma (thin-on-thick): nu must be in [0, 0.5)"], ["stress"]),  # the slip model is fine
@@ -219,7 +225,7 @@ def test_bad_input_is_a_message_and_the_session_keeps_working(change: dict, need
                                                                empty: list[str]) -> None:
     scene = RuptureScene()
     _render_all(scene)
-    scene.params.param.update(**change)
+    _set(scene, change)
     _render_all(scene)  # no exception
     text = _message(scene)
     for needle in needles:
@@ -233,20 +239,34 @@ def test_bad_input_is_a_message_and_the_session_keeps_working(change: dict, need
     if "profile" in empty:
         assert "see the message above" in scene.readout()
     # back to good values: everything is drawn again and the message is gone
-    scene.params.param.update(**{k: RuptureParams.param[k].default for k in change})
+    _set(scene, {k: (RuptureParams.param[k] if k in RuptureParams.param else LabParams.param[k]).default
+                 for k in change})
     assert scene.errors() == {}
     assert not isinstance(scene.messages(), pn.pane.Alert)
     assert len(_el(scene.profile_dmap[()], hv.Curve, "v(x)")) == PROFILE_GRID.size
+
+
+def test_c_over_c_R_cannot_leave_the_models_range() -> None:
+    """0 < c < c_R: the slider and the URL stop at 0.999 (a URL's 1.5 is clamped with a message, see test_app_main);
+    the curves (b)-(d) reach that end, so the current-speed markers lie on them."""
+    with pytest.raises(ValueError):
+        RuptureParams(c_over_cR=1.0)
+    scene = RuptureScene(params=RuptureParams(c_over_cR=0.999))
+    _render_all(scene)
+    assert scene.errors() == {} and C_RATIO[-1] >= 0.999
+    (curve,) = [e for e in scene.vm_dmap[()] if isinstance(e, hv.Curve)]
+    assert curve.dimension_values(0).max() >= scene.params.c_over_cR
 
 
 def test_bad_input_in_the_app_keeps_the_session_working() -> None:
     app = create_app({"c_cR": ["1.5"], "rup_nu": ["0.9"], "rup_material": ["unobtainium"], "tab": ["rupture"]}).app
     assert app.tabs.active == TABS.index("rupture")
     assert "Material = 'unobtainium' is not one of PMMA" in app.messages.object  # the URL message
+    assert "c/c_R = 1.5 is outside 0.01 … 0.999: set to 0.999" in app.messages.object
+    assert "nu must be in (-1, 0.5); got 0.9" in app.messages.object  # the model's refusal, in the banner too
     text = _message(app.rupture)
     assert "nu must be in (-1, 0.5); got 0.9" in text
     app.rupture_params.nu = 0.33
-    assert "c/c_R = 1.5: c must be in (0, c_R)" in _message(app.rupture)
     app.rupture_params.c_over_cR = 0.9
     assert app.rupture.errors() == {}
     assert "**v_m** = 1.129 m/s" in app.rupture.readout()
@@ -254,13 +274,31 @@ def test_bad_input_in_the_app_keeps_the_session_working() -> None:
 
 def test_material_preset_fills_rho_cs_nu() -> None:
     scene = RuptureScene()
-    scene.params.material = "Homalite-100"
-    assert (scene.params.rho, scene.params.c_s, scene.params.nu) == (1230.0, 1200.0, 0.35)  # the source's nu
-    scene.params.material = "fused silica"
+    follow_material(scene.material)  # as the Lab-units panel does on the page
+    scene.material.material = "Homalite-100"
+    assert (scene.material.rho, scene.material.c_s, scene.params.nu) == (1230.0, 1200.0, 0.35)  # the source's nu
+    scene.material.material = "fused silica"
     silica = model.material("fused silica")
     assert scene.params.nu == pytest.approx(silica.nu, rel=1e-15)  # none reported: from the speeds
-    scene.params.nu = 0.2
-    assert scene.params.material == CUSTOM
+    scene.material.rho = 2000.0
+    assert scene.material.material == CUSTOM and scene.front_key[3] == 2000.0
+
+
+def test_one_set_of_material_constants_for_the_whole_page() -> None:
+    """Issue 23 item 12: c_s, ρ and σ₀ had three unsynced copies (lab panel, Thin-on-thick, Rupture fronts); now a
+    change in any tab's widget changes them everywhere, and each tab says which values it uses."""
+    app = create_app({}).app
+    thin_widgets = {w.label: w for w in app.thin.__panel__().objects[0] if isinstance(w, pn.widgets.Widget)}
+    rupture_widgets = {w.label: w for w in app.rupture.__panel__().objects[0] if isinstance(w, pn.widgets.Widget)}
+    thin_widgets["c_s [m/s]"].value = 1000.0
+    rupture_widgets["σ₀ [MPa]"].value = 3.0
+    assert (app.lab_params.c_s, app.lab_params.sigma0_MPa) == (1000.0, 3.0)
+    assert app.thin.stress_key[2] == 1000.0 and app.thin.stress_key[4] == 3e6
+    assert app.rupture.front_key[4] == 1000.0 and app.rupture.stress_key[0] == 3e6
+    assert rupture_widgets["c_s [m/s]"].value == 1000.0 and thin_widgets["σ₀ [MPa]"].value == 3.0
+    assert app.lab.key[1] == 1000.0 and app.lab.key[3] == 3e6
+    for readout in (app.thin.readout(), app.rupture.readout()):
+        assert "**Lab values used** (shared): custom, ρ = 1180 kg/m³, c_s = 1000 m/s, σ₀ = 3 MPa" in readout
 
 
 # --------------------------------------------------------------------------------------------
@@ -269,11 +307,11 @@ def test_material_preset_fills_rho_cs_nu() -> None:
 
 
 def test_url_round_trip_of_the_rupture_keys() -> None:
-    query = "c_cR=0.97&Gamma=2&Xc0=1.5&rup_sigma0=3&rup_material=Homalite-100&kW1=2&kW3=8&tab=rupture"
+    query = "c_cR=0.97&Gamma=2&Xc0=1.5&lab_sigma0=3&material=Homalite-100&kW1=2&kW3=8&tab=rupture"
     app = create_app(urllib.parse.parse_qs(query)).app
-    p = app.rupture_params
+    p, m = app.rupture_params, app.lab_params
     assert not app.messages.visible
-    assert (p.c_over_cR, p.Gamma, p.X_c0_mm, p.sigma0_MPa, p.material, p.rho, p.nu, p.kW1, p.kW2, p.kW3) == (
+    assert (p.c_over_cR, p.Gamma, p.X_c0_mm, m.sigma0_MPa, m.material, m.rho, p.nu, p.kW1, p.kW2, p.kW3) == (
         0.97, 2.0, 1.5, 3.0, "Homalite-100", 1230.0, 0.35, 2.0, 4.0, 8.0)
     written = query_string(app.param_objects(), "rupture")
     assert "kW2" not in written  # unchanged values are not written
@@ -289,7 +327,7 @@ def test_preset_restores_the_papers_inputs() -> None:
     app.apply_preset(preset)
     p = app.rupture_params
     assert app.tabs.active == TABS.index("rupture")
-    assert (p.Gamma, p.nu, p.c_over_cR, p.material) == (1.1, 0.33, 0.9, "PMMA")
+    assert (p.Gamma, p.nu, p.c_over_cR, app.lab_params.material) == (1.1, 0.33, 0.9, "PMMA")
     assert not math.isnan(app.rupture.front()["v_m"])
 
 

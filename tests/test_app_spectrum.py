@@ -166,7 +166,7 @@ def test_widgets_are_throttled_and_xi_disabled_when_delta_is_one() -> None:
     assert p.gamma == 7.0
     _release(w["Delta"], 0.5)
     assert p.Delta == 0.5 and not w["xi"].disabled
-    w["eta_infinite"].value = False
+    w["eta_infinite"].checked = False
     assert not p.eta_infinite and not w["log10_eta"].disabled
     p.beta = 0.4  # programmatic changes show in the widget
     assert w["beta"].value == 0.4
@@ -252,3 +252,31 @@ def test_plots_are_rendered_at_once_outside_a_server_session() -> None:
     scene = SpectrumScene()
     panes = [p for p in scene.__panel__().select(pn.pane.HoloViews)]
     assert [p.object for p in panes] == [scene.im_dmap, scene.re_dmap, scene.gy_dmap]
+
+
+def test_the_legend_lists_the_unstable_band_only_when_there_is_one() -> None:
+    """Issue 23 item 12: the legend listed "unstable band" at stable parameters too."""
+    from bokeh.document import Document
+
+    scene = SpectrumScene()
+    plot = hv.renderer("bokeh").get_plot(scene.im_dmap, doc=Document())
+
+    def band_item_visible() -> bool:
+        (item,) = [i for legend in plot.state.legend for i in legend.items if i.label.value == "unstable band"]
+        return item.visible
+
+    assert np.isfinite(scene.data()["kH_min"]) and band_item_visible()  # the paper's defaults: unstable
+    scene.params.gamma = 1.0  # below the threshold 2.41: stable, no band
+    assert not np.isfinite(scene.data()["kH_min"]) and not band_item_visible()
+    scene.params.gamma = 5.0
+    assert band_item_visible()
+
+
+def test_a_maximum_at_the_end_of_the_kh_range_is_not_called_a_maximum() -> None:
+    """Issue 23 item 12: "Max growth ... at kH = 0.001" was the grid's edge, not a maximum."""
+    scene = SpectrumScene(params=SpectrumParams(gamma=1.0, eta_infinite=False, log10_eta=1.0))
+    d = scene.data()
+    assert d["kH_at_max"] == pytest.approx(sp.KH[0])  # stable (η = 10): Im z largest at the smallest kH computed
+    text = scene.readout()
+    assert "**Largest growth on the range**" in text and "not a maximum" in text and "**Max growth**" not in text
+    assert "**Max growth**" in SpectrumScene().readout()

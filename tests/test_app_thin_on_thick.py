@@ -13,6 +13,7 @@ import pytest
 
 import model
 from app import thin_on_thick as tt
+from app.params import LabParams
 from app.thin_on_thick import CALLS, KW, ThinOnThickParams, ThinOnThickScene
 from tests.conftest import open_app, save_screenshot, set_slider
 
@@ -57,7 +58,7 @@ def test_material_inputs_recompute_only_the_stress_line(name: str, value: float)
     scene = ThinOnThickScene()
     _render_all(scene)
     before = dict(CALLS)
-    setattr(scene.params, name, value)
+    setattr(scene.material, name, value)  # the page's shared material constants (the Lab-units panel's)
     _render_all(scene)
     assert CALLS["compute_stress_line"] == before["compute_stress_line"] + 1
     for key in ("compute_moduli_curve", "compute_point", "compute_gy_curve", "thin_on_thick_response",
@@ -134,8 +135,8 @@ def test_gy_plot_equals_model(kW: float, nu: float) -> None:
 @pytest.mark.parametrize("c_s, rho, sigma0_MPa, kW", [(1345.0, 1180.0, 4.5, 5.0), (1000.0, 1180.0, 4.5, 5.0),
                                                       (1500.0, 900.0, 2.0, 3.0)])
 def test_stress_plot_equals_model(c_s: float, rho: float, sigma0_MPa: float, kW: float) -> None:
-    p = ThinOnThickParams(log10_kW=math.log10(kW), c_s=c_s, rho=rho, sigma0_MPa=sigma0_MPa)
-    scene = ThinOnThickScene(params=p)
+    p = ThinOnThickParams(log10_kW=math.log10(kW))
+    scene = ThinOnThickScene(params=p, material=LabParams(c_s=c_s, rho=rho, sigma0_MPa=sigma0_MPa))
     kW = p.kW
     curve = _el(scene.stress_dmap[()], hv.Curve, "Δσ_yy/σ₀")
     assert [d.name for d in curve.dimensions()] == ["v [m/s]", "Δσ_yy/σ₀"]
@@ -148,7 +149,7 @@ def test_stress_plot_equals_model(c_s: float, rho: float, sigma0_MPa: float, kW:
 
 
 def test_readout_shows_model_values() -> None:
-    scene = ThinOnThickScene(params=ThinOnThickParams(log10_kW=math.log10(50.0), c_s=1000.0))
+    scene = ThinOnThickScene(params=ThinOnThickParams(log10_kW=math.log10(50.0)), material=LabParams(c_s=1000.0))
     text = scene.readout()
     excess = float(model.effective_modulus_excess(50.0, 0.33))
     assert f"{excess:.6e}" in text  # exact even where it is tiny
@@ -193,15 +194,13 @@ def test_widget_labels_and_throttling() -> None:
     p = ThinOnThickParams()
     w = p.make_widgets()
     assert w["log10_kW"].label == "kW" and w["nu"].label == "ν"
-    assert [w[n].label for n in ("c_s", "rho", "sigma0_MPa")] == ["c_s [m/s]", "ρ [kg/m³]", "σ₀ [MPa]"]
+    assert set(w) == {"log10_kW", "nu"}  # c_s, ρ, σ₀: the shared material constants (test_app_rupture)
     assert (w["log10_kW"].start, w["log10_kW"].end) == (-2, 2)
     assert (w["nu"].start, w["nu"].end, w["nu"].value) == (0.0, 0.49, 0.33)
     w["log10_kW"].value = 1.0  # dragging (not released) does not change the parameter
     assert p.kW == 5.0
     _release(w["log10_kW"], 1.0)
     assert p.kW == 10.0
-    w["rho"].value = 1000.0
-    assert p.rho == 1000.0
     p.nu = 0.2
     assert w["nu"].value == 0.2
 
@@ -249,3 +248,13 @@ def test_kW_slider_updates_the_gy_curve(served_app: str, browser_page) -> None:
     np.testing.assert_allclose(after, model.thin_on_thick_response(z, 1.0, nu=0.33)[1].real, rtol=1e-12, atol=0)
     save_screenshot(page, "thin_on_thick.png")
     assert page.console_errors == []
+
+
+def test_shared_lab_values_the_model_refuses_are_a_message() -> None:
+    scene = ThinOnThickScene(material=LabParams(c_s=-5.0))
+    _render_all(scene)
+    pane = scene.messages()
+    assert isinstance(pane, pn.pane.Alert) and "c_s" in pane.object
+    assert len(_el(scene.stress_dmap[()], hv.Curve, "Δσ_yy/σ₀")) == 0 and "**Lab values used**" in scene.readout()
+    scene.material.c_s = 1345.0
+    assert not isinstance(scene.messages(), pn.pane.Alert)

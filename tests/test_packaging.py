@@ -36,7 +36,8 @@ def test_wheel_installs_three_import_names_and_the_data_files(wheel: zipfile.Zip
     top = {n.split("/")[0] for n in names if not n.split("/")[0].endswith((".dist-info", ".data"))}
     assert top == set(asymslide.IMPORT_NAMES)
     for needed in ("app/presets.json", "app/static/asymslide.css", "app/static/logo.svg", "app/static/favicon.svg",
-                   "model/materials.json", "app/main.py", "asymslide/cli.py", "asymslide/sweep.py"):
+                   "model/materials.json", "app/reference/physics.md", "app/main.py", "asymslide/cli.py",
+                   "asymslide/sweep.py"):
         assert needed in names, needed
     assert not [n for n in names if n.startswith(("tests/", "benchmarks/"))]
     entry = next(n for n in names if n.endswith("entry_points.txt"))

@@ -1,0 +1,53 @@
+"""What several scenes share, defined once: the growth-map colours and labels, how often a session shows a background
+computation's progress, log-axis tick labels, and the neutral-curve helper of the Stability-map and Atlas heat maps.
+"""
+
+from __future__ import annotations
+
+import contourpy
+import numpy as np
+from bokeh.palettes import RdBu11
+
+#: |max growth| at or below this is drawn as neutral: not counted unstable and not a neutral-curve crossing (where
+#: the branch only tends to Im z = 0 at the end of the kH grid the maximum is 0 up to round-off)
+MARGINAL = 1e-6
+
+#: the heat maps' colour label
+GROWTH_LABEL = "max Im[c/c_s]"
+
+#: the Atlas heat map's diverging palette, lowest first (ColorBrewer RdBu: growth < 0 blue, ~0 white, > 0 red); the
+#: Stability map draws the same colours continuously (HoloViews' "RdBu_r")
+GROWTH_PALETTE = tuple(RdBu11)
+GROWTH_CMAP = "RdBu_r"
+
+#: where the growth is not computable (NaN): a dark grey, far in lightness from the palette's white centre (growth
+#: ~ 0), so that "nearly neutral" and "not computable" never look alike
+NAN_COLOR = "#636363"
+
+#: the heat maps' legend
+COLOUR_LEGEND = ("Red: unstable (max growth > 0), blue: stable, white: nearly neutral; dark grey: not computable; "
+                 "black line: neutral curve (max growth = 0)")
+
+#: how often (ms) a served session shows the progress of the Stability map's computation and of the default atlas's
+MAP_POLL_MS = 150
+ATLAS_POLL_MS = 300
+
+#: tick labels of an axis (or slider) holding log10 of a value: the value
+LOG_TICKS = "return Math.pow(10, tick).toPrecision(3)"
+
+
+def neutral_lines(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> list[np.ndarray]:
+    """The line(s) z = 0 of z[y, x] in the plotted coordinates x, y (log10 of a log axis): |z| <= MARGINAL counts as
+    not unstable, NaN is masked. Each line is an (m, 2) array of (x, y), clipped to the grid (contourpy puts a vertex
+    on a cell edge at y0 + t dy, which can stick out by an ulp). A grid with fewer than two points along an axis, or
+    without a finite value, has none."""
+    z = np.asarray(z, dtype=float)
+    if z.ndim != 2 or z.shape != (y.size, x.size) or x.size < 2 or y.size < 2:
+        return []
+    zz = np.where(np.abs(z) <= MARGINAL, -MARGINAL, z)
+    if not np.isfinite(zz).any():
+        return []
+    gen = contourpy.contour_generator(x, y, np.ma.masked_invalid(zz), line_type="Separate")
+    lo = [x.min(), y.min()]
+    hi = [x.max(), y.max()]
+    return [np.clip(s, lo, hi) for s in gen.lines(0.0) if len(s) > 1]
