@@ -247,6 +247,17 @@ class Atlas:
     #: the whole boundary in γ (over the axes without gamma, last dimension `crossing`): gamma_c_crossing,
     #: gamma_c_location, gamma_c_direction, gamma_c_crossing_reason; empty in atlases written before crossings existed
     crossings: dict[str, np.ndarray] = field(default_factory=dict)
+    #: an adaptive atlas (asymslide sweep --adaptive): the level at which each point was computed (-1: not computed,
+    #: its growth NaN), the verdict class of every point (from its cell where not computed) and the refinement's
+    #: summary (levels, margin, guard, evaluated fractions); None / {} for a dense atlas
+    computed: object | None = None
+    verdict_filled: object | None = None
+    adaptive: dict = field(default_factory=dict)
+
+    @property
+    def finished(self) -> bool:
+        """False for an adaptive atlas whose sweep has not ended (its grid variables are written at the end)."""
+        return not self.adaptive or bool(self.adaptive.get("evaluated"))
 
     @property
     def names(self) -> list[str]:
@@ -313,18 +324,20 @@ def _load(name: str, path: Path, stamp: str) -> Atlas:
     gc = reason = None
     if "gamma_c" in ds:
         gc, reason = ds["gamma_c"].values, ds["gamma_c_reason"].values
-    verdicts = {v: (ds[v].values if small else ds[v]) if v in ds else None for v in ("verdict", "verdict_reason")}
+    verdicts = {v: (ds[v].values if small else ds[v]) if v in ds else None
+                for v in ("verdict", "verdict_reason", "computed", "verdict_filled")}
     crossings = {v: ds[v].values for v in CROSSING_VARIABLES if v in ds}
+    adaptive = json.loads(ds.attrs["adaptive"]) if "adaptive" in ds.attrs and "computed" in ds else {}
     return Atlas(name, path, axes, log_axes, fixed, g, gc, reason, dict(ds.attrs), max(clim, 1e-12),
-                 crossings=crossings if len(crossings) == len(CROSSING_VARIABLES) else {}, **verdicts)
+                 crossings=crossings if len(crossings) == len(CROSSING_VARIABLES) else {}, adaptive=adaptive,
+                 **verdicts)
 
 
 def load(name: str) -> Atlas:
     path = resolve(name)
     if path is None:
         raise ValueError(f"no atlas named {name!r} in {atlas_dir()}")
-    stamp = json.dumps({k: int(v.sum()) for k, v in engine.done_chunks(path).items()})
-    return _load(name, path, stamp)
+    return _load(name, path, engine.store_stamp(path))
 
 
 # ------------------------------------------------------------------------------------------------

@@ -666,6 +666,17 @@ def done_chunks(store: Path) -> dict[str, np.ndarray]:
     return {name[len("done_"):]: ds[name].values.astype(bool) for name in ds.data_vars if name.startswith("done_")}
 
 
+def store_stamp(store: str | os.PathLike) -> str:
+    """A short text that changes whenever a sweep writes to the store (its done flags; an adaptive sweep's summary,
+    written when its grid variables are): readers cache an atlas by it."""
+    import xarray as xr
+
+    ds = xr.open_zarr(Path(store), consolidated=False)
+    flags = {name: int(ds[name].values.sum()) for name in ds.data_vars if name.startswith("done_")}
+    adaptive = json.loads(ds.attrs.get("adaptive", "{}"))
+    return json.dumps({**flags, "adaptive_evaluated": adaptive.get("evaluated")})
+
+
 def _write(store: Path, task: Task, result: dict[str, np.ndarray], region_dims: dict[str, tuple[str, ...]]) -> None:
     """Region write of one chunk, then its done flag (atomic files: a kill leaves the chunk unmarked)."""
     import xarray as xr
