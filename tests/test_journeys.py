@@ -12,6 +12,7 @@ import logging
 import math
 import re
 import shutil
+import threading
 import time
 import urllib.parse
 from pathlib import Path
@@ -194,18 +195,36 @@ def fresh_atlas_dir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     return tmp_path / "atlases"
 
 
+@pytest.fixture
+def held_default_sweep(monkeypatch: pytest.MonkeyPatch) -> threading.Event:
+    """The default atlas's sweep waits (its plan and totals already published) until the test sets the event: the
+    tiny atlas would otherwise finish before the browser has loaded the page, and the progress would be unseen."""
+    release = threading.Event()
+    real = A.engine.sweep
+
+    def held(*args, **kwargs):
+        if not release.wait(timeout=LONG / 1000):
+            raise TimeoutError("the test never released the default atlas's sweep")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(A.engine, "sweep", held)
+    return release
+
+
 pytestmark = pytest.mark.ui
 
 
 def test_first_use_of_the_atlas_tab_shows_the_default_atlas_without_a_reload(
-        fresh_atlas_dir: Path, served_app: str, browser_page) -> None:
+        fresh_atlas_dir: Path, held_default_sweep: threading.Event, served_app: str, browser_page) -> None:
     """Item 1: a fresh atlas directory; the default atlas computes with a labelled progress bar per phase, then the
     heat map, the selects and the sliders appear on the same page; x = y cannot be chosen."""
     page = browser_page
     page.set_viewport_size({"width": 1280, "height": 1400})
     open_app(page, served_app + "?tab=atlas")
-    page.get_by_text("Growth rates (max Im[c/c_s] over kH at every grid point)").first.wait_for(timeout=WAIT)
-    page.get_by_text("Thresholds γ_c (exact, over the other axes)").first.wait_for(timeout=WAIT)
+    page.get_by_text("Growth rates (max Im[c/c_s] over kH at every grid point): 0 of").first.wait_for(timeout=WAIT)
+    page.get_by_text("Thresholds γ_c (exact, over the other axes): 0 of").first.wait_for(timeout=WAIT)
+    page.get_by_text("Computing the default atlas").first.wait_for(timeout=WAIT)
+    held_default_sweep.set()
     page.evaluate("() => { window.asymslideJourney = 'same page'; }")
     page.wait_for_function(f"() => ({_IMAGE_JS})() !== null", timeout=LONG)
     idle(page)
