@@ -232,14 +232,26 @@ def fill_classes(verdict: np.ndarray, computed: np.ndarray, levels: int) -> np.n
     level's stride) whose corners are all evaluated and of one class and whose closure holds the point (cells of
     one stride that share the point share the corners of their common face, so they agree); -1 where no such cell
     holds it (not in a finished adaptive sweep)."""
+    return _fill(verdict, computed, levels)[0]
+
+
+def fill_levels(verdict: np.ndarray, computed: np.ndarray, levels: int) -> np.ndarray:
+    """The level of the cell a point's class was filled from by :func:`fill_classes` (a cell of level k has side
+    2^(levels - k) grid steps); -1 where the point was evaluated or has no class."""
+    return _fill(verdict, computed, levels)[1]
+
+
+def _fill(verdict: np.ndarray, computed: np.ndarray, levels: int) -> tuple[np.ndarray, np.ndarray]:
+    """(:func:`fill_classes`, :func:`fill_levels`)."""
     shape = verdict.shape
     keep = _squeeze(shape)
     squeeze = tuple(i for i in range(len(shape)) if i not in keep)
     v, c = (np.squeeze(a, axis=squeeze) for a in (verdict, computed))
     done = c >= 0
     out = np.where(done, v, -1).astype(np.int8)
+    source = np.full(out.shape, -1, dtype=np.int8)
     if v.ndim == 0:
-        return out.reshape(shape)
+        return out.reshape(shape), source.reshape(shape)
     for level in range(levels - 1, -1, -1):
         stride = 2 ** (levels - level)
         kk, kv = _lattice(done, stride), _lattice(v, stride)
@@ -248,8 +260,10 @@ def fill_classes(verdict: np.ndarray, computed: np.ndarray, levels: int) -> np.n
         vmax = _corner_reduce(np.where(kk, kv, -1).astype(np.int8), np.maximum)
         cls = np.where(all_known & (vmin == vmax), vmin, -1).astype(np.int8)
         spread = _expand(cls, stride)
-        out = np.where(out == -1, spread, out)
-    return out.reshape(shape)
+        now = (out == -1) & (spread != -1)
+        out = np.where(now, spread, out)
+        source[now] = level
+    return out.reshape(shape), source.reshape(shape)
 
 
 def level_counts(computed: np.ndarray, levels: int) -> list[int]:

@@ -82,6 +82,31 @@ def test_a_smooth_boundary_is_found_from_a_fraction_of_the_points() -> None:
     assert ((computed < 0) & (verdict == 1)).any() and ((computed < 0) & (verdict == 0)).any()
 
 
+def test_fill_levels_name_the_cell_each_filled_class_comes_from() -> None:
+    """For every point not computed, the cell of the level fill_levels gives (side 2^(L - level) grid steps, the
+    one holding the point) has every corner computed and of the point's filled class; computed points get -1."""
+    x, y = np.meshgrid(np.linspace(-1, 1, 33), np.linspace(-1, 1, 33), indexing="ij")
+    growth = 0.5 - np.hypot(x - 0.2, y)
+    verdict = (growth > 0).astype(np.int8)
+    spec = A.AdaptiveSpec(levels=3)
+    computed, filled = _simulate(verdict, growth, spec)
+    level = A.fill_levels(np.where(computed >= 0, verdict, -1).astype(np.int8), computed, 3)
+    assert (level[computed >= 0] == -1).all()
+    gaps = np.argwhere(computed < 0)
+    assert len(gaps) and (level[computed < 0] >= 0).all() and len(np.unique(level[computed < 0])) > 1
+    for i, j in gaps:
+        side = 2 ** (3 - int(level[i, j]))
+        i0, j0 = min(i // side * side, 32 - side), min(j // side * side, 32 - side)
+        corners = [(i0 + a, j0 + b) for a in (0, side) for b in (0, side)]
+        # a point on a cell face belongs to two cells: one of them has its class
+        candidates = [corners] if (i % side and j % side) else None
+        if candidates is None:
+            candidates = [[(ci + a, cj + b) for a in (0, side) for b in (0, side)]
+                          for ci in {i0, max(i0 - side, 0)} if ci <= i <= ci + side
+                          for cj in {j0, max(j0 - side, 0)} if cj <= j <= cj + side]
+        assert any(all(computed[c] >= 0 and verdict[c] == filled[i, j] for c in cell) for cell in candidates), (i, j)
+
+
 def test_margin_zero_evaluates_less_and_margin_two_more() -> None:
     x, y = np.meshgrid(np.linspace(-1, 1, 65), np.linspace(-1, 1, 65), indexing="ij")
     growth = 0.5 - np.hypot(x, y)
