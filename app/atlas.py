@@ -37,6 +37,7 @@ from bokeh.models import CustomJSTickFormatter
 
 import model
 from atlas_engine import sweep as engine
+from atlas_engine.adaptive import fill_levels
 
 from . import jobs
 from .common import (
@@ -227,6 +228,20 @@ class Atlas:
     #: the whole boundary in γ (over the axes without gamma, last dimension `crossing`): gamma_c_crossing,
     #: gamma_c_location, gamma_c_direction, gamma_c_crossing_reason; empty in atlases written before crossings existed
     crossings: dict[str, np.ndarray] = field(default_factory=dict)
+    #: an adaptive atlas (asymslide sweep --adaptive): the level at which each point was computed (-1: not computed,
+    #: its growth NaN), the verdict class of every point (from its cell where not computed) and the refinement's
+    #: summary (levels, margin, guard, evaluated fractions); None / {} for a dense atlas
+    computed: object | None = None
+    verdict_filled: object | None = None
+    adaptive: dict = field(default_factory=dict)
+    #: the level of the cell a not computed point's class was filled from (atlas_engine.adaptive.fill_levels; -1 at
+    #: computed points); None for a dense atlas or one read lazily from a large store
+    filled_level: object | None = None
+
+    @property
+    def finished(self) -> bool:
+        """False for an adaptive atlas whose sweep has not ended (its grid variables are written at the end)."""
+        return not self.adaptive or bool(self.adaptive.get("evaluated"))
 
     @property
     def names(self) -> list[str]:
@@ -291,18 +306,23 @@ def _load(name: str, path: Path, stamp: str) -> Atlas:
     gc = reason = None
     if "gamma_c" in ds:
         gc, reason = ds["gamma_c"].values, ds["gamma_c_reason"].values
-    verdicts = {v: (ds[v].values if small else ds[v]) if v in ds else None for v in ("verdict", "verdict_reason")}
+    verdicts = {v: (ds[v].values if small else ds[v]) if v in ds else None
+                for v in ("verdict", "verdict_reason", "computed", "verdict_filled")}
     crossings = {v: ds[v].values for v in CROSSING_VARIABLES if v in ds}
+    adaptive = json.loads(ds.attrs["adaptive"]) if "adaptive" in ds.attrs and "computed" in ds else {}
+    filled_level = None
+    if adaptive and small and adaptive.get("evaluated"):
+        filled_level = fill_levels(verdicts["verdict"], verdicts["computed"], int(adaptive["levels"]))
     return Atlas(name, path, axes, log_axes, fixed, g, gc, reason, dict(ds.attrs), max(clim, 1e-12),
-                 crossings=crossings if len(crossings) == len(CROSSING_VARIABLES) else {}, **verdicts)
+                 crossings=crossings if len(crossings) == len(CROSSING_VARIABLES) else {}, adaptive=adaptive,
+                 filled_level=filled_level, **verdicts)
 
 
 def load(name: str) -> Atlas:
     path = resolve(name)
     if path is None:
         raise ValueError(f"no atlas named {name!r} in {atlas_dir()}")
-    stamp = json.dumps({k: int(v.sum()) for k, v in engine.done_chunks(path).items()})
-    return _load(name, path, stamp)
+    return _load(name, path, engine.store_stamp(path))
 
 
 # ------------------------------------------------------------------------------------------------
@@ -388,7 +408,16 @@ HEIGHT = 480
 COLOURS = (f"{COLOUR_LEGEND}; hatched: undetermined verdict (the reason on hover; the colour is the growth where the "
            "branch is resolved). Where γ is an axis: every certified threshold γ_c, green where sliding becomes "
            "unstable as γ grows, orange where it becomes stable; ×: a sign change of the max growth that is not a "
-           "threshold (a jump or a pole-dense mode, docs/physics.md §9).")
+           "threshold (a jump or a pole-dense mode, docs/physics.md §9). In an adaptive atlas (asymslide sweep "
+           "--adaptive) the growth is computed only near the boundary: the pale dotted cells were not computed, and "
+           "show the verdict class filled from the computed cell around them (pale red unstable, pale blue stable, "
+           "pale grey undetermined); the neutral curve is drawn from computed cells only. Click a legend entry to "
+           "hide it or to show the computed points.")
+#: an adaptive atlas's not computed cells by filled verdict class: (word, pale colour of the class); -1: no class
+FILLED_CLASSES = {0: ("stable", "#d6e6f4"), 1: ("unstable", "#f9d5c5"), 2: ("undetermined", "#e3e3e3"),
+                  -1: ("unknown", "#ffffff")}
+#: the dots over an adaptive atlas's not computed cells
+FILLED_HATCH = "#8c8c8c"
 #: colours of the certified crossings by direction (+1 destabilising, -1 stabilising as γ grows) and of the refused ones
 CROSSING_COLORS = {1: "#1b7837", -1: "#e08214", 0: "#2ca25f"}
 REFUSED_COLOR = "#404040"
@@ -445,6 +474,7 @@ class HeatMap:
         xc, yc = np.meshgrid((xr[:-1] + xr[1:]) / 2, (yr[:-1] + yr[1:]) / 2)
         w, h = np.meshgrid(np.diff(xr), np.diff(yr))
         self._cell_geometry = {"x": xc.ravel(), "y": yc.ravel(), "w": w.ravel(), "h": h.ravel()}
+        self.filled, self.computed_points = self._adaptive_layers(fig) if atlas.adaptive else (None, None)
         self.undetermined = ColumnDataSource({"x": [], "y": [], "w": [], "h": [], "why": []})
         hatched = fig.rect(x="x", y="y", width="w", height="h", source=self.undetermined, fill_alpha=0, line_alpha=0,
                            hatch_pattern="/", hatch_color="#252525", hatch_alpha=0.7, hatch_scale=8,
@@ -465,15 +495,53 @@ class HeatMap:
         fig.add_tools(HoverTool(renderers=[crosses], tooltips=[("not a threshold", "@why")]))
         fig.legend.location = "top_left"
         fig.legend.background_fill_alpha = 0.8
+        fig.legend.click_policy = "hide"
         fig.add_layout(ColorBar(color_mapper=self.mapper, title=GROWTH_LABEL), "right")
         fig.on_event(Tap, lambda event: on_tap(x=event.x, y=event.y))
         self.figure = fig
+
+    def _adaptive_layers(self, fig):
+        """The layers of an adaptive atlas: the not computed cells in the pale colour of their filled verdict class,
+        dotted, with hover "not computed: verdict ... from its cell (level L)", and the computed points as dots
+        (hidden until their legend entry is clicked). Returns their two data sources."""
+        from bokeh.models import ColumnDataSource, HoverTool
+
+        filled = ColumnDataSource({"x": [], "y": [], "w": [], "h": [], "color": [], "legend": [], "why": []})
+        cells = fig.rect(x="x", y="y", width="w", height="h", source=filled, fill_color="color", fill_alpha=1,
+                         line_alpha=0, hatch_pattern=".", hatch_color=FILLED_HATCH, hatch_alpha=0.6, hatch_scale=6,
+                         legend_field="legend")
+        fig.add_tools(HoverTool(renderers=[cells], tooltips=[("not computed", "@why")]))
+        points = ColumnDataSource({"x": [], "y": []})
+        fig.scatter(x="x", y="y", source=points, marker="circle", size=3, color="#000000", alpha=0.6,
+                    legend_label="computed points (click: show / hide)", visible=False)
+        return filled, points
+
+    def update_adaptive(self, computed: np.ndarray, cls: np.ndarray, level: np.ndarray | None) -> None:
+        """The adaptive layers of the slice: `computed` (the level, -1 where not computed), the filled verdict class
+        `cls` and the level of the cell it came from (`level`; None: not known), all of the slice's shape."""
+        if self.filled is None:
+            return
+        c, v = np.asarray(computed).ravel(), np.asarray(cls).ravel()
+        lv = np.full(c.shape, -1) if level is None else np.asarray(level).ravel()
+        hit = np.flatnonzero(c < 0)
+        names = np.array([FILLED_CLASSES.get(int(k), FILLED_CLASSES[-1])[0] for k in range(-1, 3)], dtype=object)
+        colors = np.array([FILLED_CLASSES.get(int(k), FILLED_CLASSES[-1])[1] for k in range(-1, 3)], dtype=object)
+        k = (np.clip(v[hit], -1, 2) + 1).astype(int)  # slice2d gives floats
+        why = np.array([f"verdict {names[i]} from its cell (level {int(L)})" if L >= 0 else
+                        f"verdict {names[i]} from its cell" for i, L in zip(k, lv[hit], strict=True)], dtype=object)
+        self.filled.data = {**{key: val[hit] for key, val in self._cell_geometry.items()}, "color": colors[k],
+                            "legend": np.array([f"not computed: {n} (from its cell)" for n in names],
+                                               dtype=object)[k], "why": why}
+        done = np.flatnonzero(c >= 0)
+        self.computed_points.data = {"x": self._cell_geometry["x"][done], "y": self._cell_geometry["y"][done]}
 
     def update(self, x: np.ndarray, y: np.ndarray, g: np.ndarray, why: np.ndarray | None,
                boundary: Boundary | None) -> None:
         """Draw the slice g[y, x] (plotted coordinates), hatch the cells whose `why` (the short reason of an
         undetermined verdict, same shape as g; "" elsewhere) is set, and draw the γ boundary's slice (or none).
-        Legend entries of what the slice does not have are hidden."""
+        Legend entries of what the slice does not have are hidden. In an adaptive atlas g is NaN where a point was
+        not computed: the neutral curve is then drawn from the computed cells only (contourpy skips every cell with
+        a NaN corner, so no line is guessed across a gap)."""
         if self.regular:
             self.cells.data.update(image=[g])
         else:
@@ -490,7 +558,8 @@ class HeatMap:
         self.refused.data = {"x": b.refused[0], "y": b.refused[1], "why": b.refused[2]}
         for item in self.figure.legend[0].items:
             source = item.renderers[0].data_source
-            item.visible = bool(len(next(iter(source.data.values()), []))) or source is self.contour
+            item.visible = (bool(len(next(iter(source.data.values()), []))) or source is self.contour
+                            or source is self.computed_points)
 
 
 @dataclass
@@ -513,6 +582,22 @@ def _runs(values: np.ndarray, along: np.ndarray, keep: np.ndarray) -> list[tuple
     for run in np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1):
         out.append((values[run], along[run]))
     return out
+
+
+def adaptive_readout(d: Atlas) -> str:
+    """The readout line of an adaptive atlas: the evaluated fraction overall and per level, margin and guard (or
+    that its sweep has not finished)."""
+    a = d.adaptive
+    if not a.get("evaluated"):
+        return ("**Adaptive atlas, not finished**: its values are written when the sweep ends; run the same "
+                "`asymslide sweep --adaptive` command again to resume it")
+    levels = "; ".join(f"level {lv['level']} (stride {lv['stride']}) {100 * lv['fraction_of_grid']:.2f} %"
+                       for lv in a.get("per_level", []))
+    guard = f"guard {a['guard']:g}" if a.get("guard") else "no guard"
+    return (f"**Adaptive** (asymslide sweep --adaptive): computed {a['evaluated']} of {a['points']} points, "
+            f"evaluated fraction **{100 * a['evaluated_fraction']:.1f} %** ({levels}; margin {a.get('margin')}, "
+            f"{guard}); the other points are not computed: their verdict class comes from their cell (pale, "
+            "dotted), their growth is not stored")
 
 
 def verdict_coverage(verdict: np.ndarray, reason: np.ndarray) -> str:
@@ -818,7 +903,8 @@ class AtlasScene(pn.viewable.Viewer):
         assert d is not None and self.x_axis is not None
         names = d.names
         index = tuple(slice(None) if n in (self.x_axis, self.y_axis) else self.indices.get(n, 0) for n in names)
-        held = {None: d.growth, "verdict": d.verdict, "verdict_reason": d.verdict_reason}
+        held = {None: d.growth, "verdict": d.verdict, "verdict_reason": d.verdict_reason, "computed": d.computed,
+                "verdict_filled": d.verdict_filled, "filled_level": d.filled_level}
         if held.get(variable) is not None:
             cube = held[variable][index]
         elif variable is None:
@@ -826,6 +912,8 @@ class AtlasScene(pn.viewable.Viewer):
         else:
             import xarray as xr
 
+            if variable == "filled_level":
+                return None
             with xr.open_zarr(d.path, consolidated=False) as ds:
                 if variable not in ds or list(ds[variable].dims) != names:
                     return None
@@ -913,6 +1001,17 @@ class AtlasScene(pn.viewable.Viewer):
     def _draw(self, heat: HeatMap) -> None:
         x, y, g = self.slice2d()
         heat.update(x, y, g, self.undetermined_reasons(), self.boundary())
+        if self.data.adaptive:
+            self._draw_adaptive(heat)
+
+    def _draw_adaptive(self, heat: HeatMap) -> None:
+        """An adaptive atlas's slice: which points were computed, and the filled class (and its cell's level) of
+        the others."""
+        computed, filled = self.slice2d("computed"), self.slice2d("verdict_filled")
+        if computed is None or filled is None:
+            return
+        level = self.slice2d("filled_level")
+        heat.update_adaptive(computed[2], filled[2], None if level is None else level[2])
 
     def _slice_changed(self, *_events) -> None:
         heat = self.heat_map()
@@ -987,7 +1086,11 @@ class AtlasScene(pn.viewable.Viewer):
         coords = [d.display(n) for n in axes]
         vertices, triangles = neutral_surface(*coords, cube)
         titles = [d.label(n) + (" (log10)" if d.log[n] else "") for n in axes]
-        masked = np.argwhere(~np.isfinite(cube))
+        not_computable = ~np.isfinite(cube)
+        if d.adaptive and d.computed is not None:  # not computed is not "not computable"
+            done = np.asarray(getattr(d.computed[index], "values", d.computed[index]))
+            not_computable &= np.transpose(done, [kept.index(n) for n in axes]) >= 0
+        masked = np.argwhere(not_computable)
         data = [{"type": "mesh3d", "x": vertices[:, 0], "y": vertices[:, 1], "z": vertices[:, 2],
                  "i": triangles[:, 0], "j": triangles[:, 1], "k": triangles[:, 2], "color": SURFACE_COLOR,
                  "opacity": 0.8, "flatshading": False, "name": "neutral surface (max growth = 0)", "showlegend": True,
@@ -1043,6 +1146,8 @@ class AtlasScene(pn.viewable.Viewer):
         finite = np.isfinite(g)
         n_nan = int((~finite).sum())
         largest = fmt(float(np.max(g[finite])) if finite.any() else math.nan)
+        if self.data.adaptive:
+            return self._adaptive_slice_readout(g, largest)
         verdict = self.slice2d("verdict")
         if verdict is None:
             unstable = int((g[finite] > MARGINAL).sum())
@@ -1052,6 +1157,18 @@ class AtlasScene(pn.viewable.Viewer):
         return (f"**This slice** ({v.size} points) unstable {int((v == 1).sum())}, stable {int((v == 0).sum())}, "
                 f"undetermined (hatched) {int((v == UNDETERMINED).sum())}; largest growth {largest}; not computable "
                 f"(dark grey) {n_nan}")
+
+    def _adaptive_slice_readout(self, g: np.ndarray, largest: str) -> str:
+        """The slice of an adaptive atlas: the verdict classes (filled where not computed), how many points were
+        computed, and the not computable ones among those."""
+        computed, filled = self.slice2d("computed"), self.slice2d("verdict_filled")
+        if computed is None or filled is None:
+            return "**This slice**: the adaptive atlas's computed mask cannot be read"
+        c, v = computed[2] >= 0, filled[2]
+        return (f"**This slice** ({v.size} points) unstable {int((v == 1).sum())}, stable {int((v == 0).sum())}, "
+                f"undetermined {int((v == UNDETERMINED).sum())}; computed {int(c.sum())} "
+                f"({100 * c.sum() / max(v.size, 1):.0f} %), the others filled from their cell (pale, dotted); "
+                f"largest computed growth {largest}; not computable (dark grey) {int((c & ~np.isfinite(g)).sum())}")
 
     @param.depends("data")
     def readout(self) -> str:
@@ -1065,6 +1182,11 @@ class AtlasScene(pn.viewable.Viewer):
                  f"**Computed** by asymslide {a.get('asymslide_version')} (git {a.get('git_revision')}) on "
                  f"{a.get('created')}; kH grid {a.get('kH_grid')}; rtol {a.get('rtol')}"]
         masked = int(np.sum(~np.isfinite(np.asarray(d.growth)))) if isinstance(d.growth, np.ndarray) else None
+        if d.adaptive:
+            lines.append(adaptive_readout(d))
+            computed = np.asarray(d.computed) >= 0 if d.computed is not None else None
+            masked = (int(np.sum(computed & ~np.isfinite(np.asarray(d.growth))))
+                      if computed is not None and isinstance(d.growth, np.ndarray) else None)
         if masked is not None:
             lines.append(f"**Not computable** {masked} point(s) of the atlas (dark grey): {NOT_COMPUTABLE}"
                          if masked else "**Not computable** none")
@@ -1098,15 +1220,19 @@ class AtlasScene(pn.viewable.Viewer):
         xs, ys = d.axes[self.x_axis], (d.axes[self.y_axis] if self.y_axis else np.array([math.nan]))
         columns = {self.x_axis: np.tile(xs, ys.size), str(self.y_axis): np.repeat(ys, xs.size), "max_growth": g.ravel()}
         for name, column in (("kH_at_max", "kH_at_max"), ("n_masked", "n_masked_kH"), ("verdict", "verdict"),
-                             ("verdict_reason", "verdict_reason")):
+                             ("verdict_reason", "verdict_reason"), ("computed", "computed_level"),
+                             ("verdict_filled", "verdict_filled")):
             extra = self.slice2d(variable=name)
             if extra is not None:
                 columns[column] = extra[2].ravel()
         codes = "; ".join(f"{k} " + (model.VERDICT_STATUS[k].split(":")[0] if model.VERDICT_STATUS[k].startswith(
             ("stable", "unstable")) else f"undetermined, {short_reason(k, model.VERDICT_STATUS)}")
                           for k in model.VERDICT_STATUS)
+        adaptive = (" Adaptive atlas: computed_level is the refinement level at which a point was computed (-1: not "
+                    "computed, its max_growth NaN and verdict -1); verdict_filled is the verdict class at every point "
+                    "(where not computed: from the computed cell around it)." if d.adaptive else "")
         return csv_table(f"asymslide atlas slice: {self.slice_description()}. {NAN_ROWS}. verdict: 0 stable, 1 "
-                         f"unstable, 2 undetermined; verdict_reason: {codes} (docs/physics.md §9)", columns)
+                         f"unstable, 2 undetermined; verdict_reason: {codes} (docs/physics.md §9).{adaptive}", columns)
 
     # -- layout -------------------------------------------------------------------------------
 

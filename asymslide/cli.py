@@ -14,14 +14,16 @@ import os
 import re
 import signal
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from importlib import metadata
 from pathlib import Path
 
 from . import IMPORT_NAMES, __version__
 
-#: the engine's default (atlas_engine.sweep.CHUNK_POINTS), without importing it for --help
+#: the engine's defaults (atlas_engine.sweep.CHUNK_POINTS, atlas_engine.adaptive.CHUNK_POINTS), without importing
+#: them for --help
 CHUNK_POINTS = 8192
+ADAPTIVE_CHUNK_POINTS = 131072
 
 
 #: exit codes besides 0 (done) and 2 (bad command line, as argparse)
@@ -106,11 +108,30 @@ def _fail(message: str, code: int = 2) -> int:
     return code
 
 
-def _sweep_settings(args: argparse.Namespace) -> tuple[dict, dict]:
-    """The axes and the other settings of ``asymslide sweep``'s arguments (SweepError or ValueError if bad)."""
+def _adaptive_spec(args: argparse.Namespace) -> tuple[list[str], object]:
+    """The axis specs (rounded to an adaptive grid with --adaptive, saying so on stderr) and the AdaptiveSpec (None:
+    a dense sweep); SweepError for adaptive options without --adaptive."""
+    from atlas_engine.sweep import SweepError
+
+    specs, adaptive = list(args.axis), None
+    if args.adaptive:
+        from atlas_engine.adaptive import AdaptiveSpec
+
+        specs, levels, notes = _adaptive_axis_specs(specs, args.levels)
+        for note in notes:
+            print(f"asymslide: note: {note}", file=sys.stderr)
+        adaptive = AdaptiveSpec(levels=levels, margin=args.margin, guard=args.guard)
+    elif args.levels is not None or args.margin != 1 or args.guard:
+        raise SweepError("--levels, --margin and --guard belong to an adaptive sweep: add --adaptive")
+    return specs, adaptive
+
+
+def _sweep_settings(args: argparse.Namespace, specs: Sequence[str]) -> tuple[dict, dict]:
+    """The axes (from `specs`) and the other settings of ``asymslide sweep``'s arguments (SweepError or ValueError if
+    bad)."""
     from atlas_engine.sweep import CountSpec, SweepError, parse_axis, parse_fixed
 
-    axes = dict(parse_axis(a) for a in args.axis)
+    axes = dict(parse_axis(a) for a in specs)
     if len(axes) != len(args.axis):
         raise SweepError("an axis is given twice")
     fixed = dict(parse_fixed(f) for f in args.fixed)
@@ -129,31 +150,52 @@ def _sweep_settings(args: argparse.Namespace) -> tuple[dict, dict]:
     return axes, settings
 
 
+def _adaptive_axis_specs(specs: Sequence[str], levels: int | None) -> tuple[list[str], int, list[str]]:
+    """Axis specs whose lo:hi:n ranges are rounded up to m·2^levels + 1 points (levels None: the engine's default
+    for the requested sizes), the levels, and a note per rounded axis (lists of values are left to make_plan, which
+    refuses a size that does not fit)."""
+    from atlas_engine.adaptive import adaptive_size, default_levels
+    from atlas_engine.sweep import parse_axis
+
+    sizes = [parse_axis(spec)[1].size for spec in specs]
+    if levels is None:
+        levels = default_levels(sizes)
+    out, notes = [], []
+    for spec, n in zip(specs, sizes, strict=True):
+        name, _, values = spec.partition("=")
+        parts = values.split(":")
+        want = adaptive_size(n, levels)
+        if len(parts) in (3, 4) and want != n:
+            parts[2] = str(want)
+            spec = f"{name}={':'.join(parts)}"
+            notes.append(f"axis {name.strip()}: {n} points rounded up to {want} = {(want - 1) // 2**levels}·2^{levels} "
+                         f"+ 1 (an adaptive grid nests the grids of stride 2^{levels} .. 1)")
+        out.append(spec)
+    return out, levels, notes
+
+
 def _sweep(args: argparse.Namespace) -> int:
-    from atlas_engine.sweep import CONNECT_TIMEOUT, SweepError, make_plan, plan_points, sweep
+    from atlas_engine.sweep import CONNECT_TIMEOUT, SweepError, make_plan, sweep
 
     try:
-        axes, settings = _sweep_settings(args)
+        specs, adaptive = _adaptive_spec(args)
+        axes, settings = _sweep_settings(args, specs)
+        settings["adaptive"] = adaptive
         plan = make_plan(axes, **settings)
     except (SweepError, ValueError) as exc:
         return _fail(str(exc))
     client = None
     if args.scheduler:
         try:
-            from distributed import Client
-
-            client = Client(args.scheduler, timeout=CONNECT_TIMEOUT)
+            client = _connect(args.scheduler)
         except (OSError, TimeoutError, ValueError) as exc:
             return _fail(f"the scheduler at {args.scheduler} did not answer within {CONNECT_TIMEOUT} s "
                          f"({type(exc).__name__}: {exc})", EXIT_SCHEDULER)
-    from tqdm import tqdm
-
-    bars = {kind: tqdm(total=n, desc=f"{kind:8s}", unit="pt", unit_scale=True, dynamic_ncols=True, position=i,
-                       disable=args.quiet) for i, (kind, n) in enumerate(plan_points(plan).items())}
+    bars, start = _progress_bars(plan, args.quiet)
     command = " ".join(["asymslide", *sys.argv[1:]]) if sys.argv and sys.argv[0].endswith("asymslide") else None
     try:
-        sweep(axes, **settings, store=args.out, client=client, workers=args.workers,
-              progress=lambda kind, n: bars[kind].update(n), command=command)
+        ds = sweep(axes, **settings, store=args.out, client=client, workers=args.workers,
+                   progress=lambda kind, n: bars[kind].update(n), start=start, command=command)
     except SweepError as exc:
         return _fail(str(exc))
     except KeyboardInterrupt:
@@ -166,7 +208,45 @@ def _sweep(args: argparse.Namespace) -> int:
         if client is not None:
             client.close()
     print(f"atlas written to {args.out}")
+    if plan.adaptive is not None:
+        _print_adaptive(ds)
     return 0
+
+
+def _progress_bars(plan, quiet: bool) -> tuple[dict, Callable[[str, int], None]]:
+    """A tqdm bar per task kind (an adaptive sweep's growth: one per level, made by `start` as each level starts)."""
+    from tqdm import tqdm
+
+    from atlas_engine.sweep import plan_points
+
+    bars: dict = {}
+
+    def start(kind: str, n: int) -> None:
+        bars[kind] = tqdm(total=n, desc=f"{kind:8s}", unit="pt", unit_scale=True, dynamic_ncols=True,
+                          position=len(bars), disable=quiet)
+
+    for kind, n in plan_points(plan).items():
+        if not (kind == "growth" and plan.adaptive is not None):
+            start(kind, n)
+    return bars, start
+
+
+def _connect(address: str):
+    """A ``distributed.Client`` of the scheduler at `address` (OSError, TimeoutError or ValueError if it does not
+    answer within CONNECT_TIMEOUT)."""
+    from distributed import Client
+
+    from atlas_engine.sweep import CONNECT_TIMEOUT
+
+    return Client(address, timeout=CONNECT_TIMEOUT)
+
+
+def _print_adaptive(ds) -> None:
+    """The evaluated fraction of an adaptive sweep, per level."""
+    from atlas_engine.sweep import adaptive_lines
+
+    for line in adaptive_lines(ds.attrs["adaptive"], ds["computed"].values):
+        print(line)
 
 
 def _info(args: argparse.Namespace) -> int:
@@ -244,8 +324,21 @@ def build_parser() -> argparse.ArgumentParser:
     sw.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler, e.g. tcp://HOST:8786 (default: "
                                                            "threads on this machine)")
     sw.add_argument("--workers", type=int, default=None, help="threads on this machine (default: one per core)")
-    sw.add_argument("--chunk-points", type=int, default=CHUNK_POINTS, help=f"grid points per growth chunk (default "
-                                                                          f"{CHUNK_POINTS})")
+    sw.add_argument("--chunk-points", type=int, default=None,
+                    help=f"grid points per growth chunk (default {CHUNK_POINTS}; adaptive {ADAPTIVE_CHUNK_POINTS})")
+    sw.add_argument("--adaptive", action="store_true",
+                    help="compute the growth only where the verdict can change: a coarse grid, then the cells whose "
+                         "corners differ in verdict (and a margin around them) refined level by level; axes of "
+                         "lo:hi:n points are rounded up to m*2^levels + 1 (see the README)")
+    sw.add_argument("--levels", type=int, default=None, metavar="L",
+                    help="adaptive: refinement levels, the coarse grid has stride 2^L (default: about 9 points on "
+                         "the longest axis)")
+    sw.add_argument("--margin", type=int, default=1, metavar="M",
+                    help="adaptive: cells refined around each cell whose corners differ (default 1)")
+    sw.add_argument("--guard", type=float, nargs="?", const=1.0, default=0.0, metavar="FACTOR",
+                    help="adaptive: also refine nearly neutral cells, where min |growth| over the corners is below "
+                         "FACTOR (default 1) times the curvature estimate (finds islands inside a cell; costs more "
+                         "points)")
     sw.add_argument("--quiet", action="store_true", help="no progress bars")
     sw.set_defaults(func=_sweep)
 

@@ -56,6 +56,8 @@ import numpy as np
 import model
 
 from . import __version__  # the distribution's version, recorded in every store
+from .adaptive import AdaptiveSpec
+from .adaptive import summary as adaptive_summary
 
 #: the sweepable parameters, in the model's order
 PARAMETERS = tuple(model.PARAMETERS)
@@ -143,6 +145,8 @@ class Plan:
     gamma_range: tuple[float, float]
     count: CountSpec | None
     chunks: dict[str, int] = field(default_factory=dict)
+    #: the refinement of an adaptive sweep (atlas_engine.adaptive); None: the dense sweep
+    adaptive: AdaptiveSpec | None = None
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -173,6 +177,8 @@ class Plan:
             "gamma_range": list(self.gamma_range),
             "count": None if self.count is None else {"kH": list(self.count.kH), "window": list(self.count.window)},
             "chunks": dict(self.chunks),
+            # only in adaptive plans: a dense plan's identity (and so every dense store) is what it always was
+            **({"adaptive": self.adaptive.identity()} if self.adaptive is not None else {}),
         }
 
     # -- chunks -------------------------------------------------------------------------------
@@ -262,13 +268,16 @@ def _number(name: str, text: str) -> float:
 def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[str, float] | None = None,
               kH: Sequence[float] | np.ndarray | None = None, rtol: float | None = None, growth: bool = True,
               gamma_c: bool = True, gamma_range: tuple[float, float] | None = None, count: CountSpec | None = None,
-              chunk_points: int = CHUNK_POINTS) -> Plan:
+              chunk_points: int | None = None, adaptive: AdaptiveSpec | bool | Mapping[str, Any] | None = None) -> Plan:
     """Validate a sweep and fix its chunks; SweepError (a ValueError) naming the problem otherwise.
 
     axes: parameter name -> strictly increasing finite values in the model's domain (η = ∞ only as a fixed
     value); fixed: values of other parameters (the rest take :data:`DEFAULT_FIXED`); kH: the grid on which the
     growth is bracketed (increasing, > 0; default :data:`DEFAULT_KH`); gamma_range: where γ_c is searched
-    (default: the γ axis' range if γ is an axis, else (1e-2, 1e3)).
+    (default: the γ axis' range if γ is an axis, else (1e-2, 1e3)); chunk_points: grid points per growth chunk
+    (default :data:`CHUNK_POINTS`, adaptive :data:`atlas_engine.adaptive.CHUNK_POINTS`); adaptive: None or False (the
+    dense sweep), True or an :class:`~atlas_engine.adaptive.AdaptiveSpec` (levels, margin, guard; every axis must have
+    m·2^levels + 1 points).
     """
     if not axes:
         raise SweepError("no axis given: a sweep needs at least one axis (e.g. gamma=0.1:30:64:log)")
@@ -322,9 +331,22 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
         if not (re_max > 0 and 0 <= im_min < im_max):
             raise SweepError(f"count window must be re_max > 0, 0 <= im_min < im_max; got {count.window}")
         count = CountSpec(tuple(float(x) for x in ck), (re_max, im_min, im_max))
+    shape = [len(v) for v in clean_axes.values()]
+    spec = None
+    if adaptive is not None and adaptive is not False:
+        from . import adaptive as A
+
+        if not growth:
+            raise SweepError("an adaptive sweep refines the growth's verdict: it needs the growth variables")
+        try:
+            spec = A.resolve_spec(adaptive, tuple(shape))
+            A.check_shape(tuple(clean_axes), tuple(shape), spec.levels)  # type: ignore[arg-type]
+        except (TypeError, ValueError) as exc:
+            raise SweepError(str(exc)) from None
+    if chunk_points is None:
+        chunk_points = CHUNK_POINTS if spec is None else A.CHUNK_POINTS
     if chunk_points < 1:
         raise SweepError(f"chunk_points must be >= 1; got {chunk_points}")
-    shape = [len(v) for v in clean_axes.values()]
     chunks = dict(zip(clean_axes, chunk_sizes(shape, chunk_points), strict=True))
     gc_names = [n for n in clean_axes if n != "gamma"]
     gc = chunk_sizes([len(clean_axes[n]) for n in gc_names], max(1, chunk_points * GAMMA_C_CHUNK_POINTS
@@ -333,7 +355,7 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
     cc = chunk_sizes(shape, max(1, chunk_points * COUNT_CHUNK_POINTS // CHUNK_POINTS))
     chunks.update({f"count:{n}": c for n, c in zip(clean_axes, cc, strict=True)})
     return Plan(clean_axes, full_fixed, tuple(float(x) for x in grid), rtol, growth, gamma_c, (lo, hi), count,
-                chunks)
+                chunks, spec)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -374,18 +396,22 @@ def _params(task: Task) -> tuple[tuple[int, ...], np.ndarray]:
     return shape, np.ascontiguousarray(np.stack(rows))
 
 
+def growth_arrays(s: np.ndarray, params: np.ndarray, rtol: float | None) -> dict[str, np.ndarray]:
+    """The growth variables (1-D, one value per column of `params`) of :func:`model.growth_chunk` on the ln kH grid
+    `s`: the same operations as model.growth_analysis, so the values are bitwise equal (each point is computed on
+    its own: the dense and the adaptive sweep give the same bits at a point whatever else a chunk holds)."""
+    out = model.growth_chunk(s, params, rtol)
+    reason = out[7].astype(np.int8)  # as model.growth_analysis (the kernel always gives a code)
+    return {"growth": out[0], "kH_at_max": np.exp(out[1]), "kH_min": np.exp(out[2]), "kH_max": np.exp(out[3]),
+            "n_masked": out[4].astype(np.int16), "verdict": model.verdict_class(reason), "verdict_reason": reason}
+
+
 def run_task(task: Task) -> dict[str, np.ndarray]:
     """Compute one chunk (the only code that runs on a worker): model calls, nothing else."""
     shape, params = _params(task)
     s = np.log(np.asarray(task.kH))
     if task.kind == "growth":
-        out = model.growth_chunk(s, params, task.rtol)
-        # the same operations as model.growth_analysis, so the values are bitwise equal
-        reason = out[7].astype(np.int8)  # as model.growth_analysis (the kernel always gives a code)
-        return {"growth": out[0].reshape(shape), "kH_at_max": np.exp(out[1]).reshape(shape),
-                "kH_min": np.exp(out[2]).reshape(shape), "kH_max": np.exp(out[3]).reshape(shape),
-                "n_masked": out[4].astype(np.int16).reshape(shape),
-                "verdict": model.verdict_class(reason).reshape(shape), "verdict_reason": reason.reshape(shape)}
+        return {name: arr.reshape(shape) for name, arr in growth_arrays(s, params, task.rtol).items()}
     if task.kind == "gamma_c":
         c = model.crossings_chunk("gamma", s, params, task.gamma_range, task.rtol, CROSSINGS)
         k = (*shape, CROSSINGS)
@@ -477,6 +503,7 @@ def _attrs(plan: Plan, command: str | None) -> dict[str, Any]:
         "kH_grid": f"{len(plan.kH)} points from {plan.kH[0]:g} to {plan.kH[-1]:g} (variable kH)",
         "rtol": "None (full certified accuracy)" if plan.rtol is None else float(plan.rtol),
         "command": command or "",
+        **({"adaptive": json.dumps(adaptive_summary(plan.shape, plan.adaptive))} if plan.adaptive else {}),
     }
 
 
@@ -518,7 +545,12 @@ def template(plan: Plan, command: str | None = None):
                 attrs.update(flag_values=sorted(meanings[name]),
                              flag_meanings=json.dumps({str(k): v for k, v in sorted(meanings[name].items())}))
             data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks), attrs)
-        flags["growth"] = len(plan.growth_blocks())
+        if plan.adaptive is None:
+            flags["growth"] = len(plan.growth_blocks())
+        else:  # the adaptive sweep's own variables (atlas_engine.adaptive); `computed` is its done flag, per point
+            for name, (dtype, fill, long_name, attrs) in _adaptive_vars(plan.adaptive).items():
+                data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks),
+                              {"long_name": long_name, "units": "1", **attrs})
     if plan.gamma_c:
         gdims = plan.gamma_c_names
         gshape = tuple(len(plan.axes[n]) for n in gdims)
@@ -567,11 +599,34 @@ def template(plan: Plan, command: str | None = None):
 
 #: Zarr fill values (what a chunk not written yet reads as) of the integer variables; floats: NaN
 INT_FILL = {"n_masked": -1, "gamma_c_reason": -1, "unstable_count": -2, "verdict": -1, "verdict_reason": -1,
-            "gamma_c_direction": 0, "gamma_c_crossing_reason": -1, "gamma_c_n_crossings": -1, "gamma_c_complete": -1}
+            "gamma_c_direction": 0, "gamma_c_crossing_reason": -1, "gamma_c_n_crossings": -1, "gamma_c_complete": -1,
+            "computed": -1, "verdict_filled": -1}
 
 
-def _encoding(ds) -> dict[str, dict]:
-    return {name: {"fill_value": np.nan if var.dtype.kind == "f" else INT_FILL.get(name, 0)}
+def _adaptive_vars(spec: AdaptiveSpec) -> dict[str, tuple[Any, int, str, dict[str, Any]]]:
+    """The adaptive sweep's variables: dtype, fill, long name, further attributes."""
+    levels = spec.levels or 0
+    meanings = {"-1": "not computed (growth NaN there; its class is in verdict_filled)",
+                **{str(k): f"computed at level {k} (stride {2 ** (levels - k)})" for k in range(levels + 1)}}
+    return {
+        "computed": (np.int8, -1, "the refinement level at which the point was computed (-1: not computed)",
+                     {"flag_values": list(range(-1, levels + 1)), "flag_meanings": json.dumps(meanings)}),
+        "verdict_filled": (np.int8, -1, "verdict class at every point: the model's verdict where computed, else the "
+                           "common class of the corners of the finest computed cell holding the point (-1: not yet "
+                           "filled)", {"flag_values": sorted(model.VERDICTS),
+                                      "flag_meanings": json.dumps({str(k): v for k, v in model.VERDICTS.items()})}),
+    }
+
+
+def _encoding(ds, fast: bool = False) -> dict[str, dict]:
+    """Fill values; `fast`: Zstandard at level 1 instead of Zarr's default level (the same size on atlas data, ~3x
+    faster to write: an adaptive sweep rewrites a chunk at every level that touches it)."""
+    extra: dict[str, Any] = {}
+    if fast:
+        from zarr.codecs import ZstdCodec
+
+        extra = {"compressors": [ZstdCodec(level=1)]}
+    return {name: {"fill_value": np.nan if var.dtype.kind == "f" else INT_FILL.get(name, 0), **extra}
             for name, var in ds.data_vars.items()}
 
 
@@ -605,9 +660,9 @@ def _plan_difference(theirs: dict, ours: dict) -> str:
 
     if theirs.get("axes") != ours["axes"]:
         return f"other axes: {axes_text(theirs)}; this sweep asks for {axes_text(ours)}"
-    for key in ("fixed", "kH", "rtol", "gamma_c", "gamma_range", "count", "chunks"):
-        if theirs.get(key) != ours[key]:
-            return f"another {key}: {theirs.get(key)!r:.200}; this sweep asks for {ours[key]!r:.200}"
+    for key in ("adaptive", "fixed", "kH", "rtol", "gamma_c", "gamma_range", "count", "chunks"):
+        if theirs.get(key) != ours.get(key):  # "adaptive" is in adaptive plans only
+            return f"another {key}: {theirs.get(key)!r:.200}; this sweep asks for {ours.get(key)!r:.200}"
     return "another plan"
 
 
@@ -617,6 +672,17 @@ def done_chunks(store: Path) -> dict[str, np.ndarray]:
 
     ds = xr.open_zarr(store, consolidated=False)
     return {name[len("done_"):]: ds[name].values.astype(bool) for name in ds.data_vars if name.startswith("done_")}
+
+
+def store_stamp(store: str | os.PathLike) -> str:
+    """A short text that changes whenever a sweep writes to the store (its done flags; an adaptive sweep's summary,
+    written when its grid variables are): readers cache an atlas by it."""
+    import xarray as xr
+
+    ds = xr.open_zarr(Path(store), consolidated=False)
+    flags = {name: int(ds[name].values.sum()) for name in ds.data_vars if name.startswith("done_")}
+    adaptive = json.loads(ds.attrs.get("adaptive", "{}"))
+    return json.dumps({**flags, "adaptive_evaluated": adaptive.get("evaluated")})
 
 
 def _write(store: Path, task: Task, result: dict[str, np.ndarray], region_dims: dict[str, tuple[str, ...]]) -> None:
@@ -656,7 +722,7 @@ class _ResultQueue:
     so that the workers never run far ahead of a slow writer (many small chunks, a slow disk). The backlog is what a
     Ctrl-C still writes before the sweep stops, and what memory holds."""
 
-    def __init__(self, on_result: Callable[[Task, dict[str, np.ndarray]], None], backlog: int) -> None:
+    def __init__(self, on_result: Callable[[Any, dict[str, np.ndarray]], None], backlog: int) -> None:
         self._on_result = on_result
         self._queue: queue.Queue = queue.Queue(maxsize=backlog)
         self._error: BaseException | None = None
@@ -671,7 +737,7 @@ class _ResultQueue:
                 except BaseException as exc:  # noqa: BLE001 (handed to the sweep's thread by put/close)
                     self._error = exc
 
-    def put(self, task: Task, result: dict[str, np.ndarray]) -> None:
+    def put(self, task: Any, result: dict[str, np.ndarray]) -> None:
         if self._error is not None:
             raise self._error
         self._queue.put((task, result))
@@ -689,15 +755,17 @@ class _ResultQueue:
 THREADED_BATCH = 256
 
 
-def _execute(todo: list[Task], on_result: Callable[[Task, dict[str, np.ndarray]], None], client=None,
-             workers: int | None = None) -> None:
-    """Run `todo`, calling `on_result` in one thread as each task finishes (in any order)."""
+def _execute(todo: Sequence[Any], on_result: Callable[[Any, dict[str, np.ndarray]], None], client=None,
+             workers: int | None = None, run: Callable[[Any], dict[str, np.ndarray]] | None = None) -> None:
+    """Run `todo` (tasks with a `kind` and an `index`, unique together), calling `on_result` in one thread as each
+    task finishes (in any order); `run`: the function of a task (default :func:`run_task`)."""
     if not todo:
         return
+    run = run or run_task
     if client is not None:
         from distributed import as_completed
 
-        futures = client.map(run_task, todo, pure=False)
+        futures = client.map(run, todo, pure=False)
         by_key = {f.key: t for f, t in zip(futures, todo, strict=True)}
         try:
             for future, result in as_completed(futures, with_results=True):
@@ -710,7 +778,7 @@ def _execute(todo: list[Task], on_result: Callable[[Task, dict[str, np.ndarray]]
     from dask.callbacks import Callback
 
     n_workers = workers or os.cpu_count() or 1
-    results: dict[str, Task] = {}
+    results: dict[str, Any] = {}
     writer = _ResultQueue(on_result, backlog=2 * n_workers)
 
     class _Handover(Callback):
@@ -724,7 +792,7 @@ def _execute(todo: list[Task], on_result: Callable[[Task, dict[str, np.ndarray]]
             for t in part:
                 key = f"{t.kind}-{t.index}"
                 results[key] = t
-                graph[key] = (run_task, t)
+                graph[key] = (run, t)
             with _Handover():
                 dask.threaded.get(graph, list(graph), num_workers=n_workers)
             for key in graph:
@@ -737,8 +805,9 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
           kH: Sequence[float] | np.ndarray | None = None, rtol: float | None = None,
           store: str | os.PathLike | None = None, client=None, growth: bool = True, gamma_c: bool = True,
           gamma_range: tuple[float, float] | None = None, count: CountSpec | None = None,
-          chunk_points: int = CHUNK_POINTS, workers: int | None = None, progress: Progress | None = None,
-          command: str | None = None):
+          chunk_points: int | None = None, workers: int | None = None, progress: Progress | None = None,
+          command: str | None = None, adaptive: AdaptiveSpec | bool | Mapping[str, Any] | None = None,
+          start: Progress | None = None):
     """Sweep the Rayleigh branch's growth analysis over the grid `axes` (x the fixed values); an xarray.Dataset.
 
     axes: parameter name (gamma, f, beta, eta, Delta, xi) -> increasing values; fixed: other parameters (default:
@@ -747,21 +816,71 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
     chunk and resumed if it exists with the same plan and model (else SweepError, nothing written); client: a
     ``distributed.Client`` (None: Dask's threaded scheduler here, `workers` threads); growth: the growth variables;
     gamma_c: the threshold γ_c over the other axes (searched in `gamma_range`); count: the optional all-branch
-    count; progress: called with (kind, points) as chunks finish; command: recorded in the attributes.
+    count; progress: called with (kind, points) as chunks finish; command: recorded in the attributes; adaptive:
+    None (every point) or True / an :class:`~atlas_engine.adaptive.AdaptiveSpec` (the growth computed only where the
+    verdict can change: :mod:`atlas_engine.adaptive`; every axis must have m·2^levels + 1 points); start: called with
+    (kind, points) when an adaptive level's batch of that many points starts (kind ``level L``, as in `progress`).
 
     Returns the dataset: in memory without a store, else opened lazily from the store. Variables and attributes:
     see the module docstring. Bad input raises SweepError (a ValueError) naming the problem.
     """
+    plan = make_plan(axes, fixed=fixed, kH=kH, rtol=rtol, growth=growth, gamma_c=gamma_c, gamma_range=gamma_range,
+                     count=count, chunk_points=chunk_points, adaptive=adaptive)
+    if plan.adaptive is not None:
+        from .adaptive import run
+
+        return run(plan, store=store, client=client, workers=workers, progress=progress, start=start,
+                   command=command)
+    return run_dense(plan, store=store, client=client, workers=workers, progress=progress, command=command)
+
+
+def run_dense(plan: Plan, *, store: str | os.PathLike | None = None, client=None, workers: int | None = None,
+              progress: Progress | None = None, command: str | None = None):
+    """The dense sweep of a validated plan (:func:`sweep` without the parsing): every chunk of every kind."""
     import xarray as xr
 
-    plan = make_plan(axes, fixed=fixed, kH=kH, rtol=rtol, growth=growth, gamma_c=gamma_c, gamma_range=gamma_range,
-                     count=count, chunk_points=chunk_points)
-    groups = tasks(plan)
-    region_dims = {"growth": plan.names, "gamma_c": plan.gamma_c_names, "count": plan.names}
     if store is None:
-        ds = template(plan, command).compute()
-        for name in ds.data_vars:  # writable copies (dask's fill arrays are broadcast views)
-            ds[name] = ds[name].copy(data=np.array(ds[name].values))
+        ds = memory_dataset(plan, command)
+        run_kinds(plan, tuple(tasks(plan)), ds=ds, client=client, workers=workers, progress=progress)
+        return ds
+    path = open_store(plan, Path(store), command)
+    run_kinds(plan, tuple(tasks(plan)), path=path, client=client, workers=workers, progress=progress)
+    return xr.open_zarr(path, consolidated=False)
+
+
+def memory_dataset(plan: Plan, command: str | None = None):
+    """The plan's template in memory, with writable arrays (a sweep without a store fills it)."""
+    ds = template(plan, command).compute()
+    for name in ds.data_vars:  # writable copies (dask's fill arrays are broadcast views)
+        ds[name] = ds[name].copy(data=np.array(ds[name].values))
+    return ds
+
+
+def open_store(plan: Plan, path: Path, command: str | None = None) -> Path:
+    """The store of `plan` at `path`: checked if it exists (SweepError if it cannot be resumed), else created."""
+    if path.exists():
+        check_resumable(path, plan)
+        return path
+    # created beside it and renamed into place: a store interrupted while being created would be unreadable, and
+    # refused, instead of resumed
+    ds0 = template(plan, command)
+    tmp = path.with_name(f".{path.name}.creating-{os.getpid()}")
+    try:
+        ds0.to_zarr(tmp, compute=False, mode="w-", encoding=_encoding(ds0, fast=plan.adaptive is not None),
+                    consolidated=False)
+        os.rename(tmp, path)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return path
+
+
+def run_kinds(plan: Plan, kinds: Sequence[str], *, ds=None, path: Path | None = None, client=None,
+              workers: int | None = None, progress: Progress | None = None) -> None:
+    """Run the chunks of the task kinds `kinds` not yet done: into the in-memory dataset `ds` or the store `path`
+    (region writes, then the done flags)."""
+    groups = tasks(plan, kinds)
+    region_dims = {"growth": plan.names, "gamma_c": plan.gamma_c_names, "count": plan.names}
+    if path is None:
         todo = [t for group in groups.values() for t in group]
 
         def keep(task: Task, result: dict[str, np.ndarray]) -> None:
@@ -773,20 +892,7 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
                 progress(task.kind, task.points)
 
         _execute(todo, keep, client, workers)
-        return ds
-    path = Path(store)
-    if path.exists():
-        check_resumable(path, plan)
-    else:
-        # created beside it and renamed into place: a store interrupted while being created would be unreadable,
-        # and refused, instead of resumed
-        ds0 = template(plan, command)
-        tmp = path.with_name(f".{path.name}.creating-{os.getpid()}")
-        try:
-            ds0.to_zarr(tmp, compute=False, mode="w-", encoding=_encoding(ds0), consolidated=False)
-            os.rename(tmp, path)
-        finally:
-            shutil.rmtree(tmp, ignore_errors=True)
+        return
     done = done_chunks(path)
     todo = [t for kind, group in groups.items() for t in group if not done[kind][t.index]]
     if progress is not None:
@@ -801,7 +907,6 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
             progress(task.kind, task.points)
 
     _execute(todo, write, client, workers)
-    return xr.open_zarr(path, consolidated=False)
 
 
 def plan_points(plan: Plan) -> dict[str, int]:
@@ -830,8 +935,17 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
     yield "  fixed: " + ", ".join(f"{k} = {v}" for k, v in plan.get("fixed", {}).items())
     yield f"  kH grid: {ds.attrs.get('kH_grid')}; rtol: {ds.attrs.get('rtol')}"
     done = done_chunks(path)
-    yield "  chunks written: " + ", ".join(f"{kind} {int(done[kind].sum())} of {done[kind].size}"
-                                          for kind in ("growth", "gamma_c", "count") if kind in done)
+    if done:
+        yield "  chunks written: " + ", ".join(f"{kind} {int(done[kind].sum())} of {done[kind].size}"
+                                              for kind in ("growth", "gamma_c", "count") if kind in done)
+    if "adaptive" in ds.attrs and "computed" in ds:
+        yield from adaptive_lines(ds.attrs["adaptive"], ds["computed"].values)
+        filled = ds["verdict_filled"].values
+        if (filled >= 0).all():
+            yield ("  verdict_filled (every point): " + ", ".join(
+                f"{model.VERDICTS[k]} {100 * (filled == k).mean():.1f} %" for k in sorted(model.VERDICTS)))
+        else:
+            yield "  verdict_filled: not yet (the sweep has not finished: run the same command to resume it)"
     g = ds["growth"].values if "growth" in ds else np.empty(0)
     finite = np.isfinite(g)
     if finite.any():
@@ -855,6 +969,26 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
         yield (f"  unstable_count: window |Re z| <= {uc.attrs['re_max']:g}, {uc.attrs['im_min']:g} <= Im z <= "
                f"{uc.attrs['im_max']:g} on {ds.sizes['kH_count']} kH; max {int(uc.max())}, failed counts "
                f"{int((uc == -1).sum())}")
+
+
+def adaptive_lines(attribute: str, computed: np.ndarray) -> Iterator[str]:
+    """The refinement of an adaptive atlas (its ``adaptive`` attribute) and the points evaluated per level (from
+    ``computed``, so a sweep not finished yet is described as far as it got)."""
+    from .adaptive import lattice_size, level_counts
+
+    a = json.loads(attribute)
+    levels = int(a["levels"])
+    counts = level_counts(computed, levels)
+    size = computed.size
+    guard = f"guard {a['guard']:g}" if a["guard"] else "guard off"
+    yield (f"  adaptive: levels 0..{levels}, coarse grid {' x '.join(str(n) for n in a['coarse_shape'])} (stride "
+           f"{a['coarse_stride']}), margin {a['margin']}, {guard}")
+    for level, n in enumerate(counts):
+        lattice = lattice_size(computed.shape, levels, level)
+        yield (f"    level {level} (stride {2 ** (levels - level)}): {n} points evaluated = {100 * n / size:.2f} % of "
+               f"the grid ({100 * n / lattice:.1f} % of the level's {lattice} points)")
+    total = sum(counts)
+    yield f"  evaluated fraction: {100 * total / size:.2f} % ({total} of {size} points)"
 
 
 def _verdict_lines(verdict: np.ndarray, reason: np.ndarray) -> Iterator[str]:

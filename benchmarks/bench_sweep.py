@@ -121,14 +121,18 @@ def throughput(n: int) -> list[tuple[str, float, int]]:
     return rows
 
 
-def big_sweep(n: int, gamma_c: bool) -> tuple[float, int]:
-    """Wall time of an n^4 sweep over (gamma, f, beta, Delta) at eta = inf, xi = 1 into a Zarr store."""
+def big_sweep(n: int, gamma_c: bool, keep: Path | None = None) -> tuple[float, int, tuple[float, float]]:
+    """Wall time of an n^4 sweep over (gamma, f, beta, Delta) at eta = inf, xi = 1 into a Zarr store, its size and
+    the host gauge before and after; keep: a directory to leave the store in (as big.zarr), else it is removed."""
     axes = {"gamma": np.geomspace(0.1, 30, n), "f": np.linspace(0.1, 1.5, n), "beta": np.linspace(0.05, 0.7, n),
             "Delta": np.linspace(0.05, 1.0, n)}
     with tempfile.TemporaryDirectory() as tmp:
-        t = _timed(lambda: S.sweep(axes, fixed={"xi": 1.0}, kH=KH, store=Path(tmp) / "big.zarr", gamma_c=gamma_c))
-        size = sum(p.stat().st_size for p in Path(tmp).rglob("*") if p.is_file())
-    return t, size
+        where = keep or Path(tmp)
+        h0 = host_loop_seconds()
+        t = _timed(lambda: S.sweep(axes, fixed={"xi": 1.0}, kH=KH, store=where / "big.zarr", gamma_c=gamma_c))
+        h1 = host_loop_seconds()
+        size = sum(p.stat().st_size for p in (where / "big.zarr").rglob("*") if p.is_file())
+    return t, size, (h0, h1)
 
 
 def gamma_c_surface(n: int) -> tuple[float, np.ndarray]:
@@ -139,9 +143,14 @@ def gamma_c_surface(n: int) -> tuple[float, np.ndarray]:
     return t, out["ds"].gamma_c_reason.values
 
 
-def markdown(quick: bool = False) -> str:
+def markdown(quick: bool = False, dense: dict | None = None) -> str:
+    """The benchmark as Markdown. dense: a dict to receive the big dense sweep (its store kept in dense["dir"], and
+    "store", "seconds", "host"), for the adaptive benchmark of the same grid (benchmarks/bench_adaptive.py): the
+    big grid is then 65^4 (2^6 + 1 points per axis, as an adaptive grid needs), else 64^4."""
     host0 = host_loop_seconds()
     n_tp, n_big, n_gc = (12, 8, 6) if quick else (64, 64, 32)
+    if dense is not None:
+        n_big = 17 if quick else 65
     rows = throughput(n_tp)
     points = n_tp**3 * KH.size
     ref1 = (rows[0][1] + rows[-2][1]) / 2
@@ -163,10 +172,13 @@ def markdown(quick: bool = False) -> str:
     if one_worker and two_workers:
         lines += ["", f"Scaling, dask scheduler with 1 -> 2 worker processes: {one_worker / two_workers:.2f}x "
                       "(target >= 1.8x)."]
-    t_big, size = big_sweep(n_big, gamma_c=False)
+    t_big, size, host = big_sweep(n_big, gamma_c=False, keep=None if dense is None else dense["dir"])
+    per64 = "" if n_big == 64 else f", i.e. {t_big * 64**4 / n_big**4:.0f} s for 64^4 points"
     lines += ["", f"{n_big}^4 sweep (gamma, f, beta, Delta; eta = inf, xi = 1; {KH.size} kH; growth only) into Zarr: "
-                  f"{t_big:.0f} s = {t_big / 60:.1f} min ({n_big**4 / t_big:.3g} sets/s, store {size / 1e6:.0f} MB; "
-                  "target <= 8 min)."]
+                  f"{t_big:.0f} s = {t_big / 60:.1f} min{per64} ({n_big**4 / t_big:.3g} sets/s, store "
+                  f"{size / 1e6:.0f} MB; host loop {host[0]:.2f} -> {host[1]:.2f} s; target <= 8 min for 64^4)."]
+    if dense is not None:
+        dense.update(store=dense["dir"] / "big.zarr", seconds=t_big, host=host)
     t_gc, reasons = gamma_c_surface(n_gc)
     counts = {int(c): int((reasons == c).sum()) for c in np.unique(reasons)}
     lines += ["", f"gamma_c surface over {n_gc}^3 points (f, beta, Delta; eta = inf, xi = 1): {t_gc:.0f} s "

@@ -188,8 +188,17 @@ def other_sections() -> str:
              + threshold_accuracy.markdown())
     text += ("\n## Coverage of the stability boundary per eta (certified crossings and verdicts; "
              "`benchmarks/bench_coverage.py`)\n\n" + bench_coverage.table(bench_coverage.run()))
-    text += "\n## Stability atlases (asymslide sweep; `benchmarks/bench_sweep.py`)\n\n" + bench_sweep.markdown()
     import tempfile
+
+    from benchmarks import bench_adaptive
+
+    with tempfile.TemporaryDirectory() as tmp:  # the dense 65^4 store, kept for the adaptive atlas's agreement
+        dense = {"dir": Path(tmp)}
+        text += ("\n## Stability atlases (asymslide sweep; `benchmarks/bench_sweep.py`)\n\n"
+                 + bench_sweep.markdown(dense=dense))
+        text += ("\n## Adaptive atlases against dense ones (asymslide sweep --adaptive; `benchmarks/bench_adaptive.py`)"
+                 "\n\n" + bench_adaptive.run(dense_store=dense["store"], dense_seconds=dense["seconds"],
+                                            dense_host=dense["host"]))
 
     with tempfile.TemporaryDirectory() as tmp:
         old = bench_kernels_ab.export_revision(bench_kernels_ab.BEFORE_REFACTOR, Path(tmp))

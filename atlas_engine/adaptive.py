@@ -1,0 +1,536 @@
+"""Adaptive atlases: the dense atlas grid, with the model called only where the verdict can change (issue 27).
+
+The grid is the dense sweep's grid, with axes of m·2^L + 1 points (a single value is m = 0), so that the grids of
+stride 2^(L-l), l = 0 .. L, nest. **Level 0** is the coarse grid (stride 2^L), evaluated in full. At **level l**
+(stride s = 2^(L-l)) the cells of level l-1 (hyper-cubes of side 2s whose 2^d corners are evaluated) are
+*flagged* where their corners differ in verdict class (0 stable / 1 unstable / 2 undetermined: undetermined is a
+class of its own); level l evaluates every point of stride s in the flagged cells and, as a **margin**, every point of
+stride s within `margin` cells of level l (side s; Chebyshev distance) of them: margin 1 adds the ring of level-l
+cells around the flagged cells (margin 2 the ring of level-(l-1) cells). A cell whose corners agree is not refined,
+and its points that are never evaluated take its corners' class. With the optional **guard** a cell whose corners agree
+on stable or unstable is flagged too where
+
+    min over its corners |growth|  <=  guard · max over its corners  Σ_i |δ²_i growth| / 8
+
+δ²_i being the second difference of the growth along axis i at the cell's stride (from evaluated certified points;
+at the ends of an axis the neighbour's): |δ²_i|/8 estimates how far the growth can leave the multilinear
+interpolant of the corners inside the cell, so the guard refines the nearly neutral cells where a sign change
+between the corners is not excluded (islands of the other sign smaller than a cell). Its cost is a higher evaluated
+fraction (``benchmarks/bench_adaptive.py``).
+
+Which points a level evaluates depends only on the stored values of the levels before it (``growth``,
+``verdict``, ``computed``), so a killed sweep, run again with the same command, computes only what is missing and
+ends identical to an uninterrupted run. The values at evaluated points are computed by :func:`model.growth_chunk`
+exactly as the dense sweep computes them (bitwise equal). Variables besides the dense sweep's growth variables
+(which stay NaN / fill where not evaluated):
+
+- ``computed``: the level at which the point was evaluated, -1 where it was not;
+- ``verdict_filled``: the verdict class at every point: the model's verdict where evaluated, else the common class
+  of the corners of the finest evaluated cell (all corners evaluated and of one class) that contains the point.
+
+The store's attribute ``adaptive`` (JSON) records the levels, the coarse grid, margin, guard and the evaluated
+fraction overall and per level. The plan (:class:`AdaptiveSpec` in it) is part of the store's identity, as the
+dense sweep's: another margin, guard or level count refuses to resume.
+
+Layering: this module takes a validated :class:`atlas_engine.sweep.Plan` (the CLI parses, the engine takes a plan);
+:func:`refine_targets` and :func:`fill_classes` are pure NumPy functions of the state arrays.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .sweep import Plan
+
+#: the coarse grid has about this many points along the longest axis when the levels are not given
+COARSE_POINTS = 9
+#: at most this many points per task of a level (a task never spans two Zarr chunks)
+TASK_POINTS = 8192
+#: the growth variables' chunks hold at most this many points in an adaptive store: a level rewrites every chunk it
+#: touches, and larger chunks mean fewer writes (zarr writes cost ~1-5 ms per chunk and variable on this machine)
+CHUNK_POINTS = 131072
+#: ``computed`` where a point was not evaluated
+NOT_COMPUTED = -1
+
+
+@dataclass(frozen=True)
+class AdaptiveSpec:
+    """An adaptive sweep's refinement: `levels` L (the coarse grid has stride 2^L; None: a coarse grid of about
+    :data:`COARSE_POINTS` points along the longest axis), `margin` (the ring of cells of the new level evaluated
+    around every flagged cell, in cells) and `guard` (0: off; else the factor of the curvature test for nearly
+    neutral cells, 1 the estimate itself)."""
+
+    levels: int | None = None
+    margin: int = 1
+    guard: float = 0.0
+
+    def identity(self) -> dict[str, Any]:
+        return {"levels": self.levels, "margin": self.margin, "guard": self.guard}
+
+
+def adaptive_size(n: int, levels: int) -> int:
+    """The smallest axis length >= n of the form m·2^levels + 1 (1 stays 1)."""
+    step = 2**levels
+    return 1 if n <= 1 else math.ceil((n - 1) / step) * step + 1
+
+
+def default_levels(shape: tuple[int, ...] | list[int]) -> int:
+    """L such that the coarse grid has about COARSE_POINTS points along the longest axis (0 for tiny grids)."""
+    longest = max(shape, default=1)
+    if longest <= COARSE_POINTS:
+        return 0
+    return max(0, round(math.log2((longest - 1) / (COARSE_POINTS - 1))))
+
+
+def resolve_spec(spec: AdaptiveSpec | bool | Mapping[str, Any], shape: tuple[int, ...]) -> AdaptiveSpec:
+    """A validated spec with its levels fixed for the grid `shape`; ValueError naming the problem."""
+    if spec is True:
+        spec = AdaptiveSpec()
+    elif isinstance(spec, Mapping):
+        spec = AdaptiveSpec(**spec)
+    if not isinstance(spec, AdaptiveSpec):
+        raise ValueError(f"adaptive must be True, an AdaptiveSpec or a mapping of its fields; got {spec!r}")
+    levels = default_levels(shape) if spec.levels is None else spec.levels
+    if not isinstance(levels, int | np.integer) or not 0 <= levels <= 20:
+        raise ValueError(f"adaptive levels must be an integer in [0, 20]; got {levels!r}")
+    if not isinstance(spec.margin, int | np.integer) or not 0 <= spec.margin <= 8:
+        raise ValueError(f"adaptive margin must be an integer in [0, 8]; got {spec.margin!r}")
+    guard = float(spec.guard)
+    if not (math.isfinite(guard) and guard >= 0):
+        raise ValueError(f"adaptive guard must be a finite factor >= 0 (0: off); got {spec.guard!r}")
+    return AdaptiveSpec(int(levels), int(spec.margin), guard)
+
+
+def check_shape(names: tuple[str, ...], shape: tuple[int, ...], levels: int) -> None:
+    """ValueError unless every axis has m·2^levels + 1 points, saying which size to use instead."""
+    for name, n in zip(names, shape, strict=True):
+        if n > 1 and (n - 1) % 2**levels:
+            raise ValueError(f"axis {name} has {n} points: an adaptive grid of {levels} levels needs m·2^{levels} + 1 "
+                             f"points per axis (nested grids of stride 2^{levels} .. 1); use "
+                             f"{adaptive_size(n, levels)} (atlas_engine.adaptive.adaptive_size) or other levels")
+
+
+# ------------------------------------------------------------------------------------------------
+# the refinement: pure functions of the state arrays (full grid, C order)
+# ------------------------------------------------------------------------------------------------
+
+
+def _squeeze(shape: tuple[int, ...]) -> tuple[int, ...]:
+    """The axes of more than one point (the refinement works on those; a single value has no cells)."""
+    return tuple(i for i, n in enumerate(shape) if n > 1)
+
+
+def _lattice(a: np.ndarray, stride: int) -> np.ndarray:
+    """The view of `a` (squeezed) on the points of stride `stride`."""
+    return a[(slice(None, None, stride),) * a.ndim]
+
+
+def _corner_reduce(a: np.ndarray, fn: Callable[[np.ndarray, np.ndarray], np.ndarray]) -> np.ndarray:
+    """fn over the 2^d corners of every cell of the lattice array `a` (cells: shape - 1 per axis)."""
+    out = a
+    for axis in range(a.ndim):
+        lo = [slice(None)] * a.ndim
+        hi = [slice(None)] * a.ndim
+        lo[axis], hi[axis] = slice(None, -1), slice(1, None)
+        out = fn(out[tuple(lo)], out[tuple(hi)])
+    return out
+
+
+def _expand(cells: np.ndarray, factor: int) -> np.ndarray:
+    """Max over the cells whose closure holds each point: a cell array of shape c -> points of shape c·factor + 1 on
+    the lattice `factor` times finer (a point on a face between cells takes the larger value)."""
+    out = cells
+    for axis in range(cells.ndim):
+        rep = np.repeat(out, factor, axis=axis)
+        last = np.take(out, [-1], axis=axis)
+        full = np.concatenate([rep, last], axis=axis)
+        faces = [slice(None)] * cells.ndim
+        faces[axis] = slice(factor, -1, factor)
+        before = np.take(out, np.arange(out.shape[axis] - 1), axis=axis)
+        full[tuple(faces)] = np.maximum(full[tuple(faces)], before)
+        out = full
+    return out
+
+
+def _dilate(mask: np.ndarray, margin: int) -> np.ndarray:
+    """Points within `margin` points (Chebyshev distance, on one lattice) of a True point."""
+    if margin <= 0 or not mask.any():
+        return mask
+    from scipy import ndimage
+
+    return ndimage.maximum_filter(mask, size=2 * margin + 1, mode="constant", cval=False)
+
+
+def _curvature(growth: np.ndarray, certified: np.ndarray) -> np.ndarray:
+    """Σ_i |δ²_i growth| / 8 at every point of a lattice (δ² from three certified points, else 0; the ends of an
+    axis take their neighbour's): the deviation of the growth from linear interpolation inside a cell."""
+    g = np.where(certified, growth, np.nan)
+    total = np.zeros(g.shape)
+    for axis in range(g.ndim):
+        n = g.shape[axis]
+        if n < 3:
+            continue
+        a, b, c = (np.take(g, np.arange(k, n - 2 + k), axis=axis) for k in range(3))
+        d2 = np.abs(a - 2 * b + c) / 8
+        d2 = np.nan_to_num(d2, nan=0.0)
+        pad = [(0, 0)] * g.ndim
+        pad[axis] = (1, 1)
+        total += np.pad(d2, pad, mode="edge")
+    return total
+
+
+def refine_targets(level: int, spec: AdaptiveSpec, verdict: np.ndarray, growth: np.ndarray,
+                   computed: np.ndarray) -> np.ndarray:
+    """Boolean mask (full grid) of the points level `level` evaluates, from the points evaluated at levels below it
+    (only those: the result does not depend on how far `level` itself got), excluding those already evaluated
+    there. `verdict`: the class (0, 1, 2) where evaluated; `growth`: the growth; `computed`: the level, or -1."""
+    shape = verdict.shape
+    keep = _squeeze(shape)
+    squeeze = tuple(i for i in range(len(shape)) if i not in keep)
+    v, g, c = (np.squeeze(a, axis=squeeze) for a in (verdict, growth, computed))
+    L = spec.levels
+    if level == 0:
+        out = np.zeros(v.shape, bool)
+        out[(slice(None, None, 2**L),) * out.ndim] = True
+        return out.reshape(shape)
+    if v.ndim == 0:
+        return np.zeros(shape, bool)
+    parent = 2 ** (L - level + 1)
+    known = (c >= 0) & (c < level)
+    kv, kk = _lattice(v, parent), _lattice(known, parent)
+    all_known = _corner_reduce(kk, np.logical_and)
+    vmin = _corner_reduce(np.where(kk, kv, 127).astype(np.int8), np.minimum)
+    vmax = _corner_reduce(np.where(kk, kv, -1).astype(np.int8), np.maximum)
+    flagged = all_known & (vmin != vmax)
+    if spec.guard > 0:
+        kg = _lattice(g, parent)
+        certified = kk & (_lattice(v, parent) <= 1) & np.isfinite(kg)
+        curvature = _corner_reduce(_curvature(kg, certified), np.maximum)
+        nearest = _corner_reduce(np.where(certified, np.abs(kg), np.inf), np.minimum)
+        flagged |= all_known & (vmin == vmax) & (vmin <= 1) & (nearest <= spec.guard * curvature)
+    # the points of the flagged cells on the new level's grid, and those within `margin` of its cells of them
+    child = _dilate(_expand(flagged.astype(np.int8), 2).astype(bool), spec.margin)
+    out = np.zeros(v.shape, bool)
+    stride = parent // 2
+    out[(slice(None, None, stride),) * out.ndim] = child
+    out &= ~known
+    return out.reshape(shape)
+
+
+def fill_classes(verdict: np.ndarray, computed: np.ndarray, levels: int) -> np.ndarray:
+    """The verdict class at every point: the model's where evaluated, else the class of the finest cell (of any
+    level's stride) whose corners are all evaluated and of one class and whose closure holds the point (cells of
+    one stride that share the point share the corners of their common face, so they agree); -1 where no such cell
+    holds it (not in a finished adaptive sweep)."""
+    return _fill(verdict, computed, levels)[0]
+
+
+def fill_levels(verdict: np.ndarray, computed: np.ndarray, levels: int) -> np.ndarray:
+    """The level of the cell a point's class was filled from by :func:`fill_classes` (a cell of level k has side
+    2^(levels - k) grid steps); -1 where the point was evaluated or has no class."""
+    return _fill(verdict, computed, levels)[1]
+
+
+def _fill(verdict: np.ndarray, computed: np.ndarray, levels: int) -> tuple[np.ndarray, np.ndarray]:
+    """(:func:`fill_classes`, :func:`fill_levels`)."""
+    shape = verdict.shape
+    keep = _squeeze(shape)
+    squeeze = tuple(i for i in range(len(shape)) if i not in keep)
+    v, c = (np.squeeze(a, axis=squeeze) for a in (verdict, computed))
+    done = c >= 0
+    out = np.where(done, v, -1).astype(np.int8)
+    source = np.full(out.shape, -1, dtype=np.int8)
+    if v.ndim == 0:
+        return out.reshape(shape), source.reshape(shape)
+    for level in range(levels - 1, -1, -1):
+        stride = 2 ** (levels - level)
+        kk, kv = _lattice(done, stride), _lattice(v, stride)
+        all_known = _corner_reduce(kk, np.logical_and)
+        vmin = _corner_reduce(np.where(kk, kv, 127).astype(np.int8), np.minimum)
+        vmax = _corner_reduce(np.where(kk, kv, -1).astype(np.int8), np.maximum)
+        cls = np.where(all_known & (vmin == vmax), vmin, -1).astype(np.int8)
+        spread = _expand(cls, stride)
+        now = (out == -1) & (spread != -1)
+        out = np.where(now, spread, out)
+        source[now] = level
+    return out.reshape(shape), source.reshape(shape)
+
+
+def level_counts(computed: np.ndarray, levels: int) -> list[int]:
+    """Points evaluated at each level 0 .. levels."""
+    counts = np.bincount(computed[computed >= 0].astype(np.intp).ravel(), minlength=levels + 1)
+    return [int(x) for x in counts[: levels + 1]]
+
+
+def lattice_size(shape: tuple[int, ...], levels: int, level: int) -> int:
+    """Points of the grid of level `level` (stride 2^(levels - level))."""
+    stride = 2 ** (levels - level)
+    return math.prod((n - 1) // stride + 1 for n in shape)
+
+
+def summary(shape: tuple[int, ...], spec: AdaptiveSpec, counts: list[int] | None = None) -> dict[str, Any]:
+    """What the store's ``adaptive`` attribute records: the spec, the coarse grid and the evaluated fractions
+    (`counts`: points evaluated per level, :func:`level_counts`; None: none yet)."""
+    L = spec.levels or 0
+    counts = counts or [0] * (L + 1)
+    size = math.prod(shape)
+    per_level = [{"level": lv, "stride": 2 ** (L - lv), "points": n, "fraction_of_grid": n / size,
+                  "fraction_of_level_grid": n / lattice_size(shape, L, lv)} for lv, n in enumerate(counts)]
+    return {"levels": L, "coarse_stride": 2**L, "coarse_shape": [(n - 1) // 2**L + 1 for n in shape],
+            "margin": spec.margin, "guard": spec.guard, "points": size, "evaluated": sum(counts),
+            "evaluated_fraction": sum(counts) / size, "per_level": per_level}
+
+
+# ------------------------------------------------------------------------------------------------
+# the engine: levels as Dask batches, grouped by Zarr chunk, written as they finish
+# ------------------------------------------------------------------------------------------------
+
+#: the variables the refinement reads (the rest of the growth variables is only written)
+_STATE = ("growth", "verdict", "computed")
+
+
+@dataclass(frozen=True)
+class PointTask:
+    """The points of one Zarr chunk that one level evaluates (at most :data:`TASK_POINTS`): their flat indices in
+    the grid and their parameter rows (gamma, f, beta, eta, Delta, xi), so a worker needs nothing else."""
+
+    kind: str
+    index: int
+    level: int
+    chunk: int
+    flat: np.ndarray
+    params: np.ndarray
+    kH: tuple[float, ...]
+    rtol: float | None
+
+    @property
+    def points(self) -> int:
+        return int(self.flat.size)
+
+
+def run_points(task: PointTask) -> dict[str, np.ndarray]:
+    """Evaluate one task's points (on a worker): :func:`atlas_engine.sweep.growth_arrays`, as the dense sweep."""
+    from .sweep import growth_arrays
+
+    return growth_arrays(np.log(np.asarray(task.kH)), task.params, task.rtol)
+
+
+class _Grid:
+    """The grid's geometry: axis values, fixed values, Zarr chunks (for grouping points and writing chunks)."""
+
+    def __init__(self, plan: Plan) -> None:
+        from .sweep import PARAMETERS
+
+        self.plan = plan
+        self.shape = plan.shape
+        self.chunks = tuple(plan.chunks[n] for n in plan.names)
+        self.blocks = tuple(-(-n // c) for n, c in zip(self.shape, self.chunks, strict=True))
+        self.values = [np.asarray(plan.axes[n]) for n in plan.names]
+        self.parameters = PARAMETERS
+
+    def params(self, flat: np.ndarray) -> np.ndarray:
+        """(6, n) parameter rows of the grid points `flat` (the same floats as the dense sweep's meshgrid)."""
+        index = np.unravel_index(flat, self.shape)
+        columns = {n: v[i] for n, v, i in zip(self.plan.names, self.values, index, strict=True)}
+        rows = [columns[p] if p in columns else np.full(flat.size, self.plan.fixed[p]) for p in self.parameters]
+        return np.ascontiguousarray(np.stack(rows), dtype=float)
+
+    def chunk_of(self, flat: np.ndarray) -> np.ndarray:
+        index = np.unravel_index(flat, self.shape)
+        return np.ravel_multi_index(tuple(i // c for i, c in zip(index, self.chunks, strict=True)), self.blocks)
+
+    def region(self, chunk: int) -> tuple[slice, ...]:
+        start = np.unravel_index(chunk, self.blocks)
+        return tuple(slice(s * c, min((s + 1) * c, n)) for s, c, n in zip(start, self.chunks, self.shape, strict=True))
+
+    def tasks(self, level: int, flat: np.ndarray) -> list[PointTask]:
+        """The level's points `flat` as tasks: grouped by Zarr chunk, at most TASK_POINTS each, the largest first
+        (a batch ends when its last task does)."""
+        if flat.size == 0:
+            return []
+        chunk = self.chunk_of(flat)
+        order = np.argsort(chunk, kind="stable")
+        flat, chunk = flat[order], chunk[order]
+        params = self.params(flat)
+        starts = np.r_[0, np.flatnonzero(np.diff(chunk)) + 1]
+        stops = np.r_[starts[1:], flat.size]
+        parts = [(int(chunk[a]), i, min(i + TASK_POINTS, z)) for a, z in zip(starts, stops, strict=True)
+                 for i in range(a, z, TASK_POINTS)]
+        parts.sort(key=lambda p: p[1] - p[2])
+        return [PointTask(f"level{level}", k, level, cid, flat[a:z], params[:, a:z], self.plan.kH, self.plan.rtol)
+                for k, (cid, a, z) in enumerate(parts)]
+
+
+#: the Zarr group (inside the store) of the journal: the points evaluated since the grid variables were last written
+JOURNAL = "adaptive_journal"
+#: the growth variables in a journal entry's rows, after the flat index and the level
+_ROWS = ("growth", "kH_at_max", "kH_min", "kH_max", "n_masked", "verdict", "verdict_reason")
+
+
+class _Store:
+    """An adaptive store: the grid variables, and a journal of the points evaluated since they were written.
+
+    Writing the grid variables as points finish would rewrite a Zarr chunk at every level that touches it (the
+    coarse levels touch every chunk): ~35 s of writing for a 65^4 atlas whose model calls take ~100 s. So each
+    finished task goes to the journal instead (the group :data:`JOURNAL`: per level and run one array, whose chunk k
+    holds task k's flat indices, level and values, NaN-padded: one atomic file per task), and the grid variables
+    are written once, at the end, before the journal is removed. Reading a store replays its journal, so a killed
+    sweep loses only the tasks in flight (a chunk not written reads as NaN: its points are computed again).
+    """
+
+    def __init__(self, path: Path) -> None:
+        import zarr
+
+        self.path = path
+        self.group = zarr.open_group(str(path), mode="r+")
+        self._entry = None
+
+    def load(self, names: tuple[str, ...]) -> dict[str, np.ndarray]:
+        """The grid variables `names` as stored, with the journal's points applied."""
+        memory = {name: self.group[name][...] for name in names}
+        flat = {name: memory[name].reshape(-1) for name in names}
+        for index, level, rows in read_journal(self.group):
+            for name, values in zip(_ROWS, rows, strict=True):
+                flat[name][index] = values
+            flat["computed"][index] = level
+        return memory
+
+    def begin(self, level: int, tasks: list[PointTask]) -> None:
+        """The journal array of one level's tasks in this run (task k writes chunk k)."""
+        from zarr.codecs import ZstdCodec
+
+        self._entry = None
+        if tasks:
+            journal = self.group.require_group(JOURNAL)
+            name = f"L{level}-{os.getpid()}-{time.time_ns()}"
+            self._entry = journal.create_array(name, shape=(2 + len(_ROWS), len(tasks) * TASK_POINTS),
+                                               chunks=(2 + len(_ROWS), TASK_POINTS), dtype="f8", fill_value=np.nan,
+                                               compressors=[ZstdCodec(level=1)])
+
+    def append(self, task: PointTask, result: dict[str, np.ndarray]) -> None:
+        """One finished task into its chunk of the level's journal array."""
+        rows = np.full((2 + len(_ROWS), TASK_POINTS), np.nan)
+        n = task.flat.size
+        rows[0, :n] = task.flat
+        rows[1, :n] = task.level
+        for i, name in enumerate(_ROWS):
+            rows[2 + i, :n] = result[name]
+        self._entry[:, task.index * TASK_POINTS:(task.index + 1) * TASK_POINTS] = rows
+
+    def finish(self, memory: dict[str, np.ndarray], names: tuple[str, ...], filled: np.ndarray, summary: str) -> None:
+        """The grid variables (``computed`` last), the filled verdict and the summary, then the journal removed."""
+        for name in names:
+            self.group[name][...] = memory[name]
+        self.group["verdict_filled"][...] = filled
+        self.group.attrs["adaptive"] = summary
+        if JOURNAL in self.group:
+            del self.group[JOURNAL]
+
+
+def read_journal(group) -> list[tuple[np.ndarray, int, np.ndarray]]:
+    """(flat indices, level, value rows) of the points in a store's journal (none if it has none): every column of
+    its arrays whose index is not NaN (the chunks of tasks that did not finish are)."""
+    if JOURNAL not in group:
+        return []
+    out = []
+    for _, entry in sorted(group[JOURNAL].arrays()):
+        rows = entry[...]
+        if rows.shape[0] != 2 + len(_ROWS):
+            continue
+        rows = rows[:, ~np.isnan(rows[0])]
+        for level in np.unique(rows[1]):
+            at = rows[1] == level
+            out.append((rows[0, at].astype(np.intp), int(level), rows[2:, at]))
+    return out
+
+
+def stored_computed(path: str | os.PathLike) -> np.ndarray:
+    """The ``computed`` variable of an adaptive store with its journal applied (how far a sweep got)."""
+    import zarr
+
+    group = zarr.open_group(str(path), mode="r")
+    computed = group["computed"][...]
+    flat = computed.reshape(-1)
+    for index, level, _ in read_journal(group):
+        flat[index] = level
+    return computed
+
+
+def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, workers: int | None = None,
+        progress: Callable[[str, int], None] | None = None, start: Callable[[str, int], None] | None = None,
+        command: str | None = None):
+    """The adaptive sweep of a validated plan (``plan.adaptive`` set): levels 0 .. L of the refinement, each one
+    Dask batch of tasks grouped by Zarr chunk, then the filled verdict, the fractions and (dense, as
+    :func:`atlas_engine.sweep.run_dense`) γ_c and the count if the plan asks for them. store/client/workers/command
+    as :func:`atlas_engine.sweep.sweep`; progress(kind, points) as points finish and start(kind, points) as a level's
+    batch starts (kind ``level L``). Returns the dataset (in memory without a store, else opened from it)."""
+    import xarray as xr
+
+    from . import sweep as S
+
+    spec = plan.adaptive
+    if spec is None or spec.levels is None:
+        raise ValueError("run() needs a plan made with adaptive=... (atlas_engine.sweep.make_plan)")
+    grid = _Grid(plan)
+    names = (*S.GROWTH_VARS, "computed")
+    if store is None:
+        ds = S.memory_dataset(plan, command)
+        memory = {name: ds[name].values for name in (*names, "verdict_filled")}
+        writer = None
+        path = None
+    else:
+        fresh = not Path(store).exists()
+        path = S.open_store(plan, Path(store), command)
+        writer = _Store(path)
+        if fresh:  # nothing to read: the fill values
+            memory = {name: np.full(plan.shape, S.GROWTH_VARS[name][1] if name in S.GROWTH_VARS else NOT_COMPUTED,
+                                    dtype=S.GROWTH_VARS[name][0] if name in S.GROWTH_VARS else np.int8)
+                      for name in names}
+        else:
+            memory = writer.load(names)
+    flat_memory = {name: memory[name].reshape(-1) for name in names}
+
+    def keep(task: PointTask, result: dict[str, np.ndarray]) -> None:
+        if writer is not None:
+            writer.append(task, result)
+        for name, values in result.items():
+            flat_memory[name][task.flat] = values
+        flat_memory["computed"][task.flat] = task.level
+        if progress is not None:
+            progress(task.kind, task.points)
+
+    for level in range(spec.levels + 1):
+        target = refine_targets(level, spec, memory["verdict"], memory["growth"], memory["computed"])
+        done = memory["computed"] == level
+        if np.any(target & (memory["computed"] > level)):  # cannot happen with the same plan (which is checked)
+            raise RuntimeError(f"the store holds points of a later level than {level} where level {level} evaluates")
+        kind = f"level{level}"
+        if start is not None:
+            start(kind, int(target.sum()))
+        if progress is not None and done.any():
+            progress(kind, int((target & done).sum()))
+        todo = grid.tasks(level, np.flatnonzero(target & ~done))
+        if writer is not None:
+            writer.begin(level, todo)
+        S._execute(todo, keep, client, workers, run=run_points)
+    filled = fill_classes(memory["verdict"], memory["computed"], spec.levels)
+    text = json.dumps(summary(plan.shape, spec, level_counts(memory["computed"], spec.levels)))
+    kinds = tuple(k for k in ("gamma_c", "count") if k in S.tasks(plan))
+    if writer is None:
+        memory["verdict_filled"][...] = filled
+        ds.attrs["adaptive"] = text
+        S.run_kinds(plan, kinds, ds=ds, client=client, workers=workers, progress=progress)
+        return ds
+    writer.finish(memory, names, filled, text)
+    S.run_kinds(plan, kinds, path=path, client=client, workers=workers, progress=progress)
+    return xr.open_zarr(path, consolidated=False)

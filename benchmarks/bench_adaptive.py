@@ -1,0 +1,210 @@
+"""Adaptive atlases (issue 27) against dense ones: wall time, evaluated fraction per level, verdict agreement.
+
+- 65^4 over (gamma, f, beta, Delta) at eta = inf, xi = 1, the ranges of the dense 64^4 benchmark
+  (benchmarks/bench_sweep.py), adaptive from a 9^4 coarse grid (3 levels, margin 1): wall time against the target of
+  2 min, the fraction of points evaluated (overall and per level), and, given the dense sweep of the same grid, the
+  verdict field's agreement at every point and the bitwise equality of the values at the computed points;
+- 33^4 at eta = 10 (same axes and xi), dense and adaptive (2 levels, margin 1) with and without the guard.
+
+Every time is printed with the host-speed gauge (benchmarks/hostspeed.py) measured just before and after it.
+
+    python benchmarks/bench_adaptive.py [--quick] [--dense-store DIR] [--sample N]
+
+--dense-store: a dense 65^4 store of the same grid (bench_sweep.big_sweep(65, keep=...) writes one; `make bench`
+passes the one of its own run). Without it no dense 65^4 is run (~13 min on two cores): the dense model call is made
+at N random points of the grid instead (--sample, default 200000: N/2 among the points the adaptive sweep filled, N/2
+among those it computed), the filled verdict class is compared with the dense one there and the computed values
+bitwise, and the dense time is the latest 64^4 figure in benchmarks/results.md. --quick: 17^4 and 9^4 grids.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from atlas_engine import adaptive as A  # noqa: E402
+from atlas_engine import sweep as S  # noqa: E402
+from benchmarks.hostspeed import host_loop_seconds  # noqa: E402
+
+KH = S.DEFAULT_KH
+GROWTH_VARS = tuple(S.GROWTH_VARS)
+
+
+def axes(n: int) -> dict[str, np.ndarray]:
+    """The 4-D grid of the atlas benchmarks: gamma in [0.1, 30] log, f in [0.1, 1.5], beta in [0.05, 0.7], Delta in
+    [0.05, 1] (bench_sweep.big_sweep's ranges)."""
+    return {"gamma": np.geomspace(0.1, 30, n), "f": np.linspace(0.1, 1.5, n), "beta": np.linspace(0.05, 0.7, n),
+            "Delta": np.linspace(0.05, 1.0, n)}
+
+
+def timed_sweep(store: Path, n: int, eta: float, adaptive: A.AdaptiveSpec | None) -> dict:
+    """One sweep into `store` (growth only, xi = 1): wall time and the host gauge before and after."""
+    h0 = host_loop_seconds()
+    t0 = time.perf_counter()
+    S.sweep(axes(n), fixed={"xi": 1.0, "eta": eta}, kH=KH, store=store, gamma_c=False, adaptive=adaptive)
+    t = time.perf_counter() - t0
+    return {"seconds": t, "host": (h0, host_loop_seconds()), "store": store}
+
+
+def _read(store: Path, names: tuple[str, ...]) -> dict[str, np.ndarray]:
+    import zarr
+
+    group = zarr.open_group(str(store), mode="r")
+    return {name: group[name][...] for name in names}
+
+
+def compare(adaptive_store: Path, dense_store: Path) -> dict:
+    """Agreement of an adaptive store with the dense store of the same grid."""
+    a = _read(adaptive_store, (*GROWTH_VARS, "computed", "verdict_filled"))
+    d = _read(dense_store, GROWTH_VARS)
+    computed = a["computed"] >= 0
+    bitwise = all(np.array_equal(a[n][computed], d[n][computed], equal_nan=a[n].dtype.kind == "f")
+                  for n in GROWTH_VARS)
+    wrong = a["verdict_filled"] != d["verdict"]
+    return {"points": int(wrong.size), "mismatches": int(wrong.sum()),
+            "mismatch_by_dense_class": [int(x) for x in np.bincount(d["verdict"][wrong], minlength=3)],
+            "bitwise_at_computed": bitwise, "dense_classes": [int(x) for x in np.bincount(d["verdict"].ravel(),
+                                                                                          minlength=3)]}
+
+
+def compare_sample(adaptive_store: Path, n: int, eta: float, sample: int, seed: int = 0) -> dict:
+    """Agreement of an adaptive store with the dense model call at `sample` random points (half among the filled,
+    half among the computed ones; fewer if there are fewer): the dense values there are computed here, one point at
+    a time as the dense sweep does (:func:`atlas_engine.sweep.growth_arrays`)."""
+    a = _read(adaptive_store, (*GROWTH_VARS, "computed", "verdict_filled"))
+    computed = a["computed"].reshape(-1) >= 0
+    rng = np.random.default_rng(seed)
+    picks = {}
+    for name, where in (("filled", np.flatnonzero(~computed)), ("computed", np.flatnonzero(computed))):
+        picks[name] = np.sort(rng.choice(where, size=min(sample // 2, where.size), replace=False))
+    flat = np.concatenate(list(picks.values()))
+    grid = axes(n)
+    index = np.unravel_index(flat, tuple(v.size for v in grid.values()))
+    columns = dict(zip(grid, (v[i] for v, i in zip(grid.values(), index, strict=True)), strict=True))
+    rows = [columns[p] if p in columns else np.full(flat.size, {"xi": 1.0, "eta": eta}[p]) for p in S.PARAMETERS]
+    t0 = time.perf_counter()
+    dense = S.growth_arrays(np.log(KH), np.ascontiguousarray(np.stack(rows), dtype=float), None)
+    seconds = time.perf_counter() - t0
+    nf = picks["filled"].size
+    wrong = a["verdict_filled"].reshape(-1)[picks["filled"]] != dense["verdict"][:nf]
+    at = picks["computed"]
+    bitwise = all(np.array_equal(a[name].reshape(-1)[at], dense[name][nf:], equal_nan=a[name].dtype.kind == "f")
+                  for name in GROWTH_VARS)
+    return {"filled_points": int(nf), "mismatches": int(wrong.sum()),
+            "mismatch_by_dense_class": [int(x) for x in np.bincount(dense["verdict"][:nf][wrong], minlength=3)],
+            "computed_points": int(at.size), "bitwise_at_computed": bitwise, "seconds": seconds}
+
+
+def latest_dense_figure() -> tuple[int, float] | None:
+    """(n, seconds) of the latest dense n^4 sweep in benchmarks/results.md (bench_sweep's line), None if none."""
+    import re
+
+    path = ROOT / "benchmarks" / "results.md"
+    found = re.search(r"^(\d+)\^4 sweep \(gamma, f, beta, Delta; eta = inf, xi = 1;.*?Zarr: (\d+) s",
+                      path.read_text(encoding="utf-8") if path.exists() else "", re.M)
+    return (int(found[1]), float(found[2])) if found else None
+
+
+def fractions(store: Path) -> dict:
+    import xarray as xr
+
+    return json.loads(xr.open_zarr(store, consolidated=False).attrs["adaptive"])
+
+
+def _host(h: tuple[float, float]) -> str:
+    return f"host loop {h[0]:.2f} -> {h[1]:.2f} s"
+
+
+def _levels(f: dict) -> str:
+    return "; ".join(f"level {lv['level']} (stride {lv['stride']}): {lv['points']} = "
+                     f"{100 * lv['fraction_of_grid']:.2f} %" for lv in f["per_level"])
+
+
+def _agreement(c: dict) -> str:
+    return (f"verdict field equal to the dense one at {c['points'] - c['mismatches']} of {c['points']} points "
+            f"({c['mismatches']} differ; by dense class stable/unstable/undetermined {c['mismatch_by_dense_class']}); "
+            f"values at the computed points bitwise equal: {'yes' if c['bitwise_at_computed'] else 'NO'}")
+
+
+def run(quick: bool = False, dense_store: Path | None = None, dense_seconds: float | None = None,
+        dense_host: tuple[float, float] | None = None, sample: int = 200_000) -> str:
+    """The benchmark as Markdown. dense_store/dense_seconds/dense_host: a dense sweep of the big grid measured in
+    the same run (bench_sweep); else the adaptive atlas is checked against the dense model call at `sample` random
+    points and timed against the latest dense 64^4 figure of benchmarks/results.md."""
+    n_big, n_small = (17, 9) if quick else (65, 33)
+    lines = []
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        spec = A.AdaptiveSpec(levels=A.default_levels([n_big]), margin=1)
+        ad = timed_sweep(tmp / "adaptive.zarr", n_big, math.inf, spec)
+        f = fractions(ad["store"])
+        lines += [f"**{n_big}^4 adaptive** (gamma, f, beta, Delta; eta = inf, xi = 1; {KH.size} kH; growth only; "
+                  f"L = {spec.levels} levels of refinement from a {f['coarse_shape'][0]}^4 coarse grid, margin 1, no "
+                  "guard) into Zarr: "
+                  f"**{ad['seconds']:.0f} s** ({_host(ad['host'])}; target <= 120 s); evaluated "
+                  f"**{100 * f['evaluated_fraction']:.1f} %** of the points ({_levels(f)}).", ""]
+        if dense_store is not None:
+            c = compare(ad["store"], dense_store)
+            scale = 64**4 / n_big**4
+            lines += [f"Dense {n_big}^4 of the same grid: {dense_seconds:.0f} s ({_host(dense_host)}), i.e. "
+                      f"{dense_seconds * scale:.0f} s for 64^4 points; adaptive / dense: "
+                      f"{ad['seconds'] / dense_seconds:.3f} ({dense_seconds / ad['seconds']:.1f}x faster). "
+                      + _agreement(c) + ".", ""]
+        else:
+            latest = latest_dense_figure()
+            if latest is not None:
+                n_d, t_d = latest
+                t64 = t_d * 64**4 / n_d**4
+                lines += [f"Dense: no dense {n_big}^4 in this run; the latest dense {n_d}^4 figure of "
+                          f"benchmarks/results.md is {t_d:.0f} s, i.e. {t64:.0f} s for 64^4 points and "
+                          f"{t64 * n_big**4 / 64**4:.0f} s for {n_big}^4 (adaptive / dense "
+                          f"{ad['seconds'] / (t64 * n_big**4 / 64**4):.3f}; another run, another host load).", ""]
+            c = compare_sample(ad["store"], n_big, math.inf, sample)
+            lines += [f"Agreement with the dense model call at {c['filled_points'] + c['computed_points']} random "
+                      f"points (dense values computed here in {c['seconds']:.0f} s): the filled verdict class equals "
+                      f"the dense verdict at {c['filled_points'] - c['mismatches']} of {c['filled_points']} points the "
+                      f"adaptive sweep did not compute ({c['mismatches']} differ; by dense class "
+                      f"stable/unstable/undetermined {c['mismatch_by_dense_class']}); values at "
+                      f"{c['computed_points']} computed points bitwise equal: "
+                      f"{'yes' if c['bitwise_at_computed'] else 'NO'}.", ""]
+        d10 = timed_sweep(tmp / "dense10.zarr", n_small, 10.0, None)
+        classes = [int(x) for x in np.bincount(_read(d10["store"], ("verdict",))["verdict"].ravel(), minlength=3)]
+        lines += [f"**{n_small}^4 at eta = 10** (same axes, xi = 1): dense {d10['seconds']:.0f} s "
+                  f"({_host(d10['host'])}); classes stable/unstable/undetermined {classes}.", "",
+                  "| adaptive (margin 1) | wall [s] | host loop [s] | evaluated | per level | verdict mismatches "
+                  "(by dense class) | bitwise at computed |", "|---|---|---|---|---|---|---|"]
+        for guard in (0.0, 1.0):
+            s10 = A.AdaptiveSpec(levels=A.default_levels([n_small]), margin=1, guard=guard)
+            r = timed_sweep(tmp / f"adaptive10-{guard:g}.zarr", n_small, 10.0, s10)
+            f10, c10 = fractions(r["store"]), compare(r["store"], d10["store"])
+            per = ", ".join(f"{100 * lv['fraction_of_grid']:.2f} %" for lv in f10["per_level"])
+            lines.append(f"| {'guard 1' if guard else 'no guard'} | {r['seconds']:.0f} | {r['host'][0]:.2f} -> "
+                         f"{r['host'][1]:.2f} | {100 * f10['evaluated_fraction']:.1f} % | {per} | "
+                         f"{c10['mismatches']} {c10['mismatch_by_dense_class']} | "
+                         f"{'yes' if c10['bitwise_at_computed'] else 'NO'} |")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--quick", action="store_true", help="small grids (a smoke test)")
+    parser.add_argument("--dense-store", type=Path,
+                        help="a dense store of the big grid (else: a sample of dense model calls)")
+    parser.add_argument("--sample", type=int, default=200_000, help="points of the sample (without --dense-store)")
+    args = parser.parse_args()
+    print(run(args.quick, args.dense_store, *((math.nan, (math.nan, math.nan)) if args.dense_store else (None, None)),
+              sample=args.sample))
+
+
+if __name__ == "__main__":
+    main()
