@@ -24,9 +24,10 @@ from app.spectrum import SpectrumScene
 from app.stability_map import StabilityMapScene
 from app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
 from app.urlstate import TABS, Updates, parse_query, query_string
-from app.workarounds import guard_detached_updates, use_server_stylesheets
+from app.workarounds import guard_detached_updates, guard_stream_registry, use_server_stylesheets
 
 guard_detached_updates()  # panes of a tab switched away from keep the page's stylesheets (app/workarounds.py)
+guard_stream_registry()  # sessions on several threads build plots at once (app/workarounds.py)
 
 #: tabs whose scene is built when first shown (see App.__init__)
 LAZY_TABS = ("map", "thin", "rupture", "branches", "atlas")

@@ -7,6 +7,8 @@ it still patch what it patches?) and update :data:`CHECKED_WITH` and the lock to
    :func:`guard_detached_updates`; Panel internals: ``doc._template_variables``, ``patch_stylesheet``).
 2. One Bokeh model-graph walk per parameter change instead of one per refreshed plot (:func:`frozen_document`;
    Bokeh internals: ``doc.models.invalidate`` / ``recompute``).
+3. HoloViews' global stream registry used from several threads (:func:`guard_stream_registry`; HoloViews internal:
+   ``holoviews.streams._StreamRegistry``).
 
 (tests/support/spies.py relies on where ``pn.cache`` keeps the cached function; it checks that itself.)
 
@@ -34,12 +36,21 @@ another tab) re-renders its properties for ``model.document`` = None, so Panel p
 :func:`guard_detached_updates` makes such a patch use the URL of the session whose callback is running.
 
 ## 2. frozen_document: see its docstring.
+
+## 3. The stream registry
+
+``holoviews.streams.Stream.registry`` is one ``WeakKeyDictionary`` for the whole process. A plot being built copies
+it (``list(Stream.registry.items())``) while a stream made elsewhere registers itself in it. A served process runs
+sessions on more than one thread (Panel's threaded serving; a preset click builds a tab while another session builds
+its plots), and the copy then fails with ``RuntimeError: dictionary changed size during iteration``: a plot that never
+appears. :func:`guard_stream_registry` serialises the registry's reads and writes with one lock.
 """
 
 from __future__ import annotations
 
 import contextlib
 import functools
+import threading
 from collections.abc import Iterator
 
 import panel as pn
@@ -48,7 +59,29 @@ import panel.reactive
 from panel.io.resources import CDN_DIST, get_dist_path, patch_model_css
 
 #: the library versions the workarounds were written for and checked against (= requirements.lock)
-CHECKED_WITH = {"panel": "1.9.4", "bokeh": "3.9.2"}
+CHECKED_WITH = {"panel": "1.9.4", "bokeh": "3.9.2", "holoviews": "1.23.2"}
+
+#: serialises every read and write of HoloViews' stream registry (workaround 3)
+_REGISTRY_LOCK = threading.RLock()
+#: the registry methods HoloViews reads and writes it with
+REGISTRY_METHODS = ("register", "unregister", "items", "values", "get", "__getitem__")
+
+
+def guard_stream_registry() -> None:
+    """Make HoloViews' process-wide stream registry safe to use from several threads (workaround 3; idempotent)."""
+    from holoviews.streams import _StreamRegistry
+
+    if getattr(_StreamRegistry, "_asymslide_locked", False):
+        return
+    for name in REGISTRY_METHODS:
+        original = getattr(_StreamRegistry, name)
+
+        def locked(self, *args, _original=original, **kwargs):
+            with _REGISTRY_LOCK:
+                return _original(self, *args, **kwargs)
+
+        setattr(_StreamRegistry, name, functools.wraps(original)(locked))
+    _StreamRegistry._asymslide_locked = True
 
 
 def use_server_stylesheets() -> bool:

@@ -44,3 +44,34 @@ def test_the_patched_library_internals_are_still_there() -> None:
     doc = Document()
     assert isinstance(doc._template_variables, dict)
     assert callable(doc.models.freeze) and callable(doc.models.recompute) and callable(doc.models.invalidate)
+
+
+def test_the_stream_registry_can_be_copied_while_another_thread_registers_streams() -> None:
+    """Workaround 3: app.main installs the lock on every registry method, and copies made while another thread
+    registers streams succeed. (The race itself is rare, a few times per full test run under load, so this loop alone
+    seldom shows it without the guard: the first assertion is the one that fails without the workaround.)"""
+    import threading
+
+    import holoviews as hv
+    from holoviews.streams import Stream
+
+    import app.main  # noqa: F401 (installs the guard)
+
+    assert all(hasattr(getattr(type(Stream.registry), name), "__wrapped__") for name in workarounds.REGISTRY_METHODS)
+    stop = threading.Event()
+    kept = []
+
+    def make_streams() -> None:
+        while not stop.is_set():
+            curve = hv.Curve([])
+            kept.append((curve, hv.streams.PointerX(source=curve)))
+            del kept[:-50]
+
+    maker = threading.Thread(target=make_streams)
+    maker.start()
+    try:
+        for _ in range(2000):
+            list(Stream.registry.items())
+    finally:
+        stop.set()
+        maker.join()
