@@ -196,25 +196,29 @@ def declared_parameters(cls: type[param.Parameterized]) -> dict[str, Physical | 
 #: the paper's symbols and meanings of the model's parameters (declared once, in model.PARAMETERS); the app adds the
 #: user-interface side: slider ranges and steps, URL keys, map axes
 _SYMBOL = {name: p.symbol for name, p in model.PARAMETERS.items()}
+#: the paper's default values of the model's parameters (model.Parameter.default)
+_DEFAULT = {name: p.default for name, p in model.PARAMETERS.items()}
 _MEANING = {name: p.description for name, p in model.PARAMETERS.items()}
 
 
 class SpectrumParams(param.Parameterized):
     """The physical parameters of the spectrum (paper Sect. IV; docs/physics.md §1), shared by the Spectrum,
-    Stability-map and All-branches scenes. Defaults: the paper's Fig. 4 (γ = 3, f = 0.9, β = 0.3, η = ∞, Δ = 1)."""
+    Stability-map and All-branches scenes. Defaults: the paper's, declared once in model.PARAMETERS (γ = 3, f = 0.9,
+    β = 0.3, η = ∞, Δ = 1, ξ = 0: Fig. 5; the η slider shows 10⁸ while η = ∞ is ticked)."""
 
-    gamma = Physical(3.0, bounds=(1e-2, 1e3), softbounds=(0.1, 30.0), step=0.01, label=_SYMBOL["gamma"],
+    gamma = Physical(_DEFAULT["gamma"], bounds=(1e-2, 1e3), softbounds=(0.1, 30.0), step=0.01, label=_SYMBOL["gamma"],
                      url="gamma", axis=(0.1, 30.0, True), doc=_MEANING["gamma"])
-    f = Physical(0.9, bounds=(0.0, 2.0), step=0.01, label=_SYMBOL["f"], url="f", axis=(0.0, 2.0, False),
+    f = Physical(_DEFAULT["f"], bounds=(0.0, 2.0), step=0.01, label=_SYMBOL["f"], url="f", axis=(0.0, 2.0, False),
                  doc=_MEANING["f"])
-    beta = Physical(0.3, bounds=(0.01, 0.7071), step=0.001, label=_SYMBOL["beta"], url="beta",
+    beta = Physical(_DEFAULT["beta"], bounds=(0.01, 0.7071), step=0.001, label=_SYMBOL["beta"], url="beta",
                     axis=(0.01, 0.7071, False), doc=_MEANING["beta"] + " (β² = (1 − 2ν)/(2 − 2ν))")
     log10_eta = Physical(8.0, bounds=(-2.0, 12.0), step=0.1, label=_SYMBOL["eta"], url="eta", log10=True,
                          axis=(1.0, 1e8, True), infinite="eta_infinite", doc=_MEANING["eta"] + " (slider: log10 η)")
-    eta_infinite = param.Boolean(True, label=f"{_SYMBOL['eta']} = ∞", doc="the lower block is a half-space (η = ∞)")
-    Delta = Physical(1.0, bounds=(0.01, 1.0), step=0.01, label=_SYMBOL["Delta"], url="Delta",
+    eta_infinite = param.Boolean(math.isinf(_DEFAULT["eta"]), label=f"{_SYMBOL['eta']} = ∞",
+                                 doc="the lower block is a half-space (η = ∞)")
+    Delta = Physical(_DEFAULT["Delta"], bounds=(0.01, 1.0), step=0.01, label=_SYMBOL["Delta"], url="Delta",
                      axis=(0.01, 1.0, False), doc=_MEANING["Delta"])
-    xi = Physical(0.0, bounds=(0.0, 1e4), softbounds=(0.0, 10.0), step=0.01, label=_SYMBOL["xi"], url="xi",
+    xi = Physical(_DEFAULT["xi"], bounds=(0.0, 1e4), softbounds=(0.0, 10.0), step=0.01, label=_SYMBOL["xi"], url="xi",
                   axis=(1e-2, 1e3, True), doc=_MEANING["xi"])
 
     #: the model's keyword arguments, in the order of :meth:`model_args`

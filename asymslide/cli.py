@@ -308,7 +308,7 @@ def build_parser() -> argparse.ArgumentParser:
                          "unless :lin), or an explicit list v1,v2,...; repeatable")
     sw.add_argument("--fixed", action="append", default=[], metavar="NAME=VALUE",
                     help="a parameter held fixed (eta=inf allowed); the others take the paper's values gamma=3, "
-                         "f=0.9, beta=0.3, eta=inf, Delta=1, xi=0")
+                         "f=0.9, beta=0.3, eta=inf, Delta=1, xi=0 (model.PARAMETERS)")
     sw.add_argument("--out", required=True, help="the Zarr store (a directory) to write or resume")
     sw.add_argument("--kH", default="1e-3:1e3:97:log", metavar="LO:HI:N[:log]",
                     help="the kH grid the growth is bracketed on (default 1e-3:1e3:97:log)")

@@ -61,8 +61,8 @@ from .adaptive import summary as adaptive_summary
 
 #: the sweepable parameters, in the model's order
 PARAMETERS = tuple(model.PARAMETERS)
-#: values of the parameters that are neither an axis nor given as fixed: the paper's Fig. 4 setting
-DEFAULT_FIXED = {"gamma": 3.0, "f": 0.9, "beta": 0.3, "eta": math.inf, "Delta": 1.0, "xi": 0.0}
+#: values of the parameters that are neither an axis nor given as fixed: the paper's (model.Parameter.default)
+DEFAULT_FIXED = {name: p.default for name, p in model.PARAMETERS.items()}
 #: default kH grid: 16 points per decade over [1e-3, 1e3]
 DEFAULT_KH = np.logspace(-3, 3, 97)
 #: grid points per growth chunk (~0.6 s at eta = inf, ~7 s at finite eta on one core): smaller chunks cost ~10 ms

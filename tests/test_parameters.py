@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import inspect
 import math
+from pathlib import Path
 
 import pytest
 
@@ -44,3 +45,16 @@ def test_keyword_defaults_of_the_public_functions_are_the_papers() -> None:
 def test_the_default_beta_gives_the_papers_rayleigh_speed() -> None:
     """The paper, by Fig. 4: "here c_R ~ 0.95 c_s" (for its beta = 0.3)."""
     assert float(model.rayleigh_speed(model.PARAMETERS["beta"].default)) == pytest.approx(0.95, abs=0.005)
+
+
+def test_the_command_line_help_states_the_model_defaults() -> None:
+    """asymslide sweep --help names the defaults without importing the model (fast --help); they are the model's."""
+    import re
+
+    from asymslide import cli
+
+    text = Path(cli.__file__).read_text(encoding="utf-8")
+    stated = dict(re.findall(r"(gamma|f|beta|eta|Delta|xi)=(inf|[0-9.]+)", text.split('"--fixed"', 1)[1][:400]))
+    assert stated.keys() == model.PARAMETERS.keys()
+    for name, value in stated.items():
+        assert float(value) == model.PARAMETERS[name].default, name
