@@ -11,7 +11,6 @@ import json
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 from unittest import mock
 
@@ -205,34 +204,38 @@ def _store_arrays(store: Path) -> dict[str, np.ndarray]:
     return {name: group[name][...] for name in (*GROWTH_VARS, "computed", "verdict_filled")}
 
 
+#: the same CLI run in a child that SIGKILLs itself right after writing its KILL_AFTER-th level-1 task to the journal:
+#: a kill at a known point of the run, however fast the host (polling the store from outside raced the sweep: on a
+#: quiet CI host it finished every level between two reads)
+KILL_AFTER = 3
+_KILLING_CHILD = f"""
+import os, signal, sys
+from atlas_engine import adaptive as A
+from asymslide.cli import main
+append, written = A._Store.append, []
+def append_then_die(self, task, result):
+    append(self, task, result)
+    written.append(task.level)
+    if written.count(1) == {KILL_AFTER}:
+        os.kill(os.getpid(), signal.SIGKILL)
+A._Store.append = append_then_die
+sys.exit(main(sys.argv[1:]))
+"""
+
+
 def test_killed_adaptive_sweep_resumes_and_equals_an_uninterrupted_run(tmp_path: Path) -> None:
     clean, killed = tmp_path / "clean.zarr", tmp_path / "killed.zarr"
     assert _cli(*RESUME_ARGS, "--out", str(clean)).returncode == 0
     final = _store_arrays(clean)["computed"]
     total = int((final >= 0).sum())
     assert final.max() == 2 and total < final.size
-    proc = subprocess.Popen([sys.executable, "-m", "asymslide", *RESUME_ARGS, "--out", str(killed)], cwd=ROOT,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 120
-    try:
-        while time.monotonic() < deadline and proc.poll() is None:
-            if (killed / "computed" / "zarr.json").exists():
-                try:  # the grid variables and the journal of finished tasks, as the sweep writes them
-                    c = A.stored_computed(killed)
-                except (OSError, ValueError, KeyError):  # an array of the journal being created: read again
-                    c = None
-                # level 0 done: kill at once (on a quiet host the whole sweep takes ~2 s; waiting for level 1 to be
-                # under way, as this test once did, let it finish everything between two reads)
-                if c is not None and (c == 0).sum() == (final == 0).sum():
-                    break
-            time.sleep(0.02)
-        assert proc.poll() is None, "the sweep ended before it could be killed"
-    finally:
-        proc.send_signal(signal.SIGKILL)
-        proc.communicate(timeout=30)
+    child = subprocess.run([sys.executable, "-c", _KILLING_CHILD, *RESUME_ARGS, "--out", str(killed)], cwd=ROOT,
+                           capture_output=True, text=True, timeout=180)
+    assert child.returncode == -signal.SIGKILL, child.stderr
     before = A.stored_computed(killed)
     done_before = int((before >= 0).sum())
-    assert 0 < done_before < total
+    assert (before == 0).sum() == (final == 0).sum() and 0 < (before == 1).sum() < (final == 1).sum()
+    assert done_before < total
     assert A.JOURNAL in zarr.open_group(str(killed), mode="r")  # the grid variables are written at the end
     # the same command again, in this process, counting the points it evaluates
     spy = mock.patch.object(A, "run_points", wraps=A.run_points)
