@@ -307,3 +307,11 @@ def test_no_import_runs_back_up_a_layer() -> None:
             if bad := _project_imports(path) - allowed:
                 upward.append(f"{path.relative_to(ROOT)} imports {', '.join(sorted(bad))}")
     assert upward == []
+
+
+def test_the_app_opens_atlases_only_through_the_store() -> None:
+    """app/ never reads Zarr itself: xarray and zarr are the atlas layer's (atlas_engine.store opens atlases)."""
+    readers = [f"{path.relative_to(ROOT)} imports {', '.join(sorted(bad))}"
+               for path in sorted((ROOT / "app").rglob("*.py"))
+               if (bad := _third_party_imports(path) & {"xarray", "zarr"})]
+    assert readers == []
