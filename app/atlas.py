@@ -16,8 +16,6 @@ cores), and reused afterwards; another server process computing it is waited for
 
 from __future__ import annotations
 
-import fcntl
-import functools
 import hashlib
 import io
 import json
@@ -26,7 +24,6 @@ import math
 import os
 import re
 import threading
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -36,8 +33,8 @@ import param
 from bokeh.models import CustomJSTickFormatter
 
 import model
+from atlas_engine import store
 from atlas_engine import sweep as engine
-from atlas_engine.adaptive import fill_levels
 
 from . import jobs
 from .common import (
@@ -65,18 +62,9 @@ DEFAULT_KH = np.logspace(-3, 3, 49)
 #: the default atlas is NAME.zarr with NAME = DEFAULT_PREFIX + a hash (see default_name)
 DEFAULT_PREFIX = "default-"
 
-#: atlases whose variables are larger than this are read slice by slice from the store instead of held in memory
-MAX_IN_MEMORY = 512e6
-NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,99}$")
-
-
-def atlas_dir() -> Path:
-    """The one directory atlases are read from (and the default atlas is written to)."""
-    configured = os.environ.get("ASYMSLIDE_ATLAS_DIR")
-    if configured:
-        return Path(configured).expanduser()
-    cache = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return cache / "asymslide" / "atlases"
+#: where atlases are read from and how they may be named (the store's)
+atlas_dir = store.atlas_dir
+NAME = store.NAME
 
 
 def default_name() -> str:
@@ -90,23 +78,10 @@ def default_name() -> str:
 def list_atlases(directory: Path | None = None) -> list[str]:
     """Names of the atlases in the directory (``NAME.zarr`` written by asymslide sweep), the current default first;
     defaults of other model versions are left out."""
-    d = atlas_dir() if directory is None else directory
-    names = []
-    try:
-        entries = sorted(d.iterdir())
-    except OSError:
-        return []
-    for entry in entries:
-        name = entry.name[:-5] if entry.name.endswith(".zarr") else ""
-        if not name or not NAME.match(name) or (name.startswith(DEFAULT_PREFIX) and name != default_name()):
-            continue
-        try:
-            attrs = json.loads((entry / "zarr.json").read_text(encoding="utf-8")).get("attributes", {})
-        except (OSError, ValueError):
-            continue
-        if "plan" in attrs:
-            names.append(name)
-    return sorted(names, key=lambda n: (n != default_name(), n))
+    current = default_name()
+    names = store.list_atlases(atlas_dir() if directory is None else directory,
+                               skip=lambda name: name.startswith(DEFAULT_PREFIX) and name != current)
+    return sorted(names, key=lambda n: (n != current, n))
 
 
 def resolve(name: str) -> Path | None:
@@ -135,13 +110,8 @@ _default_job: jobs.Job | None = None
 
 
 def default_ready() -> bool:
-    path = atlas_dir() / f"{default_name()}.zarr"
-    if not (path / "zarr.json").exists():
-        return False
-    try:
-        return all(flags.all() for flags in engine.done_chunks(path).values())
-    except (OSError, ValueError, KeyError):
-        return False
+    """Whether the default atlas is complete in the atlas directory."""
+    return store.is_complete(atlas_dir() / f"{default_name()}.zarr")
 
 
 def ensure_default() -> jobs.Job:
@@ -159,27 +129,12 @@ def _compute_default(job: jobs.Job) -> Path:
     """The work of the default atlas's job: compute it into the atlas directory, or, when another server process
     holds the directory's lock for it, follow that process's progress in the store; its path."""
     directory = atlas_dir()
-    path = directory / f"{default_name()}.zarr"
-    if default_ready():
-        return path
     try:
-        directory.mkdir(parents=True, exist_ok=True)
-        plan = engine.make_plan(DEFAULT_AXES, kH=DEFAULT_KH)
-        job.set_totals(engine.plan_points(plan))
-        with open(directory / f".{default_name()}.lock", "w") as lock:
-            try:
-                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except BlockingIOError:  # another server process computes it: follow its progress
-                while not default_ready():
-                    job.set_done(_points_done(path, plan))
-                    time.sleep(OTHER_PROCESS_POLL_S)
-                job.set_done(job.state().totals)
-                return path
-            engine.sweep(DEFAULT_AXES, kH=DEFAULT_KH, store=path, progress=job.advance,
-                         command="the Atlas tab's default atlas (app/atlas.py)")
+        return store.compute_once(DEFAULT_AXES, DEFAULT_KH, directory / f"{default_name()}.zarr",
+                                  set_totals=job.set_totals, advance=job.advance, set_done=job.set_done,
+                                  poll_s=OTHER_PROCESS_POLL_S, command="the Atlas tab's default atlas (app/atlas.py)")
     except PermissionError as exc:  # a folder this server may read but not write (a mounted volume, say)
         raise jobs.Failed(read_only_message(directory, exc)) from None
-    return path
 
 
 def read_only_message(directory: Path, exc: OSError) -> str:
@@ -190,80 +145,12 @@ def read_only_message(directory: Path, exc: OSError) -> str:
             "with `--atlas-dir` (Docker: mount) a folder this user can write.")
 
 
-def _points_done(path: Path, plan: engine.Plan) -> dict[str, int]:
-    """Grid points per phase that another process has written to the store."""
-    try:
-        done = engine.done_chunks(path)
-    except (OSError, ValueError, KeyError):
-        return {}
-    blocks = {"growth": plan.growth_blocks(), "gamma_c": plan.gamma_c_blocks()}
-    return {kind: sum(math.prod(b - a for a, b in blocks[kind][i]) for i in np.flatnonzero(flags))
-            for kind, flags in done.items()}
-
-
 # ------------------------------------------------------------------------------------------------
-# an atlas in memory
+# an atlas in memory (atlas_engine.store)
 # ------------------------------------------------------------------------------------------------
 
-
-@dataclass(frozen=True, eq=False)
-class Atlas:
-    """A loaded atlas: axes, display coordinates, the growth cube and gamma_c (numpy, or lazily read from a large
-    store), and its provenance."""
-
-    name: str
-    path: Path
-    axes: dict[str, np.ndarray]
-    log: dict[str, bool]
-    fixed: dict[str, float]
-    growth: object  # numpy array or a lazy xarray.DataArray (dims in the order of axes)
-    gamma_c: object | None  # over the axes without gamma
-    gamma_c_reason: object | None
-    attrs: dict
-    clim: float  # symmetric colour range of the growth over the whole atlas
-    #: the verdict class (0 stable, 1 unstable, 2 undetermined, -1 not computed) and its reason code
-    #: (model.VERDICT_STATUS), as the growth; None in atlases written before verdicts existed
-    verdict: object | None = None
-    verdict_reason: object | None = None
-    #: the whole boundary in γ (over the axes without gamma, last dimension `crossing`): gamma_c_crossing,
-    #: gamma_c_location, gamma_c_direction, gamma_c_crossing_reason; empty in atlases written before crossings existed
-    crossings: dict[str, np.ndarray] = field(default_factory=dict)
-    #: an adaptive atlas (asymslide sweep --adaptive): the level at which each point was computed (-1: not computed,
-    #: its growth NaN), the verdict class of every point (from its cell where not computed) and the refinement's
-    #: summary (levels, margin, guard, evaluated fractions); None / {} for a dense atlas
-    computed: object | None = None
-    verdict_filled: object | None = None
-    adaptive: dict = field(default_factory=dict)
-    #: the level of the cell a not computed point's class was filled from (atlas_engine.adaptive.fill_levels; -1 at
-    #: computed points); None for a dense atlas or one read lazily from a large store
-    filled_level: object | None = None
-
-    @property
-    def finished(self) -> bool:
-        """False for an adaptive atlas whose sweep has not ended (its grid variables are written at the end)."""
-        return not self.adaptive or bool(self.adaptive.get("evaluated"))
-
-    @property
-    def names(self) -> list[str]:
-        return list(self.axes)
-
-    def display(self, name: str) -> np.ndarray:
-        """Plotted coordinates of an axis: log10 of its values on a log axis."""
-        v = self.axes[name]
-        return np.log10(v) if self.log[name] else v
-
-    def label(self, name: str) -> str:
-        return SpectrumParams.symbol(name) if name in SpectrumParams.MODEL_ARGS else name
-
-
-def _is_log(values: np.ndarray, attrs: dict) -> bool:
-    if attrs.get("scale") in ("log", "linear"):
-        return attrs["scale"] == "log"
-    return engine.axis_scale(values) == "log"
-
-
-#: the crossing variables the heat map draws (atlas_engine/sweep.py; docs/physics.md §9)
-CROSSING_VARIABLES = ("gamma_c_crossing", "gamma_c_location", "gamma_c_direction", "gamma_c_crossing_reason")
+Atlas = store.Atlas
+CROSSING_VARIABLES = store.CROSSING_VARIABLES
 #: verdict class of an undetermined point (model.VERDICTS)
 UNDETERMINED = 2
 
@@ -286,43 +173,15 @@ def short_reason(code: int, texts: dict[int, str]) -> str:
     return re.split(r": | \(", text, maxsplit=1)[0]
 
 
-@functools.lru_cache(maxsize=4)
-def _load(name: str, path: Path, stamp: str) -> Atlas:
-    """Read an atlas (cached by its name, path and the state of its done flags)."""
-    import xarray as xr
-
-    ds = xr.open_zarr(path, consolidated=False)
-    plan = json.loads(ds.attrs["plan"])
-    axes = {n: np.asarray(ds[n].values, dtype=float) for n in plan["axes"]}
-    log_axes = {n: _is_log(axes[n], dict(ds[n].attrs)) for n in axes}
-    fixed = {k: (math.inf if v == "inf" else float(v)) for k, v in plan["fixed"].items()}
-    if "growth" not in ds:
-        raise ValueError(f"atlas {name} has no growth variable (computed with --no-growth)")
-    growth = ds["growth"]
-    small = growth.nbytes <= MAX_IN_MEMORY
-    g = growth.values if small else growth
-    finite = np.abs(growth.values[np.isfinite(growth.values)]) if small else np.abs(growth.max().values)
-    clim = float(np.max(finite)) if np.size(finite) else 1e-3
-    gc = reason = None
-    if "gamma_c" in ds:
-        gc, reason = ds["gamma_c"].values, ds["gamma_c_reason"].values
-    verdicts = {v: (ds[v].values if small else ds[v]) if v in ds else None
-                for v in ("verdict", "verdict_reason", "computed", "verdict_filled")}
-    crossings = {v: ds[v].values for v in CROSSING_VARIABLES if v in ds}
-    adaptive = json.loads(ds.attrs["adaptive"]) if "adaptive" in ds.attrs and "computed" in ds else {}
-    filled_level = None
-    if adaptive and small and adaptive.get("evaluated"):
-        filled_level = fill_levels(verdicts["verdict"], verdicts["computed"], int(adaptive["levels"]))
-    return Atlas(name, path, axes, log_axes, fixed, g, gc, reason, dict(ds.attrs), max(clim, 1e-12),
-                 crossings=crossings if len(crossings) == len(CROSSING_VARIABLES) else {}, adaptive=adaptive,
-                 filled_level=filled_level, **verdicts)
+#: the atlases read from their stores, cached by name, path and the state of their done flags
+_load = store.read_atlas
 
 
 def load(name: str) -> Atlas:
     path = resolve(name)
     if path is None:
         raise ValueError(f"no atlas named {name!r} in {atlas_dir()}")
-    return _load(name, path, engine.store_stamp(path))
+    return store.open_atlas(name, path)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -909,15 +768,8 @@ class AtlasScene(pn.viewable.Viewer):
             cube = held[variable][index]
         elif variable is None:
             return None
-        else:
-            import xarray as xr
-
-            if variable == "filled_level":
-                return None
-            with xr.open_zarr(d.path, consolidated=False) as ds:
-                if variable not in ds or list(ds[variable].dims) != names:
-                    return None
-                cube = ds[variable].values[index]
+        elif variable == "filled_level" or (cube := d.read(variable, index)) is None:
+            return None
         values = np.asarray(getattr(cube, "values", cube), dtype=float)
         kept = [n for n in names if n in (self.x_axis, self.y_axis)]
         if self.y_axis is None:

@@ -175,7 +175,7 @@ def _adaptive_axis_specs(specs: Sequence[str], levels: int | None) -> tuple[list
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from atlas_engine.sweep import CONNECT_TIMEOUT, SweepError, make_plan, sweep
+    from atlas_engine.sweep import CONNECT_TIMEOUT, SweepError, make_plan, run
 
     try:
         specs, adaptive = _adaptive_spec(args)
@@ -194,8 +194,8 @@ def _sweep(args: argparse.Namespace) -> int:
     bars, start = _progress_bars(plan, args.quiet)
     command = " ".join(["asymslide", *sys.argv[1:]]) if sys.argv and sys.argv[0].endswith("asymslide") else None
     try:
-        ds = sweep(axes, **settings, store=args.out, client=client, workers=args.workers,
-                   progress=lambda kind, n: bars[kind].update(n), start=start, command=command)
+        ds = run(plan, store=args.out, client=client, workers=args.workers,
+                 progress=lambda kind, n: bars[kind].update(n), start=start, command=command)
     except SweepError as exc:
         return _fail(str(exc))
     except KeyboardInterrupt:

@@ -826,11 +826,19 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
     """
     plan = make_plan(axes, fixed=fixed, kH=kH, rtol=rtol, growth=growth, gamma_c=gamma_c, gamma_range=gamma_range,
                      count=count, chunk_points=chunk_points, adaptive=adaptive)
-    if plan.adaptive is not None:
-        from .adaptive import run
+    return run(plan, store=store, client=client, workers=workers, progress=progress, start=start, command=command)
 
-        return run(plan, store=store, client=client, workers=workers, progress=progress, start=start,
-                   command=command)
+
+def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, workers: int | None = None,
+        progress: Progress | None = None, start: Progress | None = None, command: str | None = None):
+    """Compute a validated plan (:func:`make_plan`): the dense sweep, or the adaptive one if the plan has
+    ``adaptive``; the other arguments and the result as :func:`sweep`. The command line parses and plans, then
+    calls this."""
+    if plan.adaptive is not None:
+        from .adaptive import run as run_adaptive
+
+        return run_adaptive(plan, store=store, client=client, workers=workers, progress=progress, start=start,
+                            command=command)
     return run_dense(plan, store=store, client=client, workers=workers, progress=progress, command=command)
 
 

@@ -264,7 +264,7 @@ def test_a_folder_the_server_cannot_write_is_explained_and_its_atlases_still_ope
     def read_only(path, *args, **kwargs):
         raise PermissionError(13, "Permission denied", str(path))
 
-    monkeypatch.setattr(A, "open", read_only, raising=False)
+    monkeypatch.setattr(A.store, "open", read_only, raising=False)  # the lock file beside the default atlas
     scene = A.AtlasScene()
     scene.refresh()
     scene.start_default()

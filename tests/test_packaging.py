@@ -206,7 +206,8 @@ LAYER_FILES = {
 }
 
 
-def _third_party_imports(path: Path) -> set[str]:
+def _top_level_imports(path: Path) -> set[str]:
+    """The top-level names a module imports (absolute imports; relative ones stay in its own package)."""
     import ast
 
     names = set()
@@ -215,7 +216,11 @@ def _third_party_imports(path: Path) -> set[str]:
             names |= {alias.name.partition(".")[0] for alias in node.names}
         elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
             names.add(node.module.partition(".")[0])
-    return names - set(sys.stdlib_module_names) - set(asymslide.IMPORT_NAMES) - {"__future__"}
+    return names
+
+
+def _third_party_imports(path: Path) -> set[str]:
+    return _top_level_imports(path) - set(sys.stdlib_module_names) - set(asymslide.IMPORT_NAMES) - {"__future__"}
 
 
 def test_every_import_of_a_layer_is_installed_by_its_extra() -> None:
@@ -285,16 +290,8 @@ LAYERS = ("model", "atlas_engine", "app", "asymslide")
 
 
 def _project_imports(path: Path) -> set[str]:
-    """The project packages a module imports (absolute imports; relative ones stay in its own package)."""
-    import ast
-
-    names = set()
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
-        if isinstance(node, ast.Import):
-            names |= {alias.name.partition(".")[0] for alias in node.names}
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            names.add(node.module.partition(".")[0])
-    return names & set(LAYERS)
+    """The project packages a module imports."""
+    return _top_level_imports(path) & set(LAYERS)
 
 
 def test_no_import_runs_back_up_a_layer() -> None:
@@ -307,3 +304,11 @@ def test_no_import_runs_back_up_a_layer() -> None:
             if bad := _project_imports(path) - allowed:
                 upward.append(f"{path.relative_to(ROOT)} imports {', '.join(sorted(bad))}")
     assert upward == []
+
+
+def test_the_app_opens_atlases_only_through_the_store() -> None:
+    """app/ never reads Zarr itself: xarray and zarr are the atlas layer's (atlas_engine.store opens atlases)."""
+    readers = [f"{path.relative_to(ROOT)} imports {', '.join(sorted(bad))}"
+               for path in sorted((ROOT / "app").rglob("*.py"))
+               if (bad := _third_party_imports(path) & {"xarray", "zarr"})]
+    assert readers == []
