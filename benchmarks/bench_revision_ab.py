@@ -135,12 +135,12 @@ class Worker:
         self.proc.wait(timeout=120)
 
 
-def export_revision(rev: str, target: Path) -> Path:
-    """`git archive` the model/ package of revision `rev` into target."""
+def export_revision(rev: str, target: Path, packages: tuple[str, ...] = ("model",)) -> Path:
+    """`git archive` the `packages` (folders) of revision `rev` into target."""
     import io
     import tarfile
 
-    data = subprocess.run(["git", "-C", str(ROOT), "archive", rev, "model"], capture_output=True, check=True,
+    data = subprocess.run(["git", "-C", str(ROOT), "archive", rev, *packages], capture_output=True, check=True,
                           timeout=120).stdout
     with tarfile.open(fileobj=io.BytesIO(data)) as tar:
         tar.extractall(target, filter="data")
@@ -209,14 +209,74 @@ def markdown(old_rev: str, rows: list[tuple]) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: the atlas of the sweep A/B: eta = inf over (gamma, f, beta) with its threshold gamma_c, both cores (~10-20 s)
+SWEEP_ARGS = ["sweep", "--axis", "gamma=0.5:20:24:log", "--axis", "f=0.3:1.5:10", "--axis", "beta=0.05:0.65:10",
+              "--kH", "1e-3:1e3:97:log", "--workers", "2", "--quiet"]
+#: the sweep as the command line runs it, with the packages of argv[1] (checked) and argv[2:] as its arguments
+SWEEP_CHILD = r"""
+import sys
+sys.path.insert(0, sys.argv[1])
+import model
+from asymslide.cli import main
+assert model.__file__.startswith(sys.argv[1]), model.__file__
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+def _timed_sweep(root: Path, cache: Path, store: Path) -> float:
+    """Wall seconds of SWEEP_ARGS into a new `store` by the command line of the tree at `root`."""
+    import shutil
+    import time
+
+    shutil.rmtree(store, ignore_errors=True)
+    env = dict(os.environ, PYTHONPATH="", NUMBA_CACHE_DIR=str(cache))
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-c", SWEEP_CHILD, str(root), *SWEEP_ARGS, "--out", str(store)], cwd=root,
+                   env=env, check=True, capture_output=True, timeout=1800)
+    return time.perf_counter() - t0
+
+
+def sweep_ab(old_rev: str, rounds: int = 3) -> str:
+    """The atlas of SWEEP_ARGS by `old_rev`'s command line (its model and engine) and this tree's, alternately, each
+    a process of its own (the compile or cache load included, as a user meets it); whether the stores hold the same
+    bits. Markdown lines."""
+    import numpy as np
+    import zarr
+
+    cache = Path(os.environ.get("NUMBA_CACHE_DIR", ROOT / ".numba_cache"))
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        old_root = export_revision(old_rev, tmp / "old", ("model", "asymslide"))
+        runs = {"old": (old_root, tmp / "cache_old"), "new": (ROOT, cache)}
+        for name, (root, c) in runs.items():  # compile (old) or load the cache once before timing
+            _timed_sweep(root, c, tmp / f"{name}.zarr")
+        times: dict[str, list[float]] = {"old": [], "new": []}
+        for r in range(rounds):
+            for name in ("old", "new") if r % 2 == 0 else ("new", "old"):
+                times[name].append(_timed_sweep(*runs[name], tmp / f"{name}.zarr"))
+        stores = {name: zarr.open_group(str(tmp / f"{name}.zarr"), mode="r") for name in runs}
+        names = sorted(k for k, v in stores["old"].arrays() if v.ndim >= 1 and k in dict(stores["new"].arrays()))
+        differ = [k for k in names if not np.array_equal(stores["old"][k][...], stores["new"][k][...],
+                                                         equal_nan=stores["old"][k].dtype.kind == "f")]
+    med = {k: statistics.median(v) for k, v in times.items()}
+    ratio = statistics.median(n / o for n, o in zip(times["new"], times["old"], strict=True))
+    return (f"`asymslide {' '.join(SWEEP_ARGS)}` (24·10·10 points, gamma_c over 10·10), {rounds} rounds alternately: "
+            f"old ({old_rev}) {med['old']:.1f} s, new {med['new']:.1f} s, new/old {ratio:.3f} (median of rounds); "
+            f"{len(names) - len(differ)} of {len(names)} shared arrays bit-identical"
+            + (f" (differ: {', '.join(differ)})" if differ else "") + "\n")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--old-rev", default=BEFORE_SPLIT, help="git revision of this repository to compare with "
                     f"(default {BEFORE_SPLIT}, main before the kernels' split)")
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--quick", action="store_true", help="smaller atlas grids (6^3 instead of 12^3)")
+    ap.add_argument("--sweep", action="store_true", help="also time an atlas by both revisions' command lines")
     args = ap.parse_args()
     print(markdown(args.old_rev, measure(args.old_rev, args.rounds, args.quick)))
+    if args.sweep:
+        print(sweep_ab(args.old_rev))
 
 
 if __name__ == "__main__":

@@ -68,7 +68,7 @@ class OldRevision:
     """The thresholds of git revision `rev`, timed in a process of their own (see OLD_WORKER)."""
 
     def __init__(self, rev: str, target: Path) -> None:
-        from benchmarks.bench_kernels_ab import export_revision
+        from benchmarks.bench_revision_ab import export_revision
 
         export_revision(rev, target)
         env = dict(os.environ, PYTHONPATH="")

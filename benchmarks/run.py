@@ -170,7 +170,8 @@ def spectrum_markdown(rows: list[tuple[str, str, float, float, int]]) -> str:
 
 
 def other_sections() -> str:
-    """The other benchmarks' sections (maps, Pareto, modes, thresholds, coverage, atlases, kernels before/after)."""
+    """The other benchmarks' sections: maps, Pareto, modes, thresholds, coverage, atlases, the house work
+    before/after."""
     from benchmarks import bench_maps
 
     text = "\n## Stability maps and thresholds (model.stability)\n\n" + bench_maps.table(bench_maps.run())
@@ -180,7 +181,7 @@ def other_sections() -> str:
 
     text += ("\n## All unstable roots in |Re z| <= 5, im_min <= Im z <= 2 (model.unstable_modes vs cxroots)\n\n"
              + bench_modes.markdown(bench_modes.run()))
-    from benchmarks import bench_coverage, bench_kernels_ab, bench_sweep, bench_thresholds, threshold_accuracy
+    from benchmarks import bench_coverage, bench_sweep, bench_thresholds, threshold_accuracy
 
     text += ("\n## Thresholds as certified neutral modes, before and after (model.crossings_chunk; "
              "`benchmarks/bench_thresholds.py`)\n\n" + bench_thresholds.table(bench_thresholds.run(256, 3, 32, 2)))
@@ -200,11 +201,6 @@ def other_sections() -> str:
                  "\n\n" + bench_adaptive.run(dense_store=dense["store"], dense_seconds=dense["seconds"],
                                             dense_host=dense["host"]))
 
-    with tempfile.TemporaryDirectory() as tmp:
-        old = bench_kernels_ab.export_revision(bench_kernels_ab.BEFORE_REFACTOR, Path(tmp))
-        text += (f"\n## Compiled kernels before and after their refactor (revision {bench_kernels_ab.BEFORE_REFACTOR} "
-                 "against this tree, interleaved; `benchmarks/bench_kernels_ab.py`)\n\n"
-                 + bench_kernels_ab.markdown(old))
     from benchmarks import bench_revision_ab, bit_identity
 
     rev = bench_revision_ab.BEFORE_SPLIT
@@ -214,7 +210,10 @@ def other_sections() -> str:
              + bench_revision_ab.markdown(rev, bench_revision_ab.measure(rev))
              + f"\n{n_arrays} arrays ({n_values:,} values) of spectrum, growth, thresholds and unstable_modes on "
              f"fixed grids: {n_arrays - len(differ)} bit-identical to {rev}, {len(differ)} differ"
-             + "".join(f"\n- differs: {k}" for k in differ) + "\n")
+             + "".join(f"\n- differs: {k}" for k in differ)
+             + "\n\nThe atlas engine and the command line, before and after "
+             "(`python benchmarks/bench_revision_ab.py --sweep`): "
+             + bench_revision_ab.sweep_ab(rev, rounds=5))
     return text
 
 
