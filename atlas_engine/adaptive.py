@@ -466,6 +466,30 @@ def stored_computed(path: str | os.PathLike) -> np.ndarray:
     return computed
 
 
+def _ignore(kind: str, points: int) -> None:
+    """A progress callback that does nothing."""
+
+
+def _open(plan: Plan, names: tuple[str, ...], store: str | os.PathLike | None, command: str | None):
+    """(dataset in memory or None, store path or None, journal writer or None, the variables `names` as arrays):
+    without a store a dataset in memory (whose arrays these are, with ``verdict_filled``); with one, the store opened
+    or created (:func:`atlas_engine.sweep.open_store`) and its values with the journal applied, or the fill values of
+    a new store."""
+    from . import sweep as S
+
+    if store is None:
+        ds = S.memory_dataset(plan, command)
+        return ds, None, None, {name: ds[name].values for name in (*names, "verdict_filled")}
+    fresh = not Path(store).exists()
+    path = S.open_store(plan, Path(store), command)
+    writer = _Store(path)
+    if not fresh:
+        return None, path, writer, writer.load(names)
+    memory = {name: np.full(plan.shape, S.GROWTH_VARS[name][1] if name in S.GROWTH_VARS else NOT_COMPUTED,
+                            dtype=S.GROWTH_VARS[name][0] if name in S.GROWTH_VARS else np.int8) for name in names}
+    return None, path, writer, memory  # nothing to read: the fill values
+
+
 def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, workers: int | None = None,
         progress: Callable[[str, int], None] | None = None, start: Callable[[str, int], None] | None = None,
         command: str | None = None):
@@ -483,22 +507,10 @@ def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, work
         raise ValueError("run() needs a plan made with adaptive=... (atlas_engine.sweep.make_plan)")
     grid = _Grid(plan)
     names = (*S.GROWTH_VARS, "computed")
-    if store is None:
-        ds = S.memory_dataset(plan, command)
-        memory = {name: ds[name].values for name in (*names, "verdict_filled")}
-        writer = None
-        path = None
-    else:
-        fresh = not Path(store).exists()
-        path = S.open_store(plan, Path(store), command)
-        writer = _Store(path)
-        if fresh:  # nothing to read: the fill values
-            memory = {name: np.full(plan.shape, S.GROWTH_VARS[name][1] if name in S.GROWTH_VARS else NOT_COMPUTED,
-                                    dtype=S.GROWTH_VARS[name][0] if name in S.GROWTH_VARS else np.int8)
-                      for name in names}
-        else:
-            memory = writer.load(names)
+    ds, path, writer, memory = _open(plan, names, store, command)
     flat_memory = {name: memory[name].reshape(-1) for name in names}
+    progress = progress or _ignore
+    start = start or _ignore
 
     def keep(task: PointTask, result: dict[str, np.ndarray]) -> None:
         if writer is not None:
@@ -506,8 +518,7 @@ def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, work
         for name, values in result.items():
             flat_memory[name][task.flat] = values
         flat_memory["computed"][task.flat] = task.level
-        if progress is not None:
-            progress(task.kind, task.points)
+        progress(task.kind, task.points)
 
     for level in range(spec.levels + 1):
         target = refine_targets(level, spec, memory["verdict"], memory["growth"], memory["computed"])
@@ -515,9 +526,8 @@ def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, work
         if np.any(target & (memory["computed"] > level)):  # cannot happen with the same plan (which is checked)
             raise RuntimeError(f"the store holds points of a later level than {level} where level {level} evaluates")
         kind = f"level{level}"
-        if start is not None:
-            start(kind, int(target.sum()))
-        if progress is not None and done.any():
+        start(kind, int(target.sum()))
+        if done.any():
             progress(kind, int((target & done).sum()))
         todo = grid.tasks(level, np.flatnonzero(target & ~done))
         if writer is not None:

@@ -56,6 +56,7 @@ import numpy as np
 import model
 
 from . import __version__  # the distribution's version, recorded in every store
+from . import adaptive as _adaptive
 from .adaptive import AdaptiveSpec
 from .adaptive import summary as adaptive_summary
 
@@ -284,24 +285,47 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
     if not (growth or gamma_c or count is not None):
         raise SweepError("nothing to compute: ask for the growth, gamma_c or the all-branch count")
     fixed = dict(fixed or {})
-    clean_axes: dict[str, tuple[float, ...]] = {}
-    for name, values in axes.items():
-        if name not in PARAMETERS:
-            raise SweepError(f"unknown axis {name!r}; the axes can be {', '.join(PARAMETERS)}")
-        if name in fixed:
-            raise SweepError(f"{name} is given both as an axis and as a fixed value")
-        v = np.asarray(values, dtype=float).ravel()
-        if v.size == 0:
-            raise SweepError(f"axis {name}: empty (no values)")
-        if not np.all(np.isfinite(v)):
-            raise SweepError(f"axis {name}: values must be finite (η = ∞ is allowed as a fixed value only)")
-        if np.any(np.diff(v) <= 0):
-            raise SweepError(f"axis {name}: values must be strictly increasing")
-        try:
-            model.check_parameter(name, v)
-        except ValueError as exc:
-            raise SweepError(f"axis {name}: {exc}") from None
-        clean_axes[name] = tuple(float(x) for x in v)
+    clean_axes = {name: _checked_axis(name, values, fixed) for name, values in axes.items()}
+    full_fixed = _checked_fixed(fixed, clean_axes)
+    grid = _checked_kh(kH, rtol)
+    if gamma_range is None:
+        gamma_range = (clean_axes["gamma"][0], clean_axes["gamma"][-1]) if "gamma" in clean_axes else (1e-2, 1e3)
+    lo, hi = (float(x) for x in gamma_range)
+    if not (0 < lo < hi < math.inf):
+        raise SweepError(f"gamma_range must be 0 < lo < hi < inf; got {gamma_range}")
+    count = None if count is None else _checked_count(count)
+    spec = None if adaptive is None or adaptive is False else _checked_adaptive(adaptive, clean_axes, growth)
+    if chunk_points is None:
+        chunk_points = CHUNK_POINTS if spec is None else _adaptive.CHUNK_POINTS
+    if chunk_points < 1:
+        raise SweepError(f"chunk_points must be >= 1; got {chunk_points}")
+    return Plan(clean_axes, full_fixed, tuple(float(x) for x in grid), rtol, growth, gamma_c, (lo, hi), count,
+                _plan_chunks(clean_axes, chunk_points), spec)
+
+
+def _checked_axis(name: str, values: Sequence[float] | np.ndarray, fixed: Mapping[str, float]) -> tuple[float, ...]:
+    """An axis's values as floats, or SweepError: a known parameter, not also fixed, non-empty, finite, strictly
+    increasing and in the model's domain."""
+    if name not in PARAMETERS:
+        raise SweepError(f"unknown axis {name!r}; the axes can be {', '.join(PARAMETERS)}")
+    if name in fixed:
+        raise SweepError(f"{name} is given both as an axis and as a fixed value")
+    v = np.asarray(values, dtype=float).ravel()
+    if v.size == 0:
+        raise SweepError(f"axis {name}: empty (no values)")
+    if not np.all(np.isfinite(v)):
+        raise SweepError(f"axis {name}: values must be finite (η = ∞ is allowed as a fixed value only)")
+    if np.any(np.diff(v) <= 0):
+        raise SweepError(f"axis {name}: values must be strictly increasing")
+    try:
+        model.check_parameter(name, v)
+    except ValueError as exc:
+        raise SweepError(f"axis {name}: {exc}") from None
+    return tuple(float(x) for x in v)
+
+
+def _checked_fixed(fixed: Mapping[str, float], axes: Mapping[str, tuple[float, ...]]) -> dict[str, float]:
+    """Every parameter that is not an axis with its value: `fixed`'s (checked) or :data:`DEFAULT_FIXED`'s."""
     for name, value in fixed.items():
         if name not in PARAMETERS:
             raise SweepError(f"unknown fixed parameter {name!r}; the parameters are {', '.join(PARAMETERS)}")
@@ -309,7 +333,11 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
             model.check_parameter(name, float(value))
         except (TypeError, ValueError) as exc:
             raise SweepError(f"fixed {name}: {exc}") from None
-    full_fixed = {k: float(fixed.get(k, DEFAULT_FIXED[k])) for k in PARAMETERS if k not in clean_axes}
+    return {k: float(fixed.get(k, DEFAULT_FIXED[k])) for k in PARAMETERS if k not in axes}
+
+
+def _checked_kh(kH: Sequence[float] | np.ndarray | None, rtol: float | None) -> np.ndarray:
+    """The growth's kH grid (default :data:`DEFAULT_KH`), increasing and positive; rtol checked by the model."""
     grid = DEFAULT_KH if kH is None else np.asarray(kH, dtype=float).ravel()
     if grid.size < 2 or not np.all(np.isfinite(grid)) or np.any(grid <= 0) or np.any(np.diff(grid) <= 0):
         raise SweepError("kH must be an increasing grid of at least 2 positive values")
@@ -318,44 +346,45 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
             model.growth_chunk(np.log(grid[:2]), np.zeros((6, 0)), rtol)  # validates rtol (ValueError naming it)
         except ValueError as exc:
             raise SweepError(str(exc)) from None
-    if gamma_range is None:
-        gamma_range = (clean_axes["gamma"][0], clean_axes["gamma"][-1]) if "gamma" in clean_axes else (1e-2, 1e3)
-    lo, hi = (float(x) for x in gamma_range)
-    if not (0 < lo < hi < math.inf):
-        raise SweepError(f"gamma_range must be 0 < lo < hi < inf; got {gamma_range}")
-    if count is not None:
-        ck = np.asarray(count.kH, dtype=float)
-        if ck.size < 1 or np.any(~np.isfinite(ck)) or np.any(ck <= 0):
-            raise SweepError("the count's kH grid must hold positive finite values")
-        re_max, im_min, im_max = (float(x) for x in count.window)
-        if not (re_max > 0 and 0 <= im_min < im_max):
-            raise SweepError(f"count window must be re_max > 0, 0 <= im_min < im_max; got {count.window}")
-        count = CountSpec(tuple(float(x) for x in ck), (re_max, im_min, im_max))
-    shape = [len(v) for v in clean_axes.values()]
-    spec = None
-    if adaptive is not None and adaptive is not False:
-        from . import adaptive as A
+    return grid
 
-        if not growth:
-            raise SweepError("an adaptive sweep refines the growth's verdict: it needs the growth variables")
-        try:
-            spec = A.resolve_spec(adaptive, tuple(shape))
-            A.check_shape(tuple(clean_axes), tuple(shape), spec.levels)  # type: ignore[arg-type]
-        except (TypeError, ValueError) as exc:
-            raise SweepError(str(exc)) from None
-    if chunk_points is None:
-        chunk_points = CHUNK_POINTS if spec is None else A.CHUNK_POINTS
-    if chunk_points < 1:
-        raise SweepError(f"chunk_points must be >= 1; got {chunk_points}")
-    chunks = dict(zip(clean_axes, chunk_sizes(shape, chunk_points), strict=True))
-    gc_names = [n for n in clean_axes if n != "gamma"]
-    gc = chunk_sizes([len(clean_axes[n]) for n in gc_names], max(1, chunk_points * GAMMA_C_CHUNK_POINTS
-                                                                    // CHUNK_POINTS))
+
+def _checked_count(count: CountSpec) -> CountSpec:
+    """The all-branch count's kH grid (positive, finite) and window (re_max > 0, 0 <= im_min < im_max) as floats."""
+    ck = np.asarray(count.kH, dtype=float)
+    if ck.size < 1 or np.any(~np.isfinite(ck)) or np.any(ck <= 0):
+        raise SweepError("the count's kH grid must hold positive finite values")
+    re_max, im_min, im_max = (float(x) for x in count.window)
+    if not (re_max > 0 and 0 <= im_min < im_max):
+        raise SweepError(f"count window must be re_max > 0, 0 <= im_min < im_max; got {count.window}")
+    return CountSpec(tuple(float(x) for x in ck), (re_max, im_min, im_max))
+
+
+def _checked_adaptive(adaptive: AdaptiveSpec | bool | Mapping[str, Any], axes: Mapping[str, tuple[float, ...]],
+                      growth: bool) -> AdaptiveSpec:
+    """The resolved refinement spec; every axis must have m·2^levels + 1 points."""
+    if not growth:
+        raise SweepError("an adaptive sweep refines the growth's verdict: it needs the growth variables")
+    shape = tuple(len(v) for v in axes.values())
+    try:
+        spec = _adaptive.resolve_spec(adaptive, shape)
+        _adaptive.check_shape(tuple(axes), shape, spec.levels)  # type: ignore[arg-type]
+    except (TypeError, ValueError) as exc:
+        raise SweepError(str(exc)) from None
+    return spec
+
+
+def _plan_chunks(axes: Mapping[str, tuple[float, ...]], chunk_points: int) -> dict[str, int]:
+    """Chunk lengths per axis of the growth (key: the axis), of gamma_c ("gamma_c:<axis>", over the axes other than
+    gamma) and of the count ("count:<axis>"), from the growth's points per chunk."""
+    shape = [len(v) for v in axes.values()]
+    chunks = dict(zip(axes, chunk_sizes(shape, chunk_points), strict=True))
+    gc_names = [n for n in axes if n != "gamma"]
+    gc = chunk_sizes([len(axes[n]) for n in gc_names], max(1, chunk_points * GAMMA_C_CHUNK_POINTS // CHUNK_POINTS))
     chunks.update({f"gamma_c:{n}": c for n, c in zip(gc_names, gc, strict=True)})
     cc = chunk_sizes(shape, max(1, chunk_points * COUNT_CHUNK_POINTS // CHUNK_POINTS))
-    chunks.update({f"count:{n}": c for n, c in zip(clean_axes, cc, strict=True)})
-    return Plan(clean_axes, full_fixed, tuple(float(x) for x in grid), rtol, growth, gamma_c, (lo, hi), count,
-                chunks, spec)
+    chunks.update({f"count:{n}": c for n, c in zip(axes, cc, strict=True)})
+    return chunks
 
 
 # ------------------------------------------------------------------------------------------------
@@ -533,68 +562,92 @@ def template(plan: Plan, command: str | None = None):
                                                    "scale": scale})
     coords["kH"] = ("kH", np.asarray(plan.kH), {"long_name": "the kH grid the growth is bracketed on (then refined "
                                                 "between its points)", "units": "1"})
-    dims = plan.names
-    chunks = tuple(plan.chunks[n] for n in dims)
     data: dict[str, Any] = {}
     flags: dict[str, int] = {}
     if plan.growth:
-        meanings = {"verdict": model.VERDICTS, "verdict_reason": model.VERDICT_STATUS}
-        for name, (dtype, fill, long_name, units) in GROWTH_VARS.items():
-            attrs = {"long_name": long_name, "units": units}
-            if name in meanings:
-                attrs.update(flag_values=sorted(meanings[name]),
-                             flag_meanings=json.dumps({str(k): v for k, v in sorted(meanings[name].items())}))
-            data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks), attrs)
+        data.update(_growth_vars(plan))
         if plan.adaptive is None:
             flags["growth"] = len(plan.growth_blocks())
-        else:  # the adaptive sweep's own variables (atlas_engine.adaptive); `computed` is its done flag, per point
-            for name, (dtype, fill, long_name, attrs) in _adaptive_vars(plan.adaptive).items():
-                data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks),
-                              {"long_name": long_name, "units": "1", **attrs})
     if plan.gamma_c:
-        gdims = plan.gamma_c_names
-        gshape = tuple(len(plan.axes[n]) for n in gdims)
-        gchunks = tuple(plan.chunks[f"gamma_c:{n}"] for n in gdims)
-        data["gamma_c"] = (gdims, da.full(gshape, np.nan, chunks=gchunks or None),
-                           {"long_name": "the threshold gamma_c: the first certified crossing of the max growth on the "
-                                         f"Rayleigh branch (searched in gamma {plan.gamma_range[0]:g} to "
-                                         f"{plan.gamma_range[1]:g})", "units": "1"})
-        codes = sorted(model.THRESHOLD_STATUS)
-        data["gamma_c_reason"] = (gdims, da.full(gshape, INT_FILL["gamma_c_reason"], dtype=np.int8,
-                                                 chunks=gchunks or None),
-                                  {"long_name": "why gamma_c is NaN (0: found)", "flag_values": codes,
-                                   "flag_meanings": json.dumps({str(k): model.THRESHOLD_STATUS[k] for k in codes})})
         coords["crossing"] = ("crossing", np.arange(CROSSINGS), {"long_name": "index of a sign change of the max "
                                                                  "growth in gamma, in increasing gamma"})
-        xchunks = (*(gchunks or gshape), CROSSINGS)
-        for name, (dtype, fill, long_name) in CROSSING_VARS.items():
-            attrs = {"long_name": long_name, "units": "1"}
-            if name == "gamma_c_crossing_reason":
-                xcodes = sorted(model.CROSSING_STATUS)
-                attrs.update(flag_values=xcodes,
-                             flag_meanings=json.dumps({str(k): model.CROSSING_STATUS[k] for k in xcodes}))
-            data[name] = ((*gdims, "crossing"), da.full((*gshape, CROSSINGS), fill, dtype=dtype, chunks=xchunks),
-                          attrs)
-        for name, (dtype, fill, long_name) in CROSSING_SUMMARY_VARS.items():
-            data[name] = (gdims, da.full(gshape, fill, dtype=dtype, chunks=gchunks or None),
-                          {"long_name": long_name, "units": "1"})
+        data.update(_gamma_c_vars(plan))
         flags["gamma_c"] = len(plan.gamma_c_blocks())
     if plan.count is not None:
         coords["kH_count"] = ("kH_count", np.asarray(plan.count.kH), {"long_name": "kH of the all-branch count",
                                                                       "units": "1"})
-        cchunks = (*(plan.chunks[f"count:{n}"] for n in dims), len(plan.count.kH))
-        re_max, im_min, im_max = plan.count.window
-        data["unstable_count"] = ((*dims, "kH_count"), da.full((*plan.shape, len(plan.count.kH)),
-                                                               INT_FILL["unstable_count"], dtype=np.int16,
-                                                               chunks=cchunks),
-                                  {"long_name": "roots of F (any branch) with |Re z| <= re_max and im_min <= Im z <= "
-                                                "im_max (argument principle; -1: the count failed)",
-                                   "re_max": re_max, "im_min": im_min, "im_max": im_max, "units": "1"})
+        data.update(_count_vars(plan))
         flags["count"] = len(plan.count_blocks())
     for kind, n in flags.items():
         data[f"done_{kind}"] = (f"{kind}_chunk", da.zeros(n, dtype=np.int8, chunks=1),
                                 {"long_name": f"1 where the {kind} chunk is written (resumable sweeps)"})
     return xr.Dataset(data, coords=coords, attrs=_attrs(plan, command))
+
+
+def _flag_attrs(meanings: Mapping[int, str]) -> dict[str, Any]:
+    """CF flag_values / flag_meanings (the codes' texts, as JSON) of a variable of codes."""
+    codes = sorted(meanings)
+    return {"flag_values": codes, "flag_meanings": json.dumps({str(k): meanings[k] for k in codes})}
+
+
+def _growth_vars(plan: Plan) -> dict[str, Any]:
+    """The template's growth variables over the grid, with the adaptive sweep's own if the plan is adaptive (its
+    ``computed`` is the done flag, per point)."""
+    import dask.array as da
+
+    dims = plan.names
+    chunks = tuple(plan.chunks[n] for n in dims)
+    meanings = {"verdict": model.VERDICTS, "verdict_reason": model.VERDICT_STATUS}
+    data: dict[str, Any] = {}
+    for name, (dtype, fill, long_name, units) in GROWTH_VARS.items():
+        attrs = {"long_name": long_name, "units": units, **(_flag_attrs(meanings[name]) if name in meanings else {})}
+        data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks), attrs)
+    if plan.adaptive is not None:
+        for name, (dtype, fill, long_name, attrs) in _adaptive_vars(plan.adaptive).items():
+            data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks),
+                          {"long_name": long_name, "units": "1", **attrs})
+    return data
+
+
+def _gamma_c_vars(plan: Plan) -> dict[str, Any]:
+    """The template's threshold variables: gamma_c and its reason over the axes other than gamma, the crossings
+    (with the dimension ``crossing``) and their summaries."""
+    import dask.array as da
+
+    gdims = plan.gamma_c_names
+    gshape = tuple(len(plan.axes[n]) for n in gdims)
+    gchunks = tuple(plan.chunks[f"gamma_c:{n}"] for n in gdims) or None
+    data: dict[str, Any] = {
+        "gamma_c": (gdims, da.full(gshape, np.nan, chunks=gchunks),
+                    {"long_name": "the threshold gamma_c: the first certified crossing of the max growth on the "
+                                  f"Rayleigh branch (searched in gamma {plan.gamma_range[0]:g} to "
+                                  f"{plan.gamma_range[1]:g})", "units": "1"}),
+        "gamma_c_reason": (gdims, da.full(gshape, INT_FILL["gamma_c_reason"], dtype=np.int8, chunks=gchunks),
+                           {"long_name": "why gamma_c is NaN (0: found)", **_flag_attrs(model.THRESHOLD_STATUS)}),
+    }
+    xchunks = (*(gchunks or gshape), CROSSINGS)
+    for name, (dtype, fill, long_name) in CROSSING_VARS.items():
+        attrs = {"long_name": long_name, "units": "1"}
+        if name == "gamma_c_crossing_reason":
+            attrs.update(_flag_attrs(model.CROSSING_STATUS))
+        data[name] = ((*gdims, "crossing"), da.full((*gshape, CROSSINGS), fill, dtype=dtype, chunks=xchunks), attrs)
+    for name, (dtype, fill, long_name) in CROSSING_SUMMARY_VARS.items():
+        data[name] = (gdims, da.full(gshape, fill, dtype=dtype, chunks=gchunks), {"long_name": long_name, "units": "1"})
+    return data
+
+
+def _count_vars(plan: Plan) -> dict[str, Any]:
+    """The template's all-branch count over the grid and ``kH_count``."""
+    import dask.array as da
+
+    cchunks = (*(plan.chunks[f"count:{n}"] for n in plan.names), len(plan.count.kH))
+    re_max, im_min, im_max = plan.count.window
+    return {"unstable_count": ((*plan.names, "kH_count"),
+                               da.full((*plan.shape, len(plan.count.kH)), INT_FILL["unstable_count"], dtype=np.int16,
+                                       chunks=cchunks),
+                               {"long_name": "roots of F (any branch) with |Re z| <= re_max and im_min <= Im z <= "
+                                             "im_max (argument principle; -1: the count failed)",
+                                "re_max": re_max, "im_min": im_min, "im_max": im_max, "units": "1"})}
 
 
 #: Zarr fill values (what a chunk not written yet reads as) of the integer variables; floats: NaN
@@ -835,10 +888,8 @@ def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, work
     ``adaptive``; the other arguments and the result as :func:`sweep`. The command line parses and plans, then
     calls this."""
     if plan.adaptive is not None:
-        from .adaptive import run as run_adaptive
-
-        return run_adaptive(plan, store=store, client=client, workers=workers, progress=progress, start=start,
-                            command=command)
+        return _adaptive.run(plan, store=store, client=client, workers=workers, progress=progress, start=start,
+                             command=command)
     return run_dense(plan, store=store, client=client, workers=workers, progress=progress, command=command)
 
 
@@ -962,14 +1013,7 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
     if "verdict" in ds:
         yield from _verdict_lines(ds["verdict"].values, ds["verdict_reason"].values)
     if "gamma_c" in ds:
-        gc, reason = ds["gamma_c"].values, ds["gamma_c_reason"].values
-        ok = reason == 0
-        yield (f"  gamma_c: found at {int(ok.sum())} of {gc.size} points"
-               + (f", range {np.nanmin(gc):.6g} .. {np.nanmax(gc):.6g}" if ok.any() else ""))
-        for code, text in model.THRESHOLD_STATUS.items():
-            n = int((reason == code).sum())
-            if code and n:
-                yield f"    reason {code} at {n} points: {text}"
+        yield from _gamma_c_lines(ds["gamma_c"].values, ds["gamma_c_reason"].values)
     if "gamma_c_complete" in ds:
         yield from _crossing_lines(ds)
     if "unstable_count" in ds:
@@ -977,6 +1021,17 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
         yield (f"  unstable_count: window |Re z| <= {uc.attrs['re_max']:g}, {uc.attrs['im_min']:g} <= Im z <= "
                f"{uc.attrs['im_max']:g} on {ds.sizes['kH_count']} kH; max {int(uc.max())}, failed counts "
                f"{int((uc == -1).sum())}")
+
+
+def _gamma_c_lines(gc: np.ndarray, reason: np.ndarray) -> Iterator[str]:
+    """Where the threshold was found, its range, and the count of each reason it was not."""
+    ok = reason == 0
+    yield (f"  gamma_c: found at {int(ok.sum())} of {gc.size} points"
+           + (f", range {np.nanmin(gc):.6g} .. {np.nanmax(gc):.6g}" if ok.any() else ""))
+    for code, text in model.THRESHOLD_STATUS.items():
+        n = int((reason == code).sum())
+        if code and n:
+            yield f"    reason {code} at {n} points: {text}"
 
 
 def adaptive_lines(attribute: str, computed: np.ndarray) -> Iterator[str]:
