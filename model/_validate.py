@@ -70,6 +70,13 @@ def check(name: str, value, *, complex_ok: bool = False, domain: str | None = No
         vmax = value.max()
         if (lo <= vmin if lo_inc else lo < vmin) and (vmax <= hi if hi_inc else vmax < hi):
             return value
+    return _checked_array(name, value, complex_ok, DOMAINS[key])
+
+
+def _checked_array(name: str, value, complex_ok: bool, domain: tuple) -> np.ndarray:
+    """:func:`check` past its fast paths: `value` as an array of the domain (lo, hi, lo_inc, hi_inc, allow_inf,
+    text), or ValueError naming `name`, the range and the first bad value."""
+    lo, hi, lo_inc, hi_inc, allow_inf, text = domain
     try:
         arr = np.asarray(value)
         if arr.dtype.kind not in "biufc":

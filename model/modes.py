@@ -505,6 +505,19 @@ class _Problem:
                 continue
         raise RuntimeError(f"unstable_modes: could not split the cell [{x0}, {x1}] x [{y0}, {y1}] away from roots")
 
+    def newton_in(self, cell: tuple, n: int, moment: complex) -> complex | None:
+        """The root of multiplicity `n` in `cell` by Newton from the contour's estimate (its first moment over n,
+        if inside the cell) and then from the centre; None if neither converges inside the cell."""
+        x0, x1, y0, y1 = cell[:4]
+        est = moment / (2j * math.pi) / n
+        centre = complex(0.5 * (x0 + x1), 0.5 * (y0 + y1))
+        for s in ([est, centre] if (x0 <= est.real <= x1 and y0 <= est.imag <= y1) else [centre]):
+            z, ok, res, nev = _newton_cell(s, x0, x1, y0, y1, float(n), *self.par)
+            self.evaluations += nev
+            if ok and res < RESID_MAX and x0 <= z.real <= x1 and y0 <= z.imag <= y1:
+                return z
+        return None
+
     def locate(self, cell: tuple, n_total: int) -> np.ndarray:
         """Roots in `cell`, which holds n_total of them: subdivide to one root per cell, then Newton."""
         stack = [(cell, n_total, None)]
@@ -522,24 +535,14 @@ class _Problem:
                        TINY_CELL_ULPS * eps * max(abs(x0), abs(x1), y1))
             small = max(x1 - x0, y1 - y0) < tiny
             if n == 1 or small:
-                if moment is None:
-                    moment = self.winding(c)[1]
-                est = moment / (2j * math.pi) / n
-                centre = complex(0.5 * (x0 + x1), 0.5 * (y0 + y1))
-                starts = [est, centre] if (x0 <= est.real <= x1 and y0 <= est.imag <= y1) else [centre]
-                found = None
-                for s in starts:
-                    z, ok, res, nev = _newton_cell(s, x0, x1, y0, y1, float(n), *self.par)
-                    self.evaluations += nev
-                    if ok and res < RESID_MAX and x0 <= z.real <= x1 and y0 <= z.imag <= y1:
-                        found = z
-                        break
+                found = self.newton_in(c, n, self.winding(c)[1] if moment is None else moment)
                 if found is not None:
                     roots.extend([found] * n)
                     continue
                 if small:
                     raise RuntimeError(
-                        f"unstable_modes: {n} root(s) counted in a tiny cell near {centre} could not be located "
+                        f"unstable_modes: {n} root(s) counted in a tiny cell near "
+                        f"{complex(0.5 * (x0 + x1), 0.5 * (y0 + y1))} could not be located "
                         f"(located {len(roots)} of the {n_total} counted)"
                     )
             a, b = self.split(c)
