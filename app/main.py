@@ -1,4 +1,5 @@
-"""asymslide web app: five scenes in tabs, a Lab-units panel, paper-figure presets, and the state in the URL query.
+"""asymslide web app: six scenes in tabs (TAB_TITLES), a Lab-units panel, paper-figure presets, and the state in the
+URL query.
 
 Serve it with ``make serve`` (``panel serve app/main.py ...``) and open http://localhost:5006.
 Tests build the same page through :func:`create_app`.
