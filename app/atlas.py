@@ -453,9 +453,10 @@ def adaptive_readout(d: Atlas) -> str:
     levels = "; ".join(f"level {lv['level']} (stride {lv['stride']}) {100 * lv['fraction_of_grid']:.2f} %"
                        for lv in a.get("per_level", []))
     guard = f"guard {a['guard']:g}" if a.get("guard") else "no guard"
+    follow = "boundary followed" if a.get("follow") else "boundary not followed"
     return (f"**Adaptive** (asymslide sweep --adaptive): computed {a['evaluated']} of {a['points']} points, "
             f"evaluated fraction **{100 * a['evaluated_fraction']:.1f} %** ({levels}; margin {a.get('margin')}, "
-            f"{guard}); the other points are not computed: their verdict class comes from their cell (pale, "
+            f"{guard}, {follow}); the other points are not computed: their verdict class comes from their cell (pale, "
             "dotted), their growth is not stored")
 
 

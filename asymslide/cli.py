@@ -120,9 +120,10 @@ def _adaptive_spec(args: argparse.Namespace) -> tuple[list[str], object]:
         specs, levels, notes = _adaptive_axis_specs(specs, args.levels)
         for note in notes:
             print(f"asymslide: note: {note}", file=sys.stderr)
-        adaptive = AdaptiveSpec(levels=levels, margin=args.margin, guard=args.guard)
-    elif args.levels is not None or args.margin != 1 or args.guard:
-        raise SweepError("--levels, --margin and --guard belong to an adaptive sweep: add --adaptive")
+        adaptive = AdaptiveSpec(levels=levels, margin=0 if args.margin is None else args.margin, guard=args.guard,
+                                follow=not args.no_follow)
+    elif args.levels is not None or args.margin is not None or args.guard or args.no_follow:
+        raise SweepError("--levels, --margin, --guard and --no-follow belong to an adaptive sweep: add --adaptive")
     return specs, adaptive
 
 
@@ -222,6 +223,10 @@ def _progress_bars(plan, quiet: bool) -> tuple[dict, Callable[[str, int], None]]
     bars: dict = {}
 
     def start(kind: str, n: int) -> None:
+        if kind in bars:  # an adaptive level's follow round: its points join the level's bar
+            bars[kind].total += n
+            bars[kind].refresh()
+            return
         bars[kind] = tqdm(total=n, desc=f"{kind:8s}", unit="pt", unit_scale=True, dynamic_ncols=True,
                           position=len(bars), disable=quiet)
 
@@ -328,13 +333,18 @@ def build_parser() -> argparse.ArgumentParser:
                     help=f"grid points per growth chunk (default {CHUNK_POINTS}; adaptive {ADAPTIVE_CHUNK_POINTS})")
     sw.add_argument("--adaptive", action="store_true",
                     help="compute the growth only where the verdict can change: a coarse grid, then the cells whose "
-                         "corners differ in verdict (and a margin around them) refined level by level; axes of "
-                         "lo:hi:n points are rounded up to m*2^levels + 1 (see the README)")
+                         "corners differ in verdict refined level by level, following the boundary out of them; "
+                         "axes of lo:hi:n points are rounded up to m*2^levels + 1 (see the README)")
     sw.add_argument("--levels", type=int, default=None, metavar="L",
                     help="adaptive: refinement levels, the coarse grid has stride 2^L (default: about 9 points on "
                          "the longest axis)")
-    sw.add_argument("--margin", type=int, default=1, metavar="M",
-                    help="adaptive: cells refined around each cell whose corners differ (default 1)")
+    sw.add_argument("--margin", type=int, default=None, metavar="M",
+                    help="adaptive: rings of cells also refined around each cell whose corners differ (default 0: "
+                         "the boundary is followed instead, see --no-follow)")
+    sw.add_argument("--no-follow", action="store_true",
+                    help="adaptive: do not follow the boundary out of the refined cells (each level's cells whose "
+                         "evaluated corners differ get their other corners evaluated, until none is left); pair it "
+                         "with --margin 1 for a ring of cells around the refined ones instead")
     sw.add_argument("--guard", type=float, nargs="?", const=1.0, default=0.0, metavar="FACTOR",
                     help="adaptive: also refine nearly neutral cells, where min |growth| over the corners is below "
                          "FACTOR (default 1) times the curvature estimate (finds islands inside a cell; costs more "

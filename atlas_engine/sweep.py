@@ -277,8 +277,8 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
     growth is bracketed (increasing, > 0; default :data:`DEFAULT_KH`); gamma_range: where γ_c is searched
     (default: the γ axis' range if γ is an axis, else (1e-2, 1e3)); chunk_points: grid points per growth chunk
     (default :data:`CHUNK_POINTS`, adaptive :data:`atlas_engine.adaptive.CHUNK_POINTS`); adaptive: None or False (the
-    dense sweep), True or an :class:`~atlas_engine.adaptive.AdaptiveSpec` (levels, margin, guard; every axis must have
-    m·2^levels + 1 points).
+    dense sweep), True or an :class:`~atlas_engine.adaptive.AdaptiveSpec` (levels, margin, guard, follow; every axis
+    must have m·2^levels + 1 points).
     """
     if not axes:
         raise SweepError("no axis given: a sweep needs at least one axis (e.g. gamma=0.1:30:64:log)")
@@ -872,7 +872,8 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
     count; progress: called with (kind, points) as chunks finish; command: recorded in the attributes; adaptive:
     None (every point) or True / an :class:`~atlas_engine.adaptive.AdaptiveSpec` (the growth computed only where the
     verdict can change: :mod:`atlas_engine.adaptive`; every axis must have m·2^levels + 1 points); start: called with
-    (kind, points) when an adaptive level's batch of that many points starts (kind ``level L``, as in `progress`).
+    (kind, points) when an adaptive level's batch of that many points starts (kind ``level L``, as in `progress`; again
+    as each of its follow rounds starts, with the points the round adds).
 
     Returns the dataset: in memory without a store, else opened lazily from the store. Variables and attributes:
     see the module docstring. Bad input raises SweepError (a ValueError) naming the problem.
@@ -1045,7 +1046,8 @@ def adaptive_lines(attribute: str, computed: np.ndarray) -> Iterator[str]:
     size = computed.size
     guard = f"guard {a['guard']:g}" if a["guard"] else "guard off"
     yield (f"  adaptive: levels 0..{levels}, coarse grid {' x '.join(str(n) for n in a['coarse_shape'])} (stride "
-           f"{a['coarse_stride']}), margin {a['margin']}, {guard}")
+           f"{a['coarse_stride']}), margin {a['margin']}, {guard}, "
+           f"{'boundary followed' if a.get('follow') else 'boundary not followed'}")
     for level, n in enumerate(counts):
         lattice = lattice_size(computed.shape, levels, level)
         yield (f"    level {level} (stride {2 ** (levels - level)}): {n} points evaluated = {100 * n / size:.2f} % of "

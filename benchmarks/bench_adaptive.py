@@ -1,10 +1,12 @@
 """Adaptive atlases (issue 27) against dense ones: wall time, evaluated fraction per level, verdict agreement.
 
 - 65^4 over (gamma, f, beta, Delta) at eta = inf, xi = 1, the ranges of the dense 64^4 benchmark
-  (benchmarks/bench_sweep.py), adaptive from a 9^4 coarse grid (3 levels, margin 1): wall time against the target of
+  (benchmarks/bench_sweep.py), adaptive from a 9^4 coarse grid (3 levels, the default refinement: margin 0, the
+  boundary followed): wall time against the target of
   2 min, the fraction of points evaluated (overall and per level), and, given the dense sweep of the same grid, the
   verdict field's agreement at every point and the bitwise equality of the values at the computed points;
-- 33^4 at eta = 10 (same axes and xi), dense and adaptive (2 levels, margin 1) with and without the guard.
+- 33^4 at eta = 10 (same axes and xi), dense and adaptive (2 levels): the default refinement (margin 0, the
+  boundary followed) with and without the guard, and for comparison without following, at margin 0 and 1.
 
 Every time is printed with the host-speed gauge (benchmarks/hostspeed.py) measured just before and after it.
 
@@ -137,20 +139,21 @@ def _agreement(c: dict) -> str:
 
 
 def run(quick: bool = False, dense_store: Path | None = None, dense_seconds: float | None = None,
-        dense_host: tuple[float, float] | None = None, sample: int = 200_000) -> str:
+        dense_host: tuple[float, float] | None = None, sample: int = 200_000, dense10: Path | None = None) -> str:
     """The benchmark as Markdown. dense_store/dense_seconds/dense_host: a dense sweep of the big grid measured in
     the same run (bench_sweep); else the adaptive atlas is checked against the dense model call at `sample` random
-    points and timed against the latest dense 64^4 figure of benchmarks/results.md."""
+    points and timed against the latest dense 64^4 figure of benchmarks/results.md. dense10: a dense store of the
+    eta = 10 grid from an earlier run (else one is computed: ~15-30 min)."""
     n_big, n_small = (17, 9) if quick else (65, 33)
     lines = []
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        spec = A.AdaptiveSpec(levels=A.default_levels([n_big]), margin=1)
+        spec = A.AdaptiveSpec(levels=A.default_levels([n_big]))
         ad = timed_sweep(tmp / "adaptive.zarr", n_big, math.inf, spec)
         f = fractions(ad["store"])
         lines += [f"**{n_big}^4 adaptive** (gamma, f, beta, Delta; eta = inf, xi = 1; {KH.size} kH; growth only; "
-                  f"L = {spec.levels} levels of refinement from a {f['coarse_shape'][0]}^4 coarse grid, margin 1, no "
-                  "guard) into Zarr: "
+                  f"L = {spec.levels} levels of refinement from a {f['coarse_shape'][0]}^4 coarse grid, margin 0, "
+                  "boundary followed, no guard) into Zarr: "
                   f"**{ad['seconds']:.0f} s** ({_host(ad['host'])}; target <= 120 s); evaluated "
                   f"**{100 * f['evaluated_fraction']:.1f} %** of the points ({_levels(f)}).", ""]
         if dense_store is not None:
@@ -177,22 +180,39 @@ def run(quick: bool = False, dense_store: Path | None = None, dense_seconds: flo
                       f"stable/unstable/undetermined {c['mismatch_by_dense_class']}); values at "
                       f"{c['computed_points']} computed points bitwise equal: "
                       f"{'yes' if c['bitwise_at_computed'] else 'NO'}.", ""]
-        d10 = timed_sweep(tmp / "dense10.zarr", n_small, 10.0, None)
-        classes = [int(x) for x in np.bincount(_read(d10["store"], ("verdict",))["verdict"].ravel(), minlength=3)]
-        lines += [f"**{n_small}^4 at eta = 10** (same axes, xi = 1): dense {d10['seconds']:.0f} s "
-                  f"({_host(d10['host'])}); classes stable/unstable/undetermined {classes}.", "",
-                  "| adaptive (margin 1) | wall [s] | host loop [s] | evaluated | per level | verdict mismatches "
-                  "(by dense class) | bitwise at computed |", "|---|---|---|---|---|---|---|"]
-        for guard in (0.0, 1.0):
-            s10 = A.AdaptiveSpec(levels=A.default_levels([n_small]), margin=1, guard=guard)
-            r = timed_sweep(tmp / f"adaptive10-{guard:g}.zarr", n_small, 10.0, s10)
-            f10, c10 = fractions(r["store"]), compare(r["store"], d10["store"])
-            per = ", ".join(f"{100 * lv['fraction_of_grid']:.2f} %" for lv in f10["per_level"])
-            lines.append(f"| {'guard 1' if guard else 'no guard'} | {r['seconds']:.0f} | {r['host'][0]:.2f} -> "
-                         f"{r['host'][1]:.2f} | {100 * f10['evaluated_fraction']:.1f} % | {per} | "
-                         f"{c10['mismatches']} {c10['mismatch_by_dense_class']} | "
-                         f"{'yes' if c10['bitwise_at_computed'] else 'NO'} |")
+        lines += eta10_table(tmp, n_small, dense10)
     return "\n".join(lines) + "\n"
+
+
+#: the refinements compared at eta = 10: (row label, margin, guard, follow)
+ETA10_SPECS = (("margin 0, followed (default)", 0, 0.0, True), ("margin 0, followed, guard 1", 0, 1.0, True),
+               ("margin 0, not followed", 0, 0.0, False), ("margin 1, not followed", 1, 0.0, False))
+
+
+def eta10_table(tmp: Path, n_small: int, dense10: Path | None = None) -> list[str]:
+    """The n_small^4 grid at eta = 10: a dense sweep (or the dense store `dense10` of that grid) and the adaptive
+    refinements of ETA10_SPECS against it, as Markdown lines."""
+    if dense10 is None:
+        d10 = timed_sweep(tmp / "dense10.zarr", n_small, 10.0, None)
+        dense_text = f"dense {d10['seconds']:.0f} s ({_host(d10['host'])})"
+    else:
+        d10 = {"store": dense10}
+        dense_text = f"dense store {dense10.name} of an earlier run"
+    classes = [int(x) for x in np.bincount(_read(d10["store"], ("verdict",))["verdict"].ravel(), minlength=3)]
+    lines = [f"**{n_small}^4 at eta = 10** (same axes, xi = 1): {dense_text}; classes "
+             f"stable/unstable/undetermined {classes}.", "",
+             "| adaptive | wall [s] | host loop [s] | evaluated | per level | verdict mismatches "
+             "(by dense class) | bitwise at computed |", "|---|---|---|---|---|---|---|"]
+    for k, (label, margin, guard, follow) in enumerate(ETA10_SPECS):
+        s10 = A.AdaptiveSpec(levels=A.default_levels([n_small]), margin=margin, guard=guard, follow=follow)
+        r = timed_sweep(tmp / f"adaptive10-{k}.zarr", n_small, 10.0, s10)
+        f10, c10 = fractions(r["store"]), compare(r["store"], d10["store"])
+        per = ", ".join(f"{100 * lv['fraction_of_grid']:.2f} %" for lv in f10["per_level"])
+        lines.append(f"| {label} | {r['seconds']:.0f} | {r['host'][0]:.2f} -> "
+                     f"{r['host'][1]:.2f} | {100 * f10['evaluated_fraction']:.1f} % | {per} | "
+                     f"{c10['mismatches']} {c10['mismatch_by_dense_class']} | "
+                     f"{'yes' if c10['bitwise_at_computed'] else 'NO'} |")
+    return lines
 
 
 def main() -> None:
@@ -201,9 +221,16 @@ def main() -> None:
     parser.add_argument("--dense-store", type=Path,
                         help="a dense store of the big grid (else: a sample of dense model calls)")
     parser.add_argument("--sample", type=int, default=200_000, help="points of the sample (without --dense-store)")
+    parser.add_argument("--dense10-store", type=Path,
+                        help="a dense store of the eta = 10 grid from an earlier run (else one is computed)")
+    parser.add_argument("--only-eta10", action="store_true", help="only the eta = 10 table")
     args = parser.parse_args()
+    if args.only_eta10:
+        with tempfile.TemporaryDirectory() as tmp:
+            print("\n".join(eta10_table(Path(tmp), 9 if args.quick else 33, args.dense10_store)))
+        return
     print(run(args.quick, args.dense_store, *((math.nan, (math.nan, math.nan)) if args.dense_store else (None, None)),
-              sample=args.sample))
+              sample=args.sample, dense10=args.dense10_store))
 
 
 if __name__ == "__main__":

@@ -53,15 +53,30 @@ def _assert_agrees_with_dense(ad: xr.Dataset, dense: xr.Dataset) -> np.ndarray:
 # ------------------------------------------------------------------------------------------------
 
 
-def _simulate(verdict: np.ndarray, growth: np.ndarray, spec: A.AdaptiveSpec) -> tuple[np.ndarray, np.ndarray]:
-    """The adaptive sweep on a field known everywhere: (computed, filled)."""
+def _simulate(verdict: np.ndarray, growth: np.ndarray, spec: A.AdaptiveSpec,
+              interrupted: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """The adaptive sweep on a field known everywhere: (computed, filled). interrupted: every round's points are
+    evaluated in two random halves, the follow targets taken between them (as a killed sweep, resumed, does)."""
     v = np.full(verdict.shape, -1, np.int8)
     g = np.full(verdict.shape, np.nan)
     c = np.full(verdict.shape, -1, np.int8)
+    rng = np.random.default_rng(0)
     for level in range(spec.levels + 1):
         target = A.refine_targets(level, spec, v, g, c)
-        assert not (c[target] >= 0).any()  # a point is evaluated once
-        c[target], v[target], g[target] = level, verdict[target], growth[target]
+        while target.any():  # the level's first round, then its follow rounds
+            assert not (c[target] >= 0).any()  # a point is evaluated once
+            if interrupted:  # a killed run resumed: the round's points come in two parts, the second a round later
+                part = target & (rng.random(target.shape) < 0.5)
+                c[part], v[part], g[part] = level, verdict[part], growth[part]
+                target &= ~part
+                if not spec.follow:
+                    continue
+                target = A.follow_targets(level, spec, v, c) | target
+                continue
+            c[target], v[target], g[target] = level, verdict[target], growth[target]
+            if not spec.follow:
+                break
+            target = A.follow_targets(level, spec, v, c)
     return c, A.fill_classes(v, c, spec.levels)
 
 
@@ -118,6 +133,45 @@ def test_margin_zero_evaluates_less_and_margin_two_more() -> None:
     assert fractions[0] < fractions[1] < fractions[2] < 1
 
 
+def _tongue() -> tuple[np.ndarray, np.ndarray]:
+    """33 x 33, 2 levels (coarse stride 4): a stable disk around the coarse point (8, 8) and a stable tongue from it
+    along 9 <= y <= 11 to x = 18, between the coarse rows y = 8 and 12, through two coarse cells whose four corners
+    are all unstable (it crosses their edges x = 12 and x = 16 between two unstable coarse points)."""
+    x, y = np.meshgrid(np.arange(33.0), np.arange(33.0), indexing="ij")
+    stable = (np.hypot(x - 8, y - 8) <= 2) | ((x >= 8) & (x <= 18) & (y >= 9) & (y <= 11))
+    return (~stable).astype(np.int8), np.where(stable, -1.0, 1.0)
+
+
+def test_following_finds_a_boundary_that_leaves_the_refined_cells_between_agreeing_corners() -> None:
+    verdict, growth = _tongue()
+    computed, filled = _simulate(verdict, growth, A.AdaptiveSpec(levels=2, margin=0, follow=False))
+    missed = filled != verdict
+    assert missed.any() and (verdict[missed] == 0).all()  # part of the tongue, filled from unstable corners
+    assert (np.argwhere(missed)[:, 0] > 12).all()
+    computed, filled = _simulate(verdict, growth, A.AdaptiveSpec(levels=2))  # the default: margin 0, following
+    np.testing.assert_array_equal(filled, verdict)
+    assert (computed[13:19, 10] >= 0).all()  # followed to the tongue's end
+    assert (computed >= 0).mean() < 0.4
+
+
+def test_follow_rounds_close_each_level_and_end_the_same_in_any_order() -> None:
+    """After the sweep no cell of any level has evaluated corners of two classes and a corner not evaluated; a run
+    whose rounds are cut in random halves (a killed sweep resumed) evaluates exactly the same points."""
+    x, y, z = np.meshgrid(*(np.linspace(-1, 1, 33),) * 3, indexing="ij")
+    growth = 0.5 - np.sqrt(x**2 + 1.3 * y**2 + 0.8 * z**2) + 0.15 * np.sin(7 * x) * np.cos(5 * y)
+    verdict = (growth > 0).astype(np.int8)
+    verdict[(x > 0.4) & (z > 0.3)] = 2
+    spec = A.resolve_spec(A.AdaptiveSpec(), verdict.shape)
+    computed, filled = _simulate(verdict, growth, spec)
+    np.testing.assert_array_equal(filled, verdict)
+    v = np.where(computed >= 0, verdict, -1).astype(np.int8)
+    for level in range(spec.levels + 1):
+        assert not A.follow_targets(level, spec, v, computed).any(), level
+    again, filled_again = _simulate(verdict, growth, spec, interrupted=True)
+    np.testing.assert_array_equal(again, computed)
+    np.testing.assert_array_equal(filled_again, filled)
+
+
 def test_the_guard_finds_an_island_between_coarse_points_that_the_verdicts_miss() -> None:
     """A nearly neutral paraboloid whose minimum dips below zero between the points of the coarse grid: every
     computed corner is unstable, so refinement by verdict never looks inside; the curvature guard does."""
@@ -165,7 +219,8 @@ def test_eta_inf_verdict_field_equals_the_dense_one_and_values_are_bitwise(tmp_p
     assert set(np.unique(dense.verdict.values)) >= {0, 1}
     assert 0.2 < computed.mean() < 0.9
     info = json.loads(ad.attrs["adaptive"])
-    assert info["levels"] == 1 and info["margin"] == 1 and info["guard"] == 0.0 and info["coarse_shape"] == [9, 9, 5, 5]
+    assert info["levels"] == 1 and info["margin"] == 0 and info["guard"] == 0.0 and info["follow"] is True
+    assert info["coarse_shape"] == [9, 9, 5, 5]
     assert info["evaluated_fraction"] == pytest.approx(computed.mean())
     assert [lv["points"] for lv in info["per_level"]] == A.level_counts(ad.computed.values, 1)
     assert json.loads(ad.computed.attrs["flag_meanings"])["-1"].startswith("not computed")
@@ -285,7 +340,7 @@ def test_cli_rounds_axes_up_and_info_prints_the_fraction_per_level(tmp_path: Pat
     info = _cli("info", str(store))
     assert info.returncode == 0, info.stderr
     counts = A.level_counts(ds.computed.values, 2)
-    for needle in ("adaptive: levels 0..2, coarse grid 9 x 3 (stride 4), margin 1, guard off",
+    for needle in ("adaptive: levels 0..2, coarse grid 9 x 3 (stride 4), margin 0, guard off, boundary followed",
                    f"level 0 (stride 4): {counts[0]} points evaluated", f"level 2 (stride 1): {counts[2]} points",
                    "evaluated fraction: ", "verdict_filled (every point): stable", "gamma_c: found at"):
         assert needle in info.stdout, (needle, info.stdout)
@@ -302,6 +357,10 @@ def test_adaptive_and_dense_stores_refuse_each_other(tmp_path: Path) -> None:
     assert other.returncode == 2 and "another adaptive" in other.stderr
     bad = _cli(*args[:-2], "--margin", "2", "--out", str(tmp_path / "b.zarr"))
     assert bad.returncode == 2 and "add --adaptive" in bad.stderr
+    bad = _cli(*args[:-2], "--no-follow", "--out", str(tmp_path / "b.zarr"))
+    assert bad.returncode == 2 and "add --adaptive" in bad.stderr
+    unfollowed = _cli(*args, "--adaptive", "--no-follow")
+    assert unfollowed.returncode == 2 and "another adaptive" in unfollowed.stderr
     listed = _cli("sweep", "--adaptive", "--levels", "2", "--axis", "gamma=1,2,3,4", "--no-gamma-c",
                   "--out", str(tmp_path / "c.zarr"))
     assert listed.returncode == 2 and "axis gamma has 4 points" in listed.stderr
