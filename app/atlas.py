@@ -457,7 +457,9 @@ def adaptive_readout(d: Atlas) -> str:
     return (f"**Adaptive** (asymslide sweep --adaptive): computed {a['evaluated']} of {a['points']} points, "
             f"evaluated fraction **{100 * a['evaluated_fraction']:.1f} %** ({levels}; margin {a.get('margin')}, "
             f"{guard}, {follow}); the other points are not computed: their verdict class comes from their cell (pale, "
-            "dotted), their growth is not stored")
+            "dotted), their growth is not stored"
+            + ("" if a.get("guard") else "; a single point of another class inside a cell is not seen (`--guard` "
+               "looks closer)"))
 
 
 def verdict_coverage(verdict: np.ndarray, reason: np.ndarray) -> str:

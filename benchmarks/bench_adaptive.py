@@ -10,7 +10,8 @@
 
 Every time is printed with the host-speed gauge (benchmarks/hostspeed.py) measured just before and after it.
 
-    python benchmarks/bench_adaptive.py [--quick] [--dense-store DIR] [--sample N]
+    python benchmarks/bench_adaptive.py [--quick] [--dense-store DIR [--dense-seconds S]] [--sample N]
+                                        [--dense10-store DIR] [--only-eta10]
 
 --dense-store: a dense 65^4 store of the same grid (bench_sweep.big_sweep(65, keep=...) writes one; `make bench`
 passes the one of its own run). Without it no dense 65^4 is run (~13 min on two cores): the dense model call is made
@@ -220,6 +221,8 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="small grids (a smoke test)")
     parser.add_argument("--dense-store", type=Path,
                         help="a dense store of the big grid (else: a sample of dense model calls)")
+    parser.add_argument("--dense-seconds", type=float, default=math.nan,
+                        help="the wall time of the --dense-store sweep, if known (printed beside the adaptive one)")
     parser.add_argument("--sample", type=int, default=200_000, help="points of the sample (without --dense-store)")
     parser.add_argument("--dense10-store", type=Path,
                         help="a dense store of the eta = 10 grid from an earlier run (else one is computed)")
@@ -229,8 +232,8 @@ def main() -> None:
         with tempfile.TemporaryDirectory() as tmp:
             print("\n".join(eta10_table(Path(tmp), 9 if args.quick else 33, args.dense10_store)))
         return
-    print(run(args.quick, args.dense_store, *((math.nan, (math.nan, math.nan)) if args.dense_store else (None, None)),
-              sample=args.sample, dense10=args.dense10_store))
+    dense = (args.dense_seconds, (math.nan, math.nan)) if args.dense_store else (None, None)
+    print(run(args.quick, args.dense_store, *dense, sample=args.sample, dense10=args.dense10_store))
 
 
 if __name__ == "__main__":
