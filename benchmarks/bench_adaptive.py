@@ -4,7 +4,8 @@
   (benchmarks/bench_sweep.py), adaptive from a 9^4 coarse grid (3 levels, the default refinement: margin 0, the
   boundary followed): wall time against the target of
   2 min, the fraction of points evaluated (overall and per level), and, given the dense sweep of the same grid, the
-  verdict field's agreement at every point and the bitwise equality of the values at the computed points;
+  verdict field's agreement at every point and the bitwise equality of the values at the computed points (given
+  that dense sweep, the same with the guard too);
 - 33^4 at eta = 10 (same axes and xi), dense and adaptive (2 levels): the default refinement (margin 0, the
   boundary followed) with and without the guard, and for comparison without following, at margin 0 and 1.
 
@@ -164,6 +165,11 @@ def run(quick: bool = False, dense_store: Path | None = None, dense_seconds: flo
                       f"{dense_seconds * scale:.0f} s for 64^4 points; adaptive / dense: "
                       f"{ad['seconds'] / dense_seconds:.3f} ({dense_seconds / ad['seconds']:.1f}x faster). "
                       + _agreement(c) + ".", ""]
+            guarded = timed_sweep(tmp / "guard.zarr", n_big, math.inf, A.AdaptiveSpec(levels=spec.levels, guard=1.0))
+            fg = fractions(guarded["store"])
+            lines += [f"With the guard (guard 1): {guarded['seconds']:.0f} s ({_host(guarded['host'])}); evaluated "
+                      f"{100 * fg['evaluated_fraction']:.1f} % ({_levels(fg)}). "
+                      + _agreement(compare(guarded["store"], dense_store)) + ".", ""]
         else:
             latest = latest_dense_figure()
             if latest is not None:
