@@ -282,6 +282,17 @@ CROSSING_COLORS = {1: "#1b7837", -1: "#e08214", 0: "#2ca25f"}
 REFUSED_COLOR = "#404040"
 
 
+def grid_hover(edges: np.ndarray, values: np.ndarray):
+    """A hover formatter of a heat map axis: the atlas's value of the cell under the pointer (not the pointer's
+    plotted coordinate, which is log10 of the value on a log axis), as the readouts print it. edges: the cells'
+    edges in plotted coordinates (len(values) + 1)."""
+    from bokeh.models import CustomJSHover
+
+    return CustomJSHover(args={"edges": [float(e) for e in edges], "texts": [fmt(float(v)) for v in values]},
+                         code="let i = 0; while (i < texts.length - 1 && value >= edges[i + 1]) { i++; } "
+                              "return texts[i];")
+
+
 class HeatMap:
     """The heat map of one atlas and pair of axes: the slice's growth (an image glyph, or one rectangle per cell
     on irregular axes), the neutral curve and the γ_c slice, a colour bar over the whole atlas's range, hover and
@@ -329,7 +340,10 @@ class HeatMap:
             heat = fig.rect(x="x", y="y", width="w", height="h", source=self.cells, line_alpha=0,
                             fill_color={"field": "growth", "transform": self.mapper})
             field = "@growth"
-        fig.add_tools(HoverTool(renderers=[heat], tooltips=[(atlas.label(x_axis), "$x"), (GROWTH_LABEL, field)]))
+        axes_tips = [(atlas.label(x_axis), "$x{grid}")] + ([(atlas.label(y_axis), "$y{grid}")] if y_axis else [])
+        fig.add_tools(HoverTool(renderers=[heat], tooltips=[*axes_tips, (GROWTH_LABEL, field)],
+                                formatters={"$x": grid_hover(xr, atlas.axes[x_axis]),
+                                            **({"$y": grid_hover(yr, atlas.axes[y_axis])} if y_axis else {})}))
         xc, yc = np.meshgrid((xr[:-1] + xr[1:]) / 2, (yr[:-1] + yr[1:]) / 2)
         w, h = np.meshgrid(np.diff(xr), np.diff(yr))
         self._cell_geometry = {"x": xc.ravel(), "y": yc.ravel(), "w": w.ravel(), "h": h.ravel()}

@@ -130,6 +130,12 @@ def test_an_adaptive_atlas_shows_computed_values_and_filled_classes_apart(
         seen = True
         break
     assert seen, "no tooltip 'verdict ... from its cell (level L)' over the heat map"
+    # the same hover names the cell's γ and f as the atlas's grid has them (on the log axis not log10 γ)
+    labels = [t.strip().rstrip(":") for t in page.locator(".bk-Tooltip .bk-tooltip-row-label").all_text_contents()]
+    values = [t.strip() for t in page.locator(".bk-Tooltip .bk-tooltip-row-value").all_text_contents()]
+    rows = dict(zip(labels, values, strict=True))
+    assert rows.get("γ") in {AT.fmt(float(v)) for v in AXES["gamma"]}, rows
+    assert rows.get("f") in {AT.fmt(float(v)) for v in AXES["f"]}, rows
 
 
 def test_not_computed_points_are_neither_not_computable_nor_exported_as_values(atlas_dir_with_adaptive: Path) -> None:
