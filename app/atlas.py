@@ -35,6 +35,7 @@ from bokeh.models import CustomJSTickFormatter
 import model
 from atlas_engine import store
 from atlas_engine import sweep as engine
+from atlas_engine.adaptive import refinement_text
 
 from . import jobs
 from .common import (
@@ -466,12 +467,10 @@ def adaptive_readout(d: Atlas) -> str:
                 "`asymslide sweep --adaptive` command again to resume it")
     levels = "; ".join(f"level {lv['level']} (stride {lv['stride']}) {100 * lv['fraction_of_grid']:.2f} %"
                        for lv in a.get("per_level", []))
-    guard = f"guard {a['guard']:g}" if a.get("guard") else "no guard"
-    follow = "boundary followed" if a.get("follow") else "boundary not followed"
     return (f"**Adaptive** (asymslide sweep --adaptive): computed {a['evaluated']} of {a['points']} points, "
-            f"evaluated fraction **{100 * a['evaluated_fraction']:.1f} %** ({levels}; margin {a.get('margin')}, "
-            f"{guard}, {follow}); the other points are not computed: their verdict class comes from their cell (pale, "
-            "dotted), their growth is not stored"
+            f"evaluated fraction **{100 * a['evaluated_fraction']:.1f} %** ({levels}; {refinement_text(a)}); the "
+            "other points are not computed: their verdict class comes from their cell (pale, dotted), their growth is "
+            "not stored"
             + ("" if a.get("guard") else "; a single point of another class inside a cell is not seen (`--guard` "
                "looks closer)"))
 

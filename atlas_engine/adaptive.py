@@ -11,13 +11,14 @@ level follows the boundary out of the flagged cells: every level-l cell (side s)
 differ in class has its other corners evaluated, in rounds, until no such cell is left (:func:`follow_targets`).
 A boundary that leaves a flagged cell through a face whose coarse corners agree (it crosses an edge of the coarse
 grid twice) is so followed as far as it goes, at the level's resolution, where a margin only looks one ring of cells
-further and evaluates that ring all around every flagged cell: on the benchmark grids following with margin 0
-reproduced the dense verdict field at every point where margin 0 alone missed some (33^4 at eta = 10: 26 points)
-and margin 1 needed 1.6 times the points (``benchmarks/bench_adaptive.py``). The rounds reach the smallest set
-closed under that rule whatever order points come in (adding points only adds cells with differing corners), so
-a resumed sweep ends where an uninterrupted one does. A cell whose corners agree is not refined, and its points that
-are never evaluated take its corners' class. With the optional **guard** a cell whose corners agree
-on stable or unstable is flagged too where
+further and evaluates that ring all around every flagged cell. On 33^4 points at eta = 10 following with margin 0
+reproduced the dense verdict field at every point, where margin 0 alone missed 26 points and margin 1 needed 1.6
+times the points (``benchmarks/bench_adaptive.py``). Neither finds a single point of another class inside a cell
+whose corners agree (on 65^4 at eta = inf: 14 isolated undetermined points of 17.9 M); the guard below does.
+The rounds reach the smallest set closed under that rule whatever order points come in (adding points only adds
+cells with differing corners), so a resumed sweep ends where an uninterrupted one does. A cell whose corners agree
+is not refined, and its points that are never evaluated take its corners' class. With the optional **guard** a
+cell whose corners agree on stable or unstable is flagged too where
 
     min over its corners |growth|  <=  guard · max over its corners  Σ_i |δ²_i growth| / 8
 
@@ -144,6 +145,22 @@ def _squeeze(shape: tuple[int, ...]) -> tuple[int, ...]:
     return tuple(i for i, n in enumerate(shape) if n > 1)
 
 
+def _squeezed(*arrays: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The arrays (full grid, one shape) without their axes of a single point."""
+    shape = arrays[0].shape
+    keep = _squeeze(shape)
+    drop = tuple(i for i in range(len(shape)) if i not in keep)
+    return tuple(np.squeeze(a, axis=drop) for a in arrays)
+
+
+def _corner_span(known: np.ndarray, classes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(min, max) of the classes over the evaluated corners of every cell of a lattice (`known`: evaluated there);
+    127 and -1 for a cell with no evaluated corner."""
+    vmin = _corner_reduce(np.where(known, classes, 127).astype(np.int8), np.minimum)
+    vmax = _corner_reduce(np.where(known, classes, -1).astype(np.int8), np.maximum)
+    return vmin, vmax
+
+
 def _lattice(a: np.ndarray, stride: int) -> np.ndarray:
     """The view of `a` (squeezed) on the points of stride `stride`."""
     return a[(slice(None, None, stride),) * a.ndim]
@@ -209,9 +226,7 @@ def refine_targets(level: int, spec: AdaptiveSpec, verdict: np.ndarray, growth: 
     (only those: the result does not depend on how far `level` itself got), excluding those already evaluated
     there. `verdict`: the class (0, 1, 2) where evaluated; `growth`: the growth; `computed`: the level, or -1."""
     shape = verdict.shape
-    keep = _squeeze(shape)
-    squeeze = tuple(i for i in range(len(shape)) if i not in keep)
-    v, g, c = (np.squeeze(a, axis=squeeze) for a in (verdict, growth, computed))
+    v, g, c = _squeezed(verdict, growth, computed)
     L = spec.levels
     if level == 0:
         out = np.zeros(v.shape, bool)
@@ -223,8 +238,7 @@ def refine_targets(level: int, spec: AdaptiveSpec, verdict: np.ndarray, growth: 
     known = (c >= 0) & (c < level)
     kv, kk = _lattice(v, parent), _lattice(known, parent)
     all_known = _corner_reduce(kk, np.logical_and)
-    vmin = _corner_reduce(np.where(kk, kv, 127).astype(np.int8), np.minimum)
-    vmax = _corner_reduce(np.where(kk, kv, -1).astype(np.int8), np.maximum)
+    vmin, vmax = _corner_span(kk, kv)
     flagged = all_known & (vmin != vmax)
     if spec.guard > 0:
         kg = _lattice(g, parent)
@@ -247,16 +261,13 @@ def follow_targets(level: int, spec: AdaptiveSpec, verdict: np.ndarray, computed
     those below) two classes are found. Empty when the level's points are closed under that rule; a point added can
     only add such cells, so rounds until it is empty reach the same closure whatever order points came in."""
     shape = verdict.shape
-    keep = _squeeze(shape)
-    squeeze = tuple(i for i in range(len(shape)) if i not in keep)
-    v, c = (np.squeeze(a, axis=squeeze) for a in (verdict, computed))
+    v, c = _squeezed(verdict, computed)
     if level == 0 or v.ndim == 0:  # level 0 evaluates its whole lattice
         return np.zeros(shape, bool)
     stride = 2 ** (spec.levels - level)
     kk = _lattice((c >= 0) & (c <= level), stride)
     kv = _lattice(v, stride)
-    vmin = _corner_reduce(np.where(kk, kv, 127).astype(np.int8), np.minimum)
-    vmax = _corner_reduce(np.where(kk, kv, -1).astype(np.int8), np.maximum)
+    vmin, vmax = _corner_span(kk, kv)
     split = vmin < vmax  # two evaluated corners of different classes (none evaluated: 127 > -1)
     out = np.zeros(v.shape, bool)
     if split.any():
@@ -281,9 +292,7 @@ def fill_levels(verdict: np.ndarray, computed: np.ndarray, levels: int) -> np.nd
 def _fill(verdict: np.ndarray, computed: np.ndarray, levels: int) -> tuple[np.ndarray, np.ndarray]:
     """(:func:`fill_classes`, :func:`fill_levels`)."""
     shape = verdict.shape
-    keep = _squeeze(shape)
-    squeeze = tuple(i for i in range(len(shape)) if i not in keep)
-    v, c = (np.squeeze(a, axis=squeeze) for a in (verdict, computed))
+    v, c = _squeezed(verdict, computed)
     done = c >= 0
     out = np.where(done, v, -1).astype(np.int8)
     source = np.full(out.shape, -1, dtype=np.int8)
@@ -293,14 +302,21 @@ def _fill(verdict: np.ndarray, computed: np.ndarray, levels: int) -> tuple[np.nd
         stride = 2 ** (levels - level)
         kk, kv = _lattice(done, stride), _lattice(v, stride)
         all_known = _corner_reduce(kk, np.logical_and)
-        vmin = _corner_reduce(np.where(kk, kv, 127).astype(np.int8), np.minimum)
-        vmax = _corner_reduce(np.where(kk, kv, -1).astype(np.int8), np.maximum)
+        vmin, vmax = _corner_span(kk, kv)
         cls = np.where(all_known & (vmin == vmax), vmin, -1).astype(np.int8)
         spread = _expand(cls, stride)
         now = (out == -1) & (spread != -1)
         out = np.where(now, spread, out)
         source[now] = level
     return out.reshape(shape), source.reshape(shape)
+
+
+def refinement_text(a: Mapping[str, Any]) -> str:
+    """The refinement recorded in an adaptive store's ``adaptive`` attribute, in words (``asymslide info`` and the
+    Atlas tab): margin, guard and following (stores written before following existed record none: not followed)."""
+    guard = f"guard {a['guard']:g}" if a.get("guard") else "guard off"
+    follow = "boundary followed" if a.get("follow") else "boundary not followed"
+    return f"margin {a.get('margin')}, {guard}, {follow}"
 
 
 def level_counts(computed: np.ndarray, levels: int) -> list[int]:

@@ -1038,16 +1038,14 @@ def _gamma_c_lines(gc: np.ndarray, reason: np.ndarray) -> Iterator[str]:
 def adaptive_lines(attribute: str, computed: np.ndarray) -> Iterator[str]:
     """The refinement of an adaptive atlas (its ``adaptive`` attribute) and the points evaluated per level (from
     ``computed``, so a sweep not finished yet is described as far as it got)."""
-    from .adaptive import lattice_size, level_counts
+    from .adaptive import lattice_size, level_counts, refinement_text
 
     a = json.loads(attribute)
     levels = int(a["levels"])
     counts = level_counts(computed, levels)
     size = computed.size
-    guard = f"guard {a['guard']:g}" if a["guard"] else "guard off"
     yield (f"  adaptive: levels 0..{levels}, coarse grid {' x '.join(str(n) for n in a['coarse_shape'])} (stride "
-           f"{a['coarse_stride']}), margin {a['margin']}, {guard}, "
-           f"{'boundary followed' if a.get('follow') else 'boundary not followed'}")
+           f"{a['coarse_stride']}), {refinement_text(a)}")
     for level, n in enumerate(counts):
         lattice = lattice_size(computed.shape, levels, level)
         yield (f"    level {level} (stride {2 ** (levels - level)}): {n} points evaluated = {100 * n / size:.2f} % of "

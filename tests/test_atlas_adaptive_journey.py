@@ -146,6 +146,8 @@ def test_not_computed_points_are_neither_not_computable_nor_exported_as_values(a
     scene.refresh()
     d = scene.data
     assert d is not None and d.adaptive and d.filled_level is not None
+    readout = AT.adaptive_readout(d)  # the refinement in the words `asymslide info` prints
+    assert "margin 0, guard off, boundary followed" in readout and "--guard` looks closer" in readout
     computed = np.asarray(d.computed) >= 0
     masked = int((computed & ~np.isfinite(np.asarray(d.growth))).sum())
     readout = scene.readout()
