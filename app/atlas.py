@@ -988,6 +988,8 @@ class AtlasScene(pn.viewable.Viewer):
     def _update_surface(self, *_events) -> None:
         """Rebuild the 3-D view only when what it shows changed (a slider of one of its own axes does not), after
         the heat map's update has been sent (the figure is the larger message)."""
+        drawable = self.data is None or len(self.data.names) >= 3  # else surface_note says why there is no view
+        self.surface_pane.visible = self.surface_select.visible = drawable
         key = self.surface_key() if self.surface_shown else self._surface_key
         if key == self._surface_key:
             return
@@ -997,6 +999,17 @@ class AtlasScene(pn.viewable.Viewer):
             doc.add_next_tick_callback(self._send_surface)
         else:
             self._send_surface()
+
+    @param.depends("data")
+    def surface_note(self) -> str:
+        """Why an atlas of fewer than three axes has no 3-D view (empty otherwise)."""
+        d = self.data
+        if d is None or len(d.names) >= 3:
+            return ""
+        axes = ", ".join(d.label(n) for n in d.names)
+        return (f"**No 3-D view of atlas {d.name}**: it has {len(d.names)} {'axes' if len(d.names) > 1 else 'axis'} "
+                f"({axes}) and the neutral surface needs three. Make an atlas with three or more `--axis` "
+                "(`asymslide sweep`), or open one in the Atlas menu.")
 
     def _send_surface(self) -> None:
         fig = self.surface_figure()
@@ -1128,6 +1141,7 @@ class AtlasScene(pn.viewable.Viewer):
                                                  label="Download slice (CSV)", color="primary", width=200),
                          sizing_mode="stretch_width")
         surface = pn.Column(
+            pn.pane.Markdown(self.surface_note, sizing_mode="stretch_width"),
             self.surface_select,
             pn.pane.Markdown("The surface where the max growth is 0 over three axes of the atlas, the others at the "
                              "sliders' values (none is drawn through cells with a not computable corner); drag to "

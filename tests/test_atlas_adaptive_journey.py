@@ -160,3 +160,35 @@ def test_not_computed_points_are_neither_not_computable_nor_exported_as_values(a
     text = scene.csv().getvalue()
     header = next(line for line in text.splitlines() if not line.startswith("#"))
     assert "computed_level" in header and "verdict_filled" in header and "Adaptive atlas" in text
+
+
+@pytest.fixture
+def atlas_dir_with_two_axes(atlas_dir_with_adaptive: Path) -> Path:
+    """The adaptive atlas's directory with a dense atlas of two axes beside it."""
+    S.sweep({"gamma": np.geomspace(0.3, 30, 5), "f": np.linspace(0.3, 1.5, 3)}, fixed={"xi": 1.0, "beta": 0.3},
+            kH=KH, store=atlas_dir_with_adaptive / "two.zarr", gamma_c=False)
+    return atlas_dir_with_adaptive
+
+
+def test_an_atlas_of_two_axes_has_no_blank_3d_view(atlas_dir_with_two_axes: Path) -> None:
+    """Headless: with two axes the 3-D tab says why there is no surface and hides the empty plot and menu; with three
+    it shows them and says nothing."""
+    scene = AT.AtlasScene(requested={"name": "two", "x": "gamma", "y": "f"})
+    scene.refresh()
+    assert scene.data is not None and scene.data.names == ["gamma", "f"]
+    assert "No 3-D view of atlas two" in scene.surface_note() and "2 axes (γ, f)" in scene.surface_note()
+    assert not scene.surface_pane.visible and not scene.surface_select.visible
+    scene.atlas = "adaptive"
+    assert scene.data is not None and len(scene.data.names) == 3
+    assert scene.surface_note() == "" and scene.surface_pane.visible and scene.surface_select.visible
+
+
+@pytest.mark.ui
+def test_the_3d_tab_of_an_atlas_of_two_axes_says_why_it_is_empty(
+        atlas_dir_with_two_axes: Path, served_app: str, browser_page) -> None:
+    page = browser_page
+    open_app(page, served_app + "?tab=atlas&atlas=two&ax=gamma&ay=f")
+    page.wait_for_function(f"() => ({_IMAGE_JS})() !== null", timeout=WAIT)
+    page.locator(".bk-tab", has_text="3-D neutral surface").first.click()
+    page.get_by_text("No 3-D view of atlas two").wait_for(timeout=WAIT)
+    save_screenshot(page, "atlas_two_axes_3d.png")
