@@ -60,34 +60,27 @@ import math
 
 import numpy as np
 
-from ._kernels import jitted
-from ._kernels.newton import FULL_TOL, KH, _newton
-from ._kernels.records import Box, Params
-from ._kernels.response import dispersion_eval
+from ._kernels.contour import (
+    CAP,
+    H0,
+    LIN_TOL,
+    PHASE_MAX,
+    TRAP_TOL,
+    WINDING_TOL,
+    _newton_cell,
+    _point,
+    _sample_line,
+)
 from ._validate import check
 
 __all__ = ["unstable_count", "unstable_modes"]
 
-PHASE_MAX = math.pi / 3  # largest accepted |arg(F_b / F_a)| between neighbouring samples
-LOGMOD_MAX = math.log(4.0)  # largest accepted |ln|F_b / F_a||
-TRAP_TOL = 0.3  # largest accepted |Log(F_b/F_a) - trapezoid of F'/F|
-LIN_TOL = 0.7  # largest accepted relative error of the linear (F') prediction across a segment
-H0 = 0.1  # initial sample spacing along lines
-LADDER = 3.0  # ratio of the graded initial nodes around real-axis poles
-GRADE = 3.0  # ratio of the initial nodes of a vertical line graded towards the real axis
 IM_FLOOR = 1e-10  # the bottom edge never goes below this (im_min = 0)
-TINY = 1e-13  # |F| / scale below which a sample is taken to be a root on the line
 REL_HMIN = 1e-11  # smallest segment, relative to the window size ...
 AXIS_HMIN = 1e-7  # ... and relative to the distance of the line from the real axis
 SHIFT = 16.0  # an edge holding a root moves outward by SHIFT * h_min (then SHIFT_GROWTH x more per retry)
-CAP = 1 << 20  # most samples on one line
 MAX_LADDER_POLES = 20000  # beyond this many isolated real-axis poles the graded seeding is skipped
-NEWTON_ITERS = 60  # Newton evaluations allowed in a cell (generous: a start at the cell's centre may converge slowly)
-SHRINK_CELL = 0.9  # Newton in a cell fails once a step is not below 0.9 x the previous one (slow but converging
-# steps are allowed: the start is an estimate, and the confinement to the cell guards against wandering)
 RESID_MAX = 1e-12  # largest |F| / scale accepted at a cell's root (a converged root has it at rounding level)
-IM_POSITIVE = 5e-324  # smallest positive double: "Im z < IM_POSITIVE" is "Im z <= 0" (a root must stay above the axis)
-WINDING_TOL = 1e-6  # largest distance of a winding number from an integer (it is one up to rounding by construction)
 CORNER_TOL = 1e-8  # a corner's two log-increments must sum to its segment's to this (else a root is near the corner)
 MAX_SHIFTS = 6  # times an edge holding a root is moved outward (by SHIFT * SHIFT_GROWTH^k h_min) before giving up
 SHIFT_GROWTH = 4.0  # growth of that move per retry
@@ -101,194 +94,6 @@ TINY_CELL_AXIS = 1e-3
 TINY_CELL_ULPS = 64
 
 _FLOAT = np.float64
-
-
-# ------------------------------------------------------------------------------------------------
-# compiled core: adaptive sampling of one line and Newton's method in a cell
-# ------------------------------------------------------------------------------------------------
-
-
-@jitted
-def _seg_ok(za, fa, dfa, zb, fb, dfb, tol_phase, tol_trap, tol_lin):
-    """Accept the segment [za, zb] (criteria in the module docstring) and return Log(F_b / F_a)."""
-    lg = cmath.log(fb / fa)
-    if abs(lg.imag) > tol_phase or abs(lg.real) > LOGMOD_MAX:
-        return False, lg
-    h = zb - za
-    trap = 0.5 * h * (dfa / fa + dfb / fb)
-    if abs(trap - lg) > tol_trap:
-        return False, lg
-    big = max(abs(fa), abs(fb))
-    if abs(fa + h * dfa - fb) > tol_lin * big or abs(fb - h * dfb - fa) > tol_lin * big:
-        return False, lg
-    return True, lg
-
-
-@jitted
-def _point(t: float, c: float, horizontal: bool) -> complex:
-    return complex(t, c) if horizontal else complex(c, t)
-
-
-@jitted
-def _seeds(t0, t1, h0, geo0, lad_y, poles, half):
-    """Initial nodes on [t0, t1]: spacing <= h0; plus geo0 3^k (k >= 0) if geo0 > 0 (grading towards the
-    real axis along a vertical line); plus p +- lad_y 3^k around each pole p with ladder half-width
-    half > 2 lad_y if lad_y > 0 (a horizontal line at height lad_y). Sorted, unique, both ends included."""
-    n = max(2, int(math.ceil((t1 - t0) / h0)))
-    extra = 0
-    kmax = 0
-    if geo0 > 0.0 and geo0 < h0:
-        kmax = int(math.ceil(math.log(h0 / geo0) / math.log(GRADE)))
-        extra += kmax + 1
-    lmax = 0
-    if lad_y > 0.0 and lad_y < h0:
-        lmax = int(math.ceil(math.log(h0 / lad_y) / math.log(LADDER)))
-        for j in range(poles.shape[0]):
-            if half[j] > lad_y and poles[j] > t0 - half[j] and poles[j] < t1 + half[j]:
-                extra += 2 * lmax + 3
-    buf = np.empty(n + 1 + extra)
-    m = 0
-    for k in range(n + 1):
-        buf[m] = t0 + (t1 - t0) * k / n
-        m += 1
-    buf[n] = t1
-    if geo0 > 0.0 and geo0 < h0:
-        for k in range(kmax + 1):
-            buf[m] = geo0 * GRADE**k
-            m += 1
-    if lad_y > 0.0 and lad_y < h0:
-        for j in range(poles.shape[0]):
-            p = poles[j]
-            if half[j] > lad_y and p > t0 - half[j] and p < t1 + half[j]:
-                buf[m] = p
-                m += 1
-                for k in range(lmax + 1):
-                    o = lad_y * LADDER**k
-                    if o < half[j]:
-                        buf[m] = p + o
-                        buf[m + 1] = p - o
-                        m += 2
-    u = np.unique(buf[:m])
-    lo = np.searchsorted(u, t0)
-    hi = np.searchsorted(u, t1, side="right")
-    return u[lo:hi]
-
-
-@jitted(inline="always")
-def _sample_at(t: float, c: float, horizontal: bool, q: float, gamma: float, f: float, beta: float, eta: float,
-               delta: float, xi: float) -> tuple[complex, complex, int]:
-    """F and F' at the point t of a line (see _sample_line) and a status: 0, 1 (a root: |F| <= TINY x scale) or 3 (F
-    or F' not finite)."""
-    fv, dfv, sc = dispersion_eval(_point(t, c, horizontal), q, gamma, f, beta, eta, delta, xi)
-    if not (cmath.isfinite(fv) and cmath.isfinite(dfv)):
-        return fv, dfv, 3
-    if abs(fv) <= TINY * sc:
-        return fv, dfv, 1
-    return fv, dfv, 0
-
-
-@jitted
-def _doubled(a: np.ndarray, n: int, size: int) -> np.ndarray:
-    """A buffer of `size` elements of a's dtype holding a[:n] (a full buffer of _sample_line grown)."""
-    new = np.empty(size, dtype=a.dtype)
-    new[:n] = a[:n]
-    return new
-
-
-@jitted
-def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta, eta, delta, xi, h_min,
-                 tol_phase, tol_trap, tol_lin):
-    """Adaptively sample F along the line z = t + i c (horizontal) or z = c + i t (vertical), t0 <= t <= t1.
-
-    The initial nodes are :func:`_seeds`. Returns (t, F, L, status, t_bad, evaluations): nodes t (sorted),
-    F at the nodes, L[j] = Log(F[j+1]/F[j]) of the accepted segments; status 0 = ok, 1 = a root on (or
-    within h_min of) the line near t_bad, 2 = too many samples, 3 = F not finite at t_bad.
-    """
-    ts = _seeds(t0, t1, h0, geo0, lad_y, poles, half)
-    n0 = ts.shape[0]
-    st_t = np.empty(n0 + 4096)
-    st_f = np.empty(n0 + 4096, dtype=np.complex128)
-    st_d = np.empty(n0 + 4096, dtype=np.complex128)
-    out_t = np.empty(4 * n0 + 64)
-    out_f = np.empty(4 * n0 + 64, dtype=np.complex128)
-    out_l = np.empty(4 * n0 + 64, dtype=np.complex128)
-    nev = 0
-    # evaluate the initial points and push them (right to left) on the stack
-    sp = 0
-    for k in range(n0 - 1, -1, -1):
-        fv, dfv, status = _sample_at(ts[k], c, horizontal, q, gamma, f, beta, eta, delta, xi)
-        nev += 1
-        if status != 0:
-            return out_t[:0], out_f[:0], out_l[:0], status, ts[k], nev
-        st_t[sp] = ts[k]
-        st_f[sp] = fv
-        st_d[sp] = dfv
-        sp += 1
-    # the current node is the leftmost one (ts[0])
-    sp -= 1
-    ta = st_t[sp]
-    fa = st_f[sp]
-    da = st_d[sp]
-    za = _point(ta, c, horizontal)
-    n = 1
-    out_t[0] = ta
-    out_f[0] = fa
-    while sp > 0:
-        tb = st_t[sp - 1]
-        fb = st_f[sp - 1]
-        db = st_d[sp - 1]
-        zb = _point(tb, c, horizontal)
-        ok, lg = _seg_ok(za, fa, da, zb, fb, db, tol_phase, tol_trap, tol_lin)
-        if ok:
-            if n >= out_t.shape[0]:
-                if n >= CAP:
-                    return out_t[:n], out_f[:n], out_l[: n - 1], 2, ta, nev
-                out_t = _doubled(out_t, n, 2 * n)
-                out_f = _doubled(out_f, n, 2 * n)
-                out_l = _doubled(out_l, n - 1, 2 * n)
-            out_t[n] = tb
-            out_f[n] = fb
-            out_l[n - 1] = lg
-            n += 1
-            sp -= 1
-            ta, fa, da, za = tb, fb, db, zb
-            continue
-        if tb - ta <= h_min:
-            return out_t[:n], out_f[:n], out_l[: n - 1], 1, 0.5 * (ta + tb), nev
-        tm = 0.5 * (ta + tb)
-        fm, dfm, status = _sample_at(tm, c, horizontal, q, gamma, f, beta, eta, delta, xi)
-        nev += 1
-        if status != 0:
-            return out_t[:n], out_f[:n], out_l[: n - 1], status, tm, nev
-        if sp >= st_t.shape[0]:
-            st_t = _doubled(st_t, sp, 2 * sp)
-            st_f = _doubled(st_f, sp, 2 * sp)
-            st_d = _doubled(st_d, sp, 2 * sp)
-        st_t[sp] = tm
-        st_f[sp] = fm
-        st_d[sp] = dfm
-        sp += 1
-    return out_t[:n], out_f[:n], out_l[: n - 1], 0, ta, nev
-
-
-@jitted
-def _newton_cell(z0: complex, x0: float, x1: float, y0: float, y1: float, mult: float, q: float, gamma: float,
-                f: float, beta: float, eta: float, delta: float, xi: float) -> tuple[complex, bool, float, int]:
-    """The root of F(z; kH = q) in the cell [x0, x1] x [y0, y1] by the model's one Newton loop (_newton, thin
-    wrapper): the step multiplied by `mult` for a multiple root; the iterates confined to the cell enlarged by
-    its own size on every side and to Im z > 0; steps allowed to shrink slowly (SHRINK_CELL: the start is a
-    contour-integral estimate or the cell's centre, not a certified predictor).
-
-    Returns (z, converged, |F|/scale at z (one more evaluation), evaluations).
-    """
-    w = max(x1 - x0, y1 - y0)
-    box = Box(x0 - w, x1 + w, max(y0 - w, IM_POSITIVE), y1 + w)
-    p = Params(gamma, f, beta, eta, delta, xi)
-    r = _newton(z0, KH, 0.0, q, p, NEWTON_ITERS, FULL_TOL, 0.0, SHRINK_CELL, mult, box)
-    if not r.ok:
-        return r.z, False, math.inf, r.evals
-    fv, _, sc = dispersion_eval(r.z, q, gamma, f, beta, eta, delta, xi)
-    return r.z, True, abs(fv) / sc, r.evals + 1
 
 
 # ------------------------------------------------------------------------------------------------
@@ -477,10 +282,12 @@ class _Problem:
         raise RuntimeError(f"unstable_modes: could not move the {name} edge of the window away from roots{hint}")
 
     # -- locating ------------------------------------------------------------------------------
-    def split(self, cell: tuple) -> tuple[tuple, tuple]:
-        """Split a cell in two by a new sampled line (trying other positions if a root lies on it)."""
+    def split(self, cell: tuple, vertical: bool | None = None) -> tuple[tuple, tuple]:
+        """Split a cell in two by a new sampled line (trying other positions if a root lies on it): vertical if
+        the cell is wider than tall (or as `vertical` says)."""
         x0, x1, y0, y1, bot, top, left, right = cell
-        vertical = (x1 - x0) >= (y1 - y0)
+        if vertical is None:
+            vertical = (x1 - x0) >= (y1 - y0)
         for fr in SPLIT_AT:
             try:
                 if vertical:

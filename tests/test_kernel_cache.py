@@ -139,4 +139,4 @@ def test_every_compiled_function_of_the_model_uses_the_one_decorator() -> None:
             found[path.relative_to(ROOT).as_posix()] = sorted(set(decorators))
         assert "from numba import" not in path.read_text() or path == KERNELS / "_common.py", path
     assert found and all(set(d) <= {"jitted", "jitted(inline='always')"} for d in found.values()), found
-    assert "model/modes.py" in found and "model/_kernels/growth.py" in found
+    assert "model/_kernels/contour.py" in found and "model/_kernels/growth.py" in found

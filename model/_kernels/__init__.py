@@ -16,6 +16,9 @@ Everything here works on plain Python/NumPy scalars and arrays inside numba-comp
 ``path``           the Rayleigh-branch path: nodes, their Hermite interpolant, roots at requested kH (§3, §8)
 ``growth``         the continuous max growth over a kH range, its band and its verdict (§9)
 ``neutral``        neutral modes: the thresholds of the max growth as certified roots (§9)
+``contour``        the argument principle: adaptive sampling of F along lines, the winding number of a rectangle,
+                   Newton in a cell (§10)
+``window``         where the roots can be: the large-|z| bound of F and the window it gives (§14)
 =================  ===================================================================================================
 
 Compile options and numba's cache
@@ -30,9 +33,8 @@ module. With numba's own cache, after a change of (say) ``elementary.py`` a kern
 loaded with the old code of the elementary functions. :func:`jitted` therefore gives every function a cache
 (:class:`_common.KernelCache`) whose stamp also holds :data:`_common.SOURCES`, the sha256 of all modules of this
 package, computed at import: a change of any kernel module makes every cached kernel stale, and numba compiles it
-again (and overwrites the stale entry) at its next call. model.modes, whose compiled functions call the kernels, uses
-the same decorator. tests/test_kernel_cache.py shows it on a copy: a caller is recompiled after a change of its
-callee's module, where numba's own cache serves the stale code.
+again (and overwrites the stale entry) at its next call. tests/test_kernel_cache.py shows it on a copy: a caller is
+recompiled after a change of its callee's module, where numba's own cache serves the stale code.
 
 This module re-exports what the rest of model uses (and the pole-dense test of tests/test_boundary.py).
 """

@@ -1,0 +1,650 @@
+"""Stability of steady sliding over the whole spectrum: the fastest root of every branch (docs/physics.md §14).
+
+Every verdict of :mod:`model.stability` concerns one root of Eq. implicit_spectrum, the Rayleigh branch. The
+equation has other roots (guided modes of the finite blocks, faster than the shear or the dilatational wave), and
+they often grow where the Rayleigh branch does not, or faster. This module answers *is steady sliding stable?*
+over all of them:
+
+- :func:`root_window`: where the roots can be. For Im z >= floor, no root lies outside
+  [-re_max, re_max] x [floor, im_max] (a theorem, §14: a lower bound of Re[F/(iz)] at large |z|).
+- :func:`fastest_mode`: at each kH the root of largest Im z over every branch (a root found by the argument
+  principle and Newton, certified by a count: no other root above it in the window), its family, and the
+  number of roots above the floor.
+- :func:`sliding_analysis`: over a kH range, the maximum of that growth (and of the temporal rate kH Im z),
+  the verdict of sliding (stable: no root with Im z >= floor anywhere in the range; unstable; undetermined,
+  with a reason), side by side with the Rayleigh branch's (:func:`model.growth_analysis`).
+- :func:`sliding_chunk`: one chunk of parameter sets for sweeps (rows :data:`SLIDING_ROWS`).
+
+The floor is stated: roots with 0 < Im z < floor are not searched (at finite eta they are dense: §14).
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._kernels.contour import H0, LIN_TOL, PHASE_MAX, TRAP_TOL, count_rectangle
+from ._kernels.newton import FULL_TOL, KH, _newton
+from ._kernels.records import NO_BOX, Params
+from ._kernels.window import exclusion_radius, top_of_roots
+from ._validate import check
+from .modes import AXIS_HMIN, MAX_LADDER_POLES, MAX_SHIFTS, REL_HMIN, SHIFT, SHIFT_GROWTH, _Problem
+
+__all__ = [
+    "DEFAULT_FLOOR",
+    "FAMILIES",
+    "MODE_STATUS",
+    "SLIDING_KH",
+    "SLIDING_ROWS",
+    "SLIDING_STATUS",
+    "FastestMode",
+    "SlidingResult",
+    "fastest_mode",
+    "root_window",
+    "sliding_analysis",
+    "sliding_chunk",
+]
+
+DEFAULT_FLOOR = 1e-6  # roots with Im z below this are not searched (their e-folding time is > 1e6 H/(c_s kH))
+SLIDING_KH = np.logspace(-2, 2, 17)  # the default kH grid of sliding_analysis (its ends are the range)
+RE_LIMIT = 2000.0  # widest window searched (|Re z| <= RE_LIMIT): wider ones are refused (status "too wide")
+DESCENT = 2.0  # ratio of the levels of the cold search (a band [y/2, y] at a time) ...
+HINT_FACTOR = 0.5  # ... below one band [HINT_FACTOR x the expected growth, top]
+TOP_REL = 1e-6  # a located root at Im z = c is certified the fastest by a count above c (1 - TOP_REL)
+WARM_ITERS = 40  # Newton evaluations allowed for a warm start
+LADDER_DAMPED = 1.0  # pole families seen from a line at height y only while (1 + eta) kH beta_j y < this
+
+#: the families of a root (FastestMode.family; -1: no root)
+FAMILIES = {
+    0: "Rayleigh branch",
+    1: "sub-shear (|Re z| < 1, not the Rayleigh branch)",
+    2: "intersonic guided mode (1 <= |Re z| < 1/beta)",
+    3: "supersonic guided mode (|Re z| >= 1/beta)",
+}
+M_OK, M_BELOW, M_WIDE, M_FAILED = 0, 1, 2, 3
+#: status of the fastest mode at one kH (FastestMode.status)
+MODE_STATUS = {
+    M_OK: "certified: the root of largest Im z in the window (a count finds no other root above it)",
+    M_BELOW: "below the floor: no root with Im z >= floor (the window's count is 0)",
+    M_WIDE: "refused: the window at the floor is wider than the search limit (finite eta, small floor: roots just "
+    "above the layers' poles reach far out) and no root was found above the level searched",
+    M_FAILED: "refused: the contour count failed (a root on an edge that could not be moved, or too many samples)",
+}
+
+
+@dataclass
+class _Top:
+    """The outcome of the search at one kH."""
+
+    status: int
+    z: complex = complex(math.nan, math.nan)
+    dzds: complex = complex(math.nan, math.nan)  # dz/d ln kH at z
+    searched_to: float = math.nan  # the lowest level certified empty above (status M_WIDE)
+    count: int = -1  # roots with Im z >= floor (-1: not counted)
+    evaluations: int = 0
+
+
+class _Search:
+    """One parameter set: the windows, counts and the fastest root at any kH."""
+
+    def __init__(self, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float, floor: float,
+                 re_limit: float = RE_LIMIT):
+        self.p = Params(gamma, f, beta, eta, delta, xi)
+        self.floor = floor
+        self.re_limit = re_limit
+        self.evaluations = 0
+
+    # -- windows ---------------------------------------------------------------------------------
+    def rho(self, y: float, q: float) -> float:
+        return exclusion_radius(y, q, self.p)
+
+    def top(self, q: float) -> float:
+        return top_of_roots(self.floor, q, self.p)
+
+    # -- counts ----------------------------------------------------------------------------------
+    def count(self, q: float, x: float, y0: float, y1: float) -> int | None:
+        """Roots in [-x, x] x [y0, y1] (edges moved outward past a root on them, as model.modes does); None if the
+        count failed."""
+        size = max(2.0 * x, y1 - y0)
+        poles, half = _singularities(q, self.p.beta, self.p.eta, x, y0)
+        x0, x1 = -x, x
+        shifts = [0, 0, 0, 0]
+        while True:
+            hb = min(REL_HMIN * size, AXIS_HMIN * y0)
+            ht = min(REL_HMIN * size, AXIS_HMIN * y1)
+            st, n, edge, _, nev = count_rectangle(x0, x1, y0, y1, H0, poles, half, q, *self.p, hb, hb,
+                                                  ht, PHASE_MAX, TRAP_TOL, LIN_TOL)
+            self.evaluations += nev
+            if st == 0:
+                return n
+            if st != 1:
+                return None
+            shifts[edge] += 1
+            if shifts[edge] > MAX_SHIFTS:
+                return None
+            grow = SHIFT * SHIFT_GROWTH ** (shifts[edge] - 1)
+            if edge == 0:
+                y0 -= grow * min(REL_HMIN * size, AXIS_HMIN * y0)
+            elif edge == 1:
+                x1 += grow * REL_HMIN * size
+            elif edge == 2:
+                y1 += grow * min(REL_HMIN * size, AXIS_HMIN * y1)
+            else:
+                x0 -= grow * REL_HMIN * size
+
+    def top_root_in(self, q: float, x: float, y0: float, y1: float) -> tuple[complex | None, int]:
+        """(the root of largest Im z in [-x, x] x [y0, y1], the number of roots there): best first, the cell with
+        the highest top is split until its root is located by Newton; cells below the best root found are never
+        split. (None, 0) if the window holds none; RuntimeError if the contour fails."""
+        prob = _Problem(q, *self.p, x, y0, y1)
+        prob.poles, prob.half = _singularities(q, self.p.beta, self.p.eta, x, y0)
+        cell, n = prob.outer()
+        best = _best_first(prob, cell, n) if n else None
+        self.evaluations += prob.evaluations
+        return best, n
+
+    # -- the fastest root at one kH --------------------------------------------------------------------
+    def polish(self, z0: complex, q: float) -> tuple[complex, complex] | None:
+        """Newton on F(z; q) from z0 (the model's one loop); (z, dz/d ln kH) or None."""
+        r = _newton(z0, KH, 0.0, q, self.p, WARM_ITERS, FULL_TOL, 0.0, 0.9, 1.0, NO_BOX)
+        self.evaluations += r.evals
+        if not r.ok or not math.isfinite(r.z.imag):
+            return None
+        return r.z, q * r.dzds  # dz/dkH -> dz/d ln kH
+
+    def certify(self, z: complex, q: float, top: float) -> complex | None:
+        """z (a root, Im z >= floor) if no other root lies above Im z (1 - TOP_REL); else the fastest root above
+        that level. None if the window there is too wide or the count fails."""
+        lo = max(self.floor, z.imag * (1.0 - TOP_REL))
+        x = self.rho(lo, q)
+        if not x <= self.re_limit:
+            return None
+        n = self.count(q, x, lo, top)
+        if n is None:
+            return None
+        if n == 1 and -x <= z.real <= x:
+            return z
+        return self.top_root_in(q, x, lo, top)[0]
+
+    def fastest(self, q: float, warm: complex | None = None, hint: float | None = None,
+                with_count: bool = False) -> _Top:
+        """The root of largest Im z at kH = q over every branch (Im z >= floor), certified. warm: a start for Newton
+        (e.g. the fastest root at a neighbouring kH); hint: a level near the expected growth (the search starts with
+        the band above HINT_FACTOR x hint)."""
+        ev0 = self.evaluations
+        top = self.top(q)
+        res = self._fastest(q, top, warm, hint)
+        if with_count and res.status == M_OK and res.count < 0:
+            x = self.rho(self.floor, q)
+            if x <= self.re_limit:
+                n = self.count(q, x, self.floor, top)
+                res.count = -1 if n is None else n
+        elif with_count and res.status == M_BELOW:
+            res.count = 0
+        res.evaluations = self.evaluations - ev0
+        return res
+
+    def _fastest(self, q: float, top: float, warm: complex | None, hint: float | None) -> _Top:
+        if not top > self.floor:
+            return _Top(M_BELOW, count=0)
+        try:
+            if warm is not None:
+                got = self.polish(warm, q)
+                if got is not None and self.floor <= got[0].imag <= top:
+                    z = self.certify(got[0], q, top)
+                    if z is not None:
+                        return self._located(z, q)
+            return self._descend(q, top, hint)
+        except RuntimeError:
+            return _Top(M_FAILED)
+
+    def _descend(self, q: float, top: float, hint: float | None = None) -> _Top:
+        """Cold search, band by band from the top down, until a band holds a root: first [HINT_FACTOR x hint, top]
+        (hint: the fastest growth at a neighbouring kH), then, where the window at the floor is cheap to count
+        (eta = inf, or the layers' poles damped at the floor's height), the rest of it at once, else bands
+        [y/DESCENT, y]. A band's top root is found by best-first subdivision of the band."""
+        hi = top
+        cheap = math.isinf(self.p.eta) or (1.0 + self.p.eta) * q * self.p.beta * self.floor >= LADDER_DAMPED
+        expect_root = hint is not None and hint > self.floor
+        if expect_root:
+            lo = HINT_FACTOR * hint
+        else:
+            lo = self.floor if cheap else hi / DESCENT
+        while hi > self.floor:
+            lo = max(lo, self.floor)
+            x = self.rho(lo, q)
+            if not x <= self.re_limit:
+                return _Top(M_WIDE, searched_to=hi)
+            if expect_root:  # the band of the hint: sampled once, for the count and the search at once
+                z, n = self.top_root_in(q, x, lo, hi)
+                expect_root = False
+            else:  # bands expected empty: counted by the compiled kernel first (no samples kept)
+                n = self.count(q, x, lo, hi)
+                if n is None:
+                    return _Top(M_FAILED, searched_to=hi)
+                z = self.top_root_in(q, x, lo, hi)[0] if n else None
+            if z is not None:
+                res = self._located(z, q)
+                if lo == self.floor:
+                    res.count = n
+                return res
+            hi = lo
+            lo = self.floor if cheap else hi / DESCENT
+        return _Top(M_BELOW, searched_to=self.floor, count=0)
+
+    def _located(self, z: complex, q: float) -> _Top:
+        got = self.polish(z, q)
+        dzds = got[1] if got is not None and abs(got[0] - z) <= 1e-10 * abs(z) else complex(math.nan, math.nan)
+        return _Top(M_OK, z=z, dzds=dzds)
+
+
+def _singularities(q: float, beta: float, eta: float, x: float, y: float) -> tuple[np.ndarray, np.ndarray]:
+    """The real-axis singularities around which lines at height >= y get graded seeds (as model.modes does), and
+    the half-distances to their neighbours (capped at H0): z = +-1, +-1/beta, and the finite-eta pole families
+    (docs/physics.md §2) only where a line at height y sees them, (1 + eta) kH beta_j y < LADDER_DAMPED (beta_j = 1
+    for the shear family, beta for the dilatational one): above that, F along the line changes on the scale of the
+    pole spacing by less than exp(-2 LADDER_DAMPED) of its size, and the adaptive sampling alone resolves it."""
+    xmax = x + 1.0
+    pts = [1.0, 1.0 / beta]
+    if math.isfinite(eta):
+        a = math.pi / ((1.0 + eta) * q)
+        for bj in (1.0, beta):
+            if (1.0 + eta) * q * bj * y >= LADDER_DAMPED:
+                continue
+            nmax = math.sqrt(max((xmax * bj) ** 2 - 1.0, 0.0)) / a
+            if nmax > MAX_LADDER_POLES:
+                continue
+            n = np.arange(1, int(nmax) + 1, dtype=float)
+            pts.extend((np.sqrt(1.0 + (n * a) ** 2) / bj).tolist())
+    xs = np.unique(np.array(pts))
+    xs = xs[xs <= xmax]
+    p = np.concatenate((-xs[::-1], xs))
+    gaps = np.diff(p)
+    half = 0.5 * np.maximum(np.concatenate(([0.0], gaps)), np.concatenate((gaps, [0.0])))
+    return p, np.minimum(half, H0)
+
+
+def _best_first(prob: _Problem, cell: tuple, n: int) -> complex:
+    """The root of largest Im z among the n counted in `cell` of `prob`: cells in the order of their tops, split
+    until a cell holds one root, which Newton locates; stops when the highest cell left lies below the best root."""
+    heap = [(-cell[3], 0, cell, n, None)]
+    order = 1
+    best: complex | None = None
+    while heap:
+        neg_top, _, c, n, moment = heapq.heappop(heap)
+        if best is not None and -neg_top <= best.imag:
+            break
+        if n == 1:
+            z = prob.newton_in(c, 1, prob.winding(c)[1] if moment is None else moment)
+            if z is not None:
+                best = z if best is None or z.imag > best.imag else best
+                continue
+        for cc, nn, mm in _halves(prob, c, n):
+            if nn > 0:
+                heapq.heappush(heap, (-cc[3], order, cc, nn, mm))
+                order += 1
+    if best is None:
+        raise RuntimeError("sliding: a counted root could not be located")
+    return best
+
+
+def _halves(prob: _Problem, cell: tuple, n: int) -> tuple[tuple, tuple]:
+    """The two halves of a cell holding n roots (split across its longer side), with their counts and moments."""
+    a, b = prob.split(cell)
+    da, ma = prob.winding(a)
+    db, mb = prob.winding(b)
+    na, nb = prob.count_of(da), prob.count_of(db)
+    if na + nb != n:
+        raise RuntimeError(f"sliding: split counts {na} + {nb} != {n} (contour sampling failed)")
+    return (a, na, ma), (b, nb, mb)
+
+
+# ------------------------------------------------------------------------------------------------
+# public API
+# ------------------------------------------------------------------------------------------------
+
+
+def _floor(floor) -> float:
+    if isinstance(floor, (str, bytes, complex)) or np.ndim(floor) != 0:
+        raise ValueError(f"floor must be a positive real number; got {floor!r}")
+    try:
+        v = float(floor)
+    except (TypeError, ValueError):
+        raise ValueError(f"floor must be a positive real number; got {floor!r}") from None
+    if not (math.isfinite(v) and v > 0.0):
+        raise ValueError(f"floor must be a positive real number; got {floor!r}")
+    return v
+
+
+def _physical(gamma, f, beta, eta, Delta, xi) -> list[np.ndarray]:
+    return [check(n, v) for n, v in (("gamma", gamma), ("f", f), ("beta", beta), ("eta", eta),
+                                     ("Delta", Delta), ("xi", xi))]
+
+
+def root_window(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, floor=DEFAULT_FLOOR
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """The window outside which F(z; kH) (Eq. implicit_spectrum) has no root with Im z >= floor.
+
+    Returns (re_max, im_max), broadcast over the arguments: every root with Im z >= floor has |Re z| < re_max and
+    Im z < im_max (docs/physics.md §14: a lower bound of Re[F/(iz)] over |z| >= r, Im z >= floor, positive beyond
+    re_max). re_max is inf where no finite bound exists at this floor (it grows like 1/floor at finite eta).
+    """
+    fl = _floor(floor)
+    q = check("kH", kH)
+    arrays = np.broadcast_arrays(q, *_physical(gamma, f, beta, eta, Delta, xi))
+    re = np.empty(arrays[0].shape)
+    im = np.empty(arrays[0].shape)
+    for idx in np.ndindex(re.shape):
+        qq, *par = (float(a[idx]) for a in arrays)
+        p = Params(*par)
+        re[idx] = exclusion_radius(fl, qq, p)
+        im[idx] = top_of_roots(fl, qq, p)
+    return re, im
+
+
+# ------------------------------------------------------------------------------------------------
+# over a kH range
+# ------------------------------------------------------------------------------------------------
+
+S_STABLE, S_UNSTABLE, S_WIDE, S_FAILED, S_UNSTABLE_UNCERTIFIED_MAX = 0, 1, 2, 3, 4
+#: reason codes of the sliding verdict (SlidingResult.verdict_reason; atlases' ``verdict_reason_all``)
+SLIDING_STATUS = {
+    S_STABLE: "stable: at every kH of the range, no root of any branch has Im z >= floor (the window's count is 0)",
+    S_UNSTABLE: "unstable: a certified root has Im z >= floor; the maximum is certified at every kH searched",
+    S_WIDE: "undetermined: no root above the floor was found, but at some kH the window at the floor is wider "
+    "than the search limit (finite eta: roots just above the layers' poles reach far out as the floor shrinks)",
+    S_FAILED: "undetermined: no root above the floor was found, and the contour count failed at some kH",
+    S_UNSTABLE_UNCERTIFIED_MAX: "unstable: a certified root has Im z >= floor, but the search was refused at some "
+    "kH, so the maximum is not certified (growth NaN)",
+}
+FOLLOW_STEP = 0.05  # largest step in ln kH when the root carrying a maximum is followed to its stationary point
+FOLLOW_ITERS = 60  # steps allowed for that
+STATIONARY_H = 1e-5  # the difference step (in ln kH) of d(objective)/d ln kH along the root
+FOLLOW_ROUNDS = 4  # Newton rounds on the stationary point, then certified there; a higher root found starts again
+STATIONARY_TOL = 1e-10  # |step in ln kH| at which the stationary point has converged
+END_TOL = 1e-12  # a maximum within this of an end of the range (in ln kH) lies at that end
+
+
+@dataclass
+class _Peak:
+    """The best certified point of one objective (Im z or kH Im z) over the range."""
+
+    value: float = -math.inf
+    s: float = math.nan
+    z: complex = complex(math.nan, math.nan)
+    at_end: bool = False
+
+
+class _Analysis:
+    """The fastest root over a kH range for one parameter set (:func:`sliding_analysis`)."""
+
+    def __init__(self, search: _Search, s_grid: np.ndarray):
+        self.search = search
+        self.s_grid = [float(v) for v in s_grid]
+        self.lo, self.hi = self.s_grid[0], self.s_grid[-1]
+        self.tops: dict[float, _Top] = {}
+
+    def at(self, s: float, warm: complex | None = None, hint: float | None = None) -> _Top:
+        """The certified fastest root at ln kH = s (searched once)."""
+        hit = self.tops.get(s)
+        if hit is None:
+            hit = self.search.fastest(math.exp(s), warm, hint)
+            self.tops[s] = hit
+        return hit
+
+    def sample(self) -> None:
+        """The fastest root at every point of the grid, each search started from the last one's root."""
+        prev: tuple[float, complex] | None = None
+        for s in self.s_grid:
+            if prev is None:
+                t = self.at(s)
+            else:  # the growth of the guided modes falls like 1/kH: the expected level scales so
+                t = self.at(s, prev[1], prev[1].imag * min(1.0, math.exp(prev[0] - s)))
+            if t.status == M_OK:
+                prev = (s, t.z)
+
+    @staticmethod
+    def objective(rate: bool, s: float, t: _Top) -> float:
+        if t.status != M_OK:
+            return -math.inf
+        return math.exp(s) * t.z.imag if rate else t.z.imag
+
+    def best(self, rate: bool) -> tuple[float, _Top]:
+        return max(self.tops.items(), key=lambda kv: self.objective(rate, kv[0], kv[1]))
+
+    def peak(self, rate: bool) -> _Peak:
+        """The maximum of Im z (rate False) or of kH Im z (rate True) over the range: the best certified point,
+        refined on the root that carries it (followed to where its objective is stationary, then certified
+        there; if another root is higher there, that one is refined in turn)."""
+        for _ in range(FOLLOW_ROUNDS):
+            s, t = self.best(rate)
+            if t.status != M_OK or not self.refine(rate, s, t):
+                break
+        s, t = self.best(rate)
+        if t.status != M_OK:
+            return _Peak()
+        at_end = abs(s - self.lo) <= END_TOL or abs(s - self.hi) <= END_TOL
+        return _Peak(self.objective(rate, s, t), s, t.z, at_end)
+
+    def refine(self, rate: bool, s: float, t: _Top) -> bool:
+        """Follow the root of the best point to the stationary point of the objective, clipped to the range, and
+        certify there. Newton on g(s) = Im dz/ds (plus Im z for the rate) with g' by a difference over
+        STATIONARY_H on the same root; steps of at most FOLLOW_STEP in ln kH, each accepted only where Newton
+        from the linear predictor lands within a tenth of the step of it (the same root), else halved. True if
+        a new point was certified."""
+        z, dz, s0 = t.z, t.dzds, s
+        cap = FOLLOW_STEP
+        for _ in range(FOLLOW_ITERS):
+            if not math.isfinite(dz.real) or cap < STATIONARY_TOL:
+                break
+            g0 = dz.imag + (z.imag if rate else 0.0)
+            other = self.search.polish(z + dz * STATIONARY_H, math.exp(s + STATIONARY_H))
+            if other is None:
+                break
+            dg = (other[1].imag + (other[0].imag if rate else 0.0) - g0) / STATIONARY_H
+            step = -g0 / dg if dg < 0.0 else math.copysign(cap, g0)
+            s_new = min(max(s + max(-cap, min(cap, step)), self.lo), self.hi)
+            if abs(s_new - s) <= STATIONARY_TOL:
+                break
+            pred = z + dz * (s_new - s)
+            got = self.search.polish(pred, math.exp(s_new))
+            if got is None or abs(got[0] - pred) > 0.1 * abs(pred - z) + 1e-12 * abs(z):
+                cap *= 0.5  # not the same root: a shorter step
+                continue
+            z, dz, s = got[0], got[1], s_new
+            cap = min(FOLLOW_STEP, 2.0 * cap)
+        if s == s0 or s in self.tops:
+            return False
+        self.at(s, z, z.imag)
+        return True
+
+
+def _family(z: complex, beta: float, rayleigh_z: complex) -> int:
+    """The family code (FAMILIES) of a root z; rayleigh_z: the Rayleigh branch's root at the same kH (NaN if
+    not followed there)."""
+    if not math.isfinite(z.real):
+        return -1
+    if math.isfinite(rayleigh_z.real) and abs(z - rayleigh_z) <= 1e-8 * abs(z):
+        return 0
+    x = abs(z.real)
+    return 1 if x < 1.0 else (2 if x < 1.0 / beta else 3)
+
+
+# ------------------------------------------------------------------------------------------------
+# public API: one kH, a kH range, a chunk
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class FastestMode:
+    """The fastest root of every branch at each kH (:func:`fastest_mode`), broadcast over the arguments.
+
+    growth : Im z of the fastest root (NaN unless status is 0)
+    z : that root (complex; NaN unless status is 0)
+    family : int8, its family (a key of :data:`FAMILIES`; -1: none)
+    count : number of roots with Im z >= floor in the window (-1: not counted, or refused: the window too wide)
+    status : int8, a key of :data:`MODE_STATUS`
+    re_max, im_max : the window at the floor (:func:`root_window`)
+    floor : the growth floor
+    """
+
+    growth: np.ndarray
+    z: np.ndarray
+    family: np.ndarray
+    count: np.ndarray
+    status: np.ndarray
+    re_max: np.ndarray
+    im_max: np.ndarray
+    floor: float
+
+
+def _rayleigh_roots(q: np.ndarray, par: tuple) -> np.ndarray:
+    """The Rayleigh branch's roots at kH = q (NaN where it is not followed)."""
+    from .spectrum import rayleigh_branch
+
+    g, f, b, e, d, x = par
+    return np.asarray(rayleigh_branch(q, gamma=g, f=f, beta=b, eta=e, Delta=d, xi=x).z, dtype=complex)
+
+
+def fastest_mode(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, floor=DEFAULT_FLOOR,
+                 count: bool = True) -> FastestMode:
+    """At each kH, the root of Eq. implicit_spectrum with the largest Im z over every branch (docs/physics.md §14).
+
+    The roots with Im z >= floor lie in the window of :func:`root_window`. The root is located by the argument
+    principle (model.modes' contour sampling: cells with the highest top first, Newton in a cell) and certified
+    by a count: no other root of F lies above Im z (1 - 1e-6) in the window. Its family (:data:`FAMILIES`)
+    compares it with the Rayleigh branch at the same kH (:func:`model.rayleigh_branch`) and else says how fast
+    it travels. With count=True, also the number of roots with Im z >= floor (refused, -1, where the window at the
+    floor is wider than the search limit of |Re z| <= 2000: finite eta with a small floor). Arguments broadcast.
+    """
+    fl = _floor(floor)
+    q = check("kH", kH)
+    arrays = np.broadcast_arrays(q, *_physical(gamma, f, beta, eta, Delta, xi))
+    shape = arrays[0].shape
+    out = {k: np.empty(shape, dtype=t) for k, t in (("growth", float), ("z", complex), ("family", np.int8),
+                                                    ("count", np.int64), ("status", np.int8), ("re", float),
+                                                    ("im", float))}
+    warm: dict[tuple, complex] = {}
+    for idx in np.ndindex(shape):
+        qq, *par = (float(a[idx]) for a in arrays)
+        search = _Search(*par, fl)
+        key = tuple(par)
+        top = search.fastest(qq, warm.get(key), with_count=count)
+        if top.status == M_OK:
+            warm[key] = top.z
+        rz = _rayleigh_roots(np.array([qq]), par)[0] if top.status == M_OK else complex(math.nan, math.nan)
+        out["growth"][idx] = top.z.imag
+        out["z"][idx] = top.z
+        out["family"][idx] = _family(top.z, par[2], rz)
+        out["count"][idx] = top.count
+        out["status"][idx] = top.status
+        out["re"][idx] = search.rho(fl, qq)
+        out["im"][idx] = search.top(qq)
+    return FastestMode(out["growth"], out["z"], out["family"], out["count"], out["status"], out["re"], out["im"], fl)
+
+
+#: rows of :func:`sliding_chunk`'s result
+SLIDING_ROWS = ("growth_all", "ln_kH_at_max_all", "re_z_at_max_all", "family_all", "rate_all",
+                "ln_kH_at_max_rate_all", "re_z_at_max_rate_all", "im_z_at_max_rate_all", "verdict_reason_all",
+                "max_at_end_all", "rate_at_end_all")
+
+
+def _verdict_reason(tops: list[_Top]) -> int:
+    status = [t.status for t in tops]
+    if M_OK in status:
+        return S_UNSTABLE if all(s in (M_OK, M_BELOW) for s in status) else S_UNSTABLE_UNCERTIFIED_MAX
+    if all(s == M_BELOW for s in status):
+        return S_STABLE
+    return S_WIDE if M_WIDE in status else S_FAILED
+
+
+def _analyse_one(s_grid: np.ndarray, par: tuple, floor: float) -> list[float]:
+    """One row set of :data:`SLIDING_ROWS` for one parameter set."""
+    an = _Analysis(_Search(*par, floor), s_grid)
+    an.sample()
+    reason = _verdict_reason(list(an.tops.values()))
+    nan = math.nan
+    if reason != S_UNSTABLE:
+        return [nan] * 8 + [float(reason), nan, nan]
+    im = an.peak(rate=False)
+    rt = an.peak(rate=True)
+    rz = _rayleigh_roots(np.array([math.exp(im.s)]), par)[0]
+    return [im.value, im.s, im.z.real, float(_family(im.z, par[2], rz)), rt.value, rt.s, rt.z.real, rt.z.imag,
+            float(reason), float(im.at_end), float(rt.at_end)]
+
+
+def sliding_chunk(s_grid: np.ndarray, params: np.ndarray, floor: float = DEFAULT_FLOOR) -> np.ndarray:
+    """Pure function of one chunk: params (6, n) rows gamma, f, beta, eta, Delta, xi -> (11, n) results.
+
+    Rows (:data:`SLIDING_ROWS`): the maximum over ln kH in [s_grid[0], s_grid[-1]] of the fastest root's Im z,
+    its ln kH, Re z and family; the maximum of the temporal rate kH Im z, its ln kH and root; the verdict reason
+    (:data:`SLIDING_STATUS`); 1.0 where either maximum lies at an end of the range. The maxima are NaN unless
+    the verdict reason is 1 (unstable, certified). No shared state: a distributed backend can run chunks anywhere.
+    """
+    fl = _floor(floor)
+    s = np.asarray(s_grid, dtype=float)
+    out = np.empty((len(SLIDING_ROWS), params.shape[1]))
+    for j in range(params.shape[1]):
+        out[:, j] = _analyse_one(s, tuple(float(v) for v in params[:, j]), fl)
+    return out
+
+
+@dataclass(frozen=True)
+class SlidingResult:
+    """The stability of steady sliding over every branch and a kH range (:func:`sliding_analysis`).
+
+    growth : the maximum over the kH range of the fastest root's Im z (as the paper's c(k) plots; NaN unless the
+        verdict is unstable with a certified maximum), kH_at_max, z_at_max and family (:data:`FAMILIES`) there
+    rate : the maximum of the temporal growth rate kH Im z (in units of c_s/H), kH_at_max_rate, z_at_max_rate
+    max_at_end, rate_at_end : the maximum lies at an end of the range (it may continue beyond)
+    verdict : int8, 0 stable, 1 unstable, 2 undetermined (:data:`model.VERDICTS`); verdict_reason :
+        :data:`SLIDING_STATUS`
+    floor : the growth floor; kH_range : the range searched
+    """
+
+    growth: np.ndarray
+    kH_at_max: np.ndarray
+    z_at_max: np.ndarray
+    family: np.ndarray
+    rate: np.ndarray
+    kH_at_max_rate: np.ndarray
+    z_at_max_rate: np.ndarray
+    max_at_end: np.ndarray
+    rate_at_end: np.ndarray
+    verdict: np.ndarray
+    verdict_reason: np.ndarray
+    floor: float
+    kH_range: tuple[float, float]
+
+
+def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None,
+                     floor=DEFAULT_FLOOR) -> SlidingResult:
+    """Is steady sliding stable? The fastest root of every branch over a kH range (docs/physics.md §14).
+
+    kH : 1-D increasing grid (default :data:`SLIDING_KH`, 17 points over [1e-2, 1e2]); the fastest root is
+    certified at each point (:func:`fastest_mode`), followed from one point to the next, and the maximum is
+    refined between the best point's neighbours (golden-section search, then Newton on the root carrying it).
+    Verdict: stable if no root has Im z >= floor at any kH searched, unstable if one does. Parameters broadcast.
+    """
+    from .stability import _grid
+
+    fl = _floor(floor)
+    grid = SLIDING_KH if kH is None else _grid(kH)
+    arrays = np.broadcast_arrays(*_physical(gamma, f, beta, eta, Delta, xi))
+    shape = arrays[0].shape
+    params = np.stack([a.reshape(-1) for a in arrays])
+    rows = sliding_chunk(np.log(grid), params, fl)
+    r = dict(zip(SLIDING_ROWS, (row.reshape(shape) for row in rows), strict=True))
+    reason = r["verdict_reason_all"]
+    verdict = np.where(reason == S_STABLE, 0, np.where(np.isin(reason, (S_UNSTABLE, S_UNSTABLE_UNCERTIFIED_MAX)),
+                                                       1, 2)).astype(np.int8)
+    z_max = r["re_z_at_max_all"] + 1j * r["growth_all"]
+    z_rate = r["re_z_at_max_rate_all"] + 1j * r["im_z_at_max_rate_all"]
+    fam = np.where(np.isnan(r["family_all"]), -1, r["family_all"]).astype(np.int8)
+    return SlidingResult(r["growth_all"], np.exp(r["ln_kH_at_max_all"]), z_max, fam, r["rate_all"],
+                         np.exp(r["ln_kH_at_max_rate_all"]), z_rate, r["max_at_end_all"] == 1.0,
+                         r["rate_at_end_all"] == 1.0, verdict, reason.astype(np.int8), fl,
+                         (float(grid[0]), float(grid[-1])))
