@@ -32,6 +32,14 @@ Stability (§4, §9)
 All branches (§10)
     :func:`unstable_modes`, :func:`unstable_count` (argument principle in a stated window).
 
+The whole spectrum: is steady sliding stable? (§14)
+    :func:`root_window` (where the roots with Im z >= floor can be: a theorem), :func:`fastest_mode` (the root
+    of largest Im z over every branch at each kH, certified, its family :data:`FAMILIES` and the count above the
+    floor, :class:`FastestMode`, :data:`MODE_STATUS`), :func:`sliding_analysis` (over a kH range: the maximum of
+    that growth and of the temporal rate, and the sliding verdict beside the Rayleigh branch's,
+    :class:`SlidingResult`, :data:`SLIDING_STATUS`), :func:`sliding_chunk` (a chunk for sweeps, rows
+    :data:`SLIDING_ROWS`); :data:`DEFAULT_FLOOR`, :data:`SLIDING_KH`.
+
 Thin-on-thick (§6)
     :func:`bessel_integral_B`, :func:`one_minus_bessel_integral_B`, :func:`bessel_term_C` (Eq. B(q)C(q)),
     :func:`effective_moduli`, :func:`effective_modulus_excess` (Eq. effective_constants),
@@ -129,6 +137,20 @@ from .rupture import (
     stress_intensity_factor,
     universal_slip_profile,
 )
+from .sliding import (
+    DEFAULT_FLOOR,
+    FAMILIES,
+    MODE_STATUS,
+    SLIDING_KH,
+    SLIDING_ROWS,
+    SLIDING_STATUS,
+    FastestMode,
+    SlidingResult,
+    fastest_mode,
+    root_window,
+    sliding_analysis,
+    sliding_chunk,
+)
 from .spectrum import STATUS, SpectrumResult, linear_expansion, rayleigh_branch, spectrum
 from .stability import (
     GROWTH_ROWS,
@@ -174,6 +196,18 @@ from .thresholds import (
 )
 
 __all__ = [
+    "DEFAULT_FLOOR",
+    "FAMILIES",
+    "MODE_STATUS",
+    "SLIDING_KH",
+    "SLIDING_ROWS",
+    "SLIDING_STATUS",
+    "FastestMode",
+    "SlidingResult",
+    "fastest_mode",
+    "root_window",
+    "sliding_analysis",
+    "sliding_chunk",
     "PARAMETERS",
     "Parameter",
     "check_parameter",

@@ -32,6 +32,7 @@ from ._kernels.records import NO_BOX, Params
 from ._kernels.window import exclusion_radius, top_of_roots
 from ._validate import check
 from .modes import AXIS_HMIN, MAX_LADDER_POLES, MAX_SHIFTS, REL_HMIN, SHIFT, SHIFT_GROWTH, _Problem
+from .stability import GROWTH_ROWS, GrowthResult
 
 __all__ = [
     "DEFAULT_FLOOR",
@@ -213,11 +214,12 @@ class _Search:
             lo = HINT_FACTOR * hint
         else:
             lo = self.floor if cheap else hi / DESCENT
+        lowest = self.lowest_level(q)  # the lowest level whose window is within the search limit
         while hi > self.floor:
-            lo = max(lo, self.floor)
-            x = self.rho(lo, q)
-            if not x <= self.re_limit:
+            lo = max(lo, self.floor, lowest)
+            if lo >= hi:
                 return _Top(M_WIDE, searched_to=hi)
+            x = self.rho(lo, q)
             if expect_root:  # the band of the hint: sampled once, for the count and the search at once
                 z, n = self.top_root_in(q, x, lo, hi)
                 expect_root = False
@@ -234,6 +236,24 @@ class _Search:
             hi = lo
             lo = self.floor if cheap else hi / DESCENT
         return _Top(M_BELOW, searched_to=self.floor, count=0)
+
+    def lowest_level(self, q: float) -> float:
+        """The lowest level y >= floor whose window is within the search limit, rho(y) <= re_limit (to a relative
+        1e-3, on the safe side): rho decreases with y."""
+        if self.rho(self.floor, q) <= self.re_limit:
+            return self.floor
+        lo, hi = self.floor, max(2.0 * self.floor, 1.0)
+        while not self.rho(hi, q) <= self.re_limit:
+            lo, hi = hi, 2.0 * hi
+            if hi > 1e6:
+                return math.inf
+        while hi - lo > 1e-3 * hi:
+            mid = 0.5 * (lo + hi)
+            if self.rho(mid, q) <= self.re_limit:
+                hi = mid
+            else:
+                lo = mid
+        return hi
 
     def _located(self, z: complex, q: float) -> _Top:
         got = self.polish(z, q)
@@ -357,8 +377,9 @@ SLIDING_STATUS = {
     S_WIDE: "undetermined: no root above the floor was found, but at some kH the window at the floor is wider "
     "than the search limit (finite eta: roots just above the layers' poles reach far out as the floor shrinks)",
     S_FAILED: "undetermined: no root above the floor was found, and the contour count failed at some kH",
-    S_UNSTABLE_UNCERTIFIED_MAX: "unstable: a certified root has Im z >= floor, but the search was refused at some "
-    "kH, so the maximum is not certified (growth NaN)",
+    S_UNSTABLE_UNCERTIFIED_MAX: "unstable: a certified root has Im z >= floor, but at some kH the search was "
+    "refused above that root's growth (the window too wide, or the count failed), so the maximum is not certified "
+    "(growth NaN)",
 }
 FOLLOW_STEP = 0.05  # largest step in ln kH when the root carrying a maximum is followed to its stationary point
 FOLLOW_ITERS = 60  # steps allowed for that
@@ -548,47 +569,76 @@ def fastest_mode(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, floor=D
 
 #: rows of :func:`sliding_chunk`'s result
 SLIDING_ROWS = ("growth_all", "ln_kH_at_max_all", "re_z_at_max_all", "family_all", "rate_all",
-                "ln_kH_at_max_rate_all", "re_z_at_max_rate_all", "im_z_at_max_rate_all", "verdict_reason_all",
-                "max_at_end_all", "rate_at_end_all")
+                "ln_kH_at_max_rate_all", "re_z_at_max_rate_all", "im_z_at_max_rate_all", "family_rate_all",
+                "verdict_reason_all", "max_at_end_all", "rate_at_end_all")
 
 
 def _verdict_reason(tops: list[_Top]) -> int:
+    """The sliding verdict's reason code from the searches at every kH (before the maximum is checked)."""
     status = [t.status for t in tops]
     if M_OK in status:
-        return S_UNSTABLE if all(s in (M_OK, M_BELOW) for s in status) else S_UNSTABLE_UNCERTIFIED_MAX
+        return S_UNSTABLE
     if all(s == M_BELOW for s in status):
         return S_STABLE
     return S_WIDE if M_WIDE in status else S_FAILED
 
 
-def _analyse_one(s_grid: np.ndarray, par: tuple, floor: float) -> list[float]:
-    """One row set of :data:`SLIDING_ROWS` for one parameter set."""
+def _uncertified(tops: dict[float, _Top], value: float, rate: bool) -> bool:
+    """Whether a refused search (window too wide, or failed) leaves room for a root above `value` (Im z, or kH Im
+    z for the rate): a search refused below some level certifies nothing under it."""
+    for s, t in tops.items():
+        if t.status in (M_WIDE, M_FAILED):
+            level = t.searched_to * (math.exp(s) if rate else 1.0)
+            if not level <= value:
+                return True
+    return False
+
+
+def _analyse_one(s_grid: np.ndarray, par: tuple, floor: float, rayleigh: np.ndarray) -> list[float]:
+    """One column of :data:`SLIDING_ROWS` for one parameter set; rayleigh: its column of model.growth_chunk on the
+    same grid (the Rayleigh branch's own maximum is one more point searched, so the sliding maximum is never
+    below a certified maximum of the Rayleigh branch)."""
     an = _Analysis(_Search(*par, floor), s_grid)
     an.sample()
+    growth, s_max, re_max = (float(rayleigh[GROWTH_ROWS.index(k)]) for k in ("growth", "ln_kH_at_max",
+                                                                             "re_z_at_max"))
+    if math.isfinite(growth) and growth >= floor and an.lo <= s_max <= an.hi:
+        an.at(s_max, complex(re_max, growth), growth)
     reason = _verdict_reason(list(an.tops.values()))
     nan = math.nan
     if reason != S_UNSTABLE:
-        return [nan] * 8 + [float(reason), nan, nan]
+        return [nan] * 9 + [float(reason), nan, nan]
     im = an.peak(rate=False)
     rt = an.peak(rate=True)
-    rz = _rayleigh_roots(np.array([math.exp(im.s)]), par)[0]
-    return [im.value, im.s, im.z.real, float(_family(im.z, par[2], rz)), rt.value, rt.s, rt.z.real, rt.z.imag,
-            float(reason), float(im.at_end), float(rt.at_end)]
+    rz = _rayleigh_roots(np.exp([im.s, rt.s]), par)
+    row_im = [im.value, im.s, im.z.real, float(_family(im.z, par[2], rz[0]))]
+    row_rt = [rt.value, rt.s, rt.z.real, rt.z.imag, float(_family(rt.z, par[2], rz[1]))]
+    if _uncertified(an.tops, im.value, rate=False):
+        row_im, reason = [nan] * 4, S_UNSTABLE_UNCERTIFIED_MAX
+    if _uncertified(an.tops, rt.value, rate=True):
+        row_rt = [nan] * 5
+    return row_im + row_rt + [float(reason), float(im.at_end), float(rt.at_end)]
 
 
-def sliding_chunk(s_grid: np.ndarray, params: np.ndarray, floor: float = DEFAULT_FLOOR) -> np.ndarray:
-    """Pure function of one chunk: params (6, n) rows gamma, f, beta, eta, Delta, xi -> (11, n) results.
+def sliding_chunk(s_grid: np.ndarray, params: np.ndarray, floor: float = DEFAULT_FLOOR,
+                  rayleigh: np.ndarray | None = None) -> np.ndarray:
+    """Pure function of one chunk: params (6, n) rows gamma, f, beta, eta, Delta, xi -> (12, n) results.
 
     Rows (:data:`SLIDING_ROWS`): the maximum over ln kH in [s_grid[0], s_grid[-1]] of the fastest root's Im z,
-    its ln kH, Re z and family; the maximum of the temporal rate kH Im z, its ln kH and root; the verdict reason
-    (:data:`SLIDING_STATUS`); 1.0 where either maximum lies at an end of the range. The maxima are NaN unless
-    the verdict reason is 1 (unstable, certified). No shared state: a distributed backend can run chunks anywhere.
+    its ln kH, Re z and family; the maximum of the temporal rate kH Im z, its ln kH, root and family; the verdict
+    reason (:data:`SLIDING_STATUS`); 1.0 where a maximum lies at an end of the range (it may go on beyond). The
+    maxima are NaN unless the verdict reason is 1 (unstable, maximum certified). rayleigh: the result of
+    :func:`model.growth_chunk` for the same grid and parameters, if already computed (else it is). No shared
+    state: a distributed backend can run chunks anywhere.
     """
+    from .stability import growth_chunk
+
     fl = _floor(floor)
     s = np.asarray(s_grid, dtype=float)
+    ray = growth_chunk(s, params) if rayleigh is None else rayleigh
     out = np.empty((len(SLIDING_ROWS), params.shape[1]))
     for j in range(params.shape[1]):
-        out[:, j] = _analyse_one(s, tuple(float(v) for v in params[:, j]), fl)
+        out[:, j] = _analyse_one(s, tuple(float(v) for v in params[:, j]), fl, ray[:, j])
     return out
 
 
@@ -603,6 +653,7 @@ class SlidingResult:
     verdict : int8, 0 stable, 1 unstable, 2 undetermined (:data:`model.VERDICTS`); verdict_reason :
         :data:`SLIDING_STATUS`
     floor : the growth floor; kH_range : the range searched
+    rayleigh : the Rayleigh branch alone on the same grid (:func:`model.growth_analysis`), side by side
     """
 
     growth: np.ndarray
@@ -612,12 +663,14 @@ class SlidingResult:
     rate: np.ndarray
     kH_at_max_rate: np.ndarray
     z_at_max_rate: np.ndarray
+    family_rate: np.ndarray
     max_at_end: np.ndarray
     rate_at_end: np.ndarray
     verdict: np.ndarray
     verdict_reason: np.ndarray
     floor: float
     kH_range: tuple[float, float]
+    rayleigh: GrowthResult
 
 
 def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None,
@@ -629,22 +682,27 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     refined between the best point's neighbours (golden-section search, then Newton on the root carrying it).
     Verdict: stable if no root has Im z >= floor at any kH searched, unstable if one does. Parameters broadcast.
     """
-    from .stability import _grid
+    from .stability import _grid, growth_chunk, growth_result
 
     fl = _floor(floor)
     grid = SLIDING_KH if kH is None else _grid(kH)
     arrays = np.broadcast_arrays(*_physical(gamma, f, beta, eta, Delta, xi))
     shape = arrays[0].shape
     params = np.stack([a.reshape(-1) for a in arrays])
-    rows = sliding_chunk(np.log(grid), params, fl)
+    s_grid = np.log(grid)
+    ray = growth_chunk(s_grid, params)
+    rows = sliding_chunk(s_grid, params, fl, ray)
     r = dict(zip(SLIDING_ROWS, (row.reshape(shape) for row in rows), strict=True))
     reason = r["verdict_reason_all"]
     verdict = np.where(reason == S_STABLE, 0, np.where(np.isin(reason, (S_UNSTABLE, S_UNSTABLE_UNCERTIFIED_MAX)),
                                                        1, 2)).astype(np.int8)
-    z_max = r["re_z_at_max_all"] + 1j * r["growth_all"]
+
+    def fam(row: np.ndarray) -> np.ndarray:
+        return np.where(np.isnan(row), -1, row).astype(np.int8)
+
     z_rate = r["re_z_at_max_rate_all"] + 1j * r["im_z_at_max_rate_all"]
-    fam = np.where(np.isnan(r["family_all"]), -1, r["family_all"]).astype(np.int8)
-    return SlidingResult(r["growth_all"], np.exp(r["ln_kH_at_max_all"]), z_max, fam, r["rate_all"],
-                         np.exp(r["ln_kH_at_max_rate_all"]), z_rate, r["max_at_end_all"] == 1.0,
-                         r["rate_at_end_all"] == 1.0, verdict, reason.astype(np.int8), fl,
-                         (float(grid[0]), float(grid[-1])))
+    return SlidingResult(r["growth_all"], np.exp(r["ln_kH_at_max_all"]),
+                         r["re_z_at_max_all"] + 1j * r["growth_all"], fam(r["family_all"]), r["rate_all"],
+                         np.exp(r["ln_kH_at_max_rate_all"]), z_rate, fam(r["family_rate_all"]),
+                         r["max_at_end_all"] == 1.0, r["rate_at_end_all"] == 1.0, verdict, reason.astype(np.int8), fl,
+                         (float(grid[0]), float(grid[-1])), growth_result(ray, shape))

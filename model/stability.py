@@ -157,7 +157,12 @@ def growth_analysis(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, work
     else:
         parts = [growth_chunk(s, c, tol or None) for c in chunks]
     out = np.concatenate(parts, axis=1) if parts else np.empty((K.NOUT, 0))
-    res = [r.reshape(shape) for r in out]
+    return growth_result(out, shape)
+
+
+def growth_result(rows: np.ndarray, shape: tuple[int, ...]) -> GrowthResult:
+    """The GrowthResult of :func:`growth_chunk` rows (:data:`GROWTH_ROWS`) for parameter sets of this shape."""
+    res = [r.reshape(shape) for r in rows]
     reason = res[7].astype(np.int8)  # the kernel always gives a code
     return GrowthResult(res[0], np.exp(res[1]), np.exp(res[2]), np.exp(res[3]), res[4].astype(int),
                         verdict_class(reason), reason, res[6], res[5])

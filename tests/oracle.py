@@ -17,6 +17,7 @@ Conventions
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
 import functools
 import math
@@ -1007,6 +1008,414 @@ def normal_stress_change(v: Num, c: Num, c_s: Num, kW: Num, nu: Num, mu: Num) ->
         return _round(-(_num(mu) / cc) * g_y * _num(v))
 
 
+# =============================================================================================
+# 8. All branches: counting and locating roots in a rectangle (docs/physics.md §10)
+# =============================================================================================
+#
+# F(z; q) is analytic in the open upper half-plane (its poles and cuts lie on the real axis, the friction pole at
+# -i/(xi q) below it; docs/physics.md §2), so the number of roots in a closed rectangle inside Im z > 0 is the winding
+# number of F along its boundary, with no pole correction. The sampling below is written independently of the model's
+# (model/modes.py): different acceptance tests, spacing and grading (see _Contour).
+
+ROOT_DPS = 20  # default working digits of the contour sampling and of the root search
+ARG_STEP = math.pi / 8  # largest |change of arg F| over an accepted segment
+LOG_MOD_STEP = 0.5  # largest |change of ln|F|| over an accepted segment
+CURVATURE_TOL = 0.25  # largest |L1 - L2| (second difference of log F at the two ends and the midpoint)
+EDGE_SPACING = 0.05  # largest initial spacing along any edge
+GRADING = 2  # ratio of the geometric grading towards the real axis (vertical edges) and around singularities
+H_MIN_REL = 1e-12  # smallest segment (relative to the window) before a root counts as lying on the edge
+MAX_EVALS = 200_000  # new evaluations of F allowed for one count
+INTEGER_TOL = 1e-6  # largest distance of the winding number from an integer
+MAX_SINGULAR = 4000  # real-axis poles around which horizontal edges are graded (denser families: adaptivity alone)
+POLISH_DPS = 25  # digits of the returned roots
+CELL_MIN_REL = 1e-10  # smallest cell (relative to the window) still split while locating roots
+
+
+class RootOnContour(RuntimeError):
+    """A root lies on (or within ~1e-12 relative of) a sampled line: its winding number is undefined."""
+
+
+def _real_singularities(p: Params, q: mpmath.mpf, lo: mpmath.mpf, hi: mpmath.mpf) -> list[mpmath.mpf]:
+    """Real-axis singularities of F in [lo, hi] (docs/physics.md §2): the branch points +-1, +-1/beta and, for finite
+    eta, the poles z^2 = 1 + t_n^2 and z^2 = (1 + t_n^2)/beta^2 with t_n = pi n/((1 + eta) q), n >= 1 (none of the
+    families if they hold more than MAX_SINGULAR poles in range: horizontal edges then rely on adaptivity alone)."""
+    reach = max(abs(lo), abs(hi))
+    beta = mp.sqrt(p.b)
+    pts = [mp.mpf(1)] + ([1 / beta] if beta > 0 else [])
+    if not _is_inf(p.eta):
+        fam: list[mpmath.mpf] = []
+        dt = mp.pi / ((1 + p.eta) * q)
+        for scale in [mp.mpf(1)] + ([1 / beta] if beta > 0 else []):
+            n = 1
+            while len(fam) <= MAX_SINGULAR:
+                z = scale * mp.sqrt(1 + (n * dt) ** 2)
+                if z > reach:
+                    break
+                fam.append(z)
+                n += 1
+        if len(fam) <= MAX_SINGULAR:
+            pts += fam
+    both = {s * x for x in pts for s in (1, -1)}
+    return sorted(x for x in both if lo <= x <= hi)
+
+
+class _Contour:
+    """Samples of F(z; q) on the sides of axis-parallel rectangles inside the window [x0, x1] x [y0, y1] (Im z > 0),
+    at the ambient precision (the caller's mp.workdps), with every value and segment increment memoised so that
+    the sub-rectangles of roots_in_rectangle reuse their parent's samples.
+
+    Nodes. A horizontal line at height y starts from the lattice x0 + k (x1 - x0)/n (spacing <= min(EDGE_SPACING,
+    pi/(8q)): along lines near the real axis F oscillates like exp(2 i q z)), plus, around every real-axis singularity
+    s (_real_singularities), the nodes s and s +- y GRADING^k up to half the distance to the neighbouring singularity:
+    a root just above a pole (at distance ~y on the other side of the line) changes log F only within ~y of s, where
+    no test on coarser samples would see it. A vertical line uses the nodes y0 GRADING^k (geometric towards the real
+    axis, where F varies on the scale of Im z), then the same uniform spacing up to y1. A sub-rectangle's side uses
+    the nodes of the line strictly inside it plus its own ends.
+
+    Acceptance of a segment [a, b] (between neighbouring nodes, then bisected as needed). F is evaluated at the
+    midpoint m and L1 = Log(F_m/F_a), L2 = Log(F_b/F_m) (principal logarithms). The segment is accepted when
+      (i)  |Im(L1 + L2)| <= ARG_STEP (pi/8) and |Re(L1 + L2)| <= LOG_MOD_STEP (0.5): arg F and ln|F| change little;
+      (ii) |L1 - L2| <= CURVATURE_TOL (0.25): log F is nearly linear, i.e. its second difference
+           ~ (h/2)^2 |(log F)''| is small. A root (or pole) at distance d from the segment has (log F)'' ~ 1/d^2, so
+           (ii) forces h <~ d near it and keeps the increments of log F free of aliasing; it also catches two roots
+           on either side of the line, whose arg changes cancel but whose ln|F| is not linear.
+    On acceptance the increment of log F is L1 + L2, which equals the principal Log(F_b/F_a) because
+    |L1 + L2| < pi (so the two half-increments and the whole increment agree by construction); the winding number,
+    the sum of these increments over the closed boundary / 2 pi, is then an integer up to rounding (checked to
+    INTEGER_TOL). A rejected segment is bisected; one shorter than H_MIN_REL x the window's size that still fails
+    means a root on (or within ~1e-12 of) the line: RootOnContour. A sample with F = 0 exactly, too.
+    """
+
+    def __init__(self, q: Num, p: Params, window: tuple[mpmath.mpf, ...]) -> None:
+        self.q, self.p = mp.mpf(_num(q)), p
+        x0, x1, y0, y1 = window
+        self.size = max(x1 - x0, y1 - y0)
+        self.h_min = H_MIN_REL * self.size
+        cap = min(mp.mpf(EDGE_SPACING), mp.pi / (8 * self.q))
+        n = int(mp.ceil((x1 - x0) / cap))
+        self.xs = [x0 + (x1 - x0) * k / n for k in range(n)] + [x1]
+        ys = [y0]
+        while ys[-1] < y1:
+            ys.append(ys[-1] + min(ys[-1] * (GRADING - 1), cap))
+        ys[-1] = y1
+        if len(ys) > 2 and ys[-1] - ys[-2] < cap / 4:  # no sliver at the top
+            del ys[-2]
+        self.ys = ys
+        self.cap = cap
+        self.singular = _real_singularities(p, self.q, x0 - 1, x1 + 1)
+        self.values: dict[mpmath.mpc, mpmath.mpc] = {}
+        self.segments: dict[tuple[mpmath.mpc, mpmath.mpc], tuple[mpmath.mpc, mpmath.mpc]] = {}
+        self.lines: dict[tuple, tuple[mpmath.mpc, mpmath.mpc]] = {}
+        self.h_nodes: dict[mpmath.mpf, list[mpmath.mpf]] = {}
+        self.evals = 0  # new evaluations since the last reset
+        self.total_evals = 0
+
+    def F(self, z: mpmath.mpc) -> mpmath.mpc:
+        v = self.values.get(z)
+        if v is None:
+            self.evals += 1
+            self.total_evals += 1
+            if self.evals > MAX_EVALS:
+                raise RuntimeError(f"more than {MAX_EVALS} evaluations of F for one count (window too large, or "
+                                   "im_min too small for the real-axis singularities)")
+            v = dispersion_core(z, self.q, self.p)
+            if v == 0:
+                raise RootOnContour(f"F = 0 at the sample z = {mp.nstr(z, 15)}")
+            self.values[z] = v
+        return v
+
+    def _horizontal_nodes(self, y: mpmath.mpf) -> list[mpmath.mpf]:
+        """The lattice plus the nodes graded around the real-axis singularities at scale y (sorted)."""
+        nodes = self.h_nodes.get(y)
+        if nodes is None:
+            extra = []
+            sing = self.singular
+            for k, s in enumerate(sing):
+                gap = min([self.cap] + [abs(s - sing[j]) / 2 for j in (k - 1, k + 1) if 0 <= j < len(sing)])
+                extra.append(s)
+                d = y
+                while d <= gap:
+                    extra += [s - d, s + d]
+                    d *= GRADING
+            nodes = sorted(set(self.xs) | {x for x in extra if self.xs[0] < x < self.xs[-1]})
+            self.h_nodes[y] = nodes
+        return nodes
+
+    def _segment(self, za: mpmath.mpc, zb: mpmath.mpc) -> tuple[mpmath.mpc, mpmath.mpc]:
+        """(increment of log F, sum of z dlog F) from za to zb, adaptively (see the class docstring)."""
+        key = (za, zb)
+        hit = self.segments.get(key)
+        if hit is not None:
+            return hit
+        total_l, total_m = mp.mpc(0), mp.mpc(0)
+        stack = [(za, self.F(za), zb, self.F(zb))]
+        while stack:
+            a, fa, b, fb = stack.pop()
+            m = (a + b) / 2
+            fm = self.F(m)
+            l1, l2 = mp.log(fm / fa), mp.log(fb / fm)
+            s = l1 + l2
+            if abs(mp.im(s)) <= ARG_STEP and abs(mp.re(s)) <= LOG_MOD_STEP and abs(l1 - l2) <= CURVATURE_TOL:
+                total_l += s
+                total_m += (a + m) / 2 * l1 + (m + b) / 2 * l2
+                continue
+            if abs(b - a) < self.h_min:
+                raise RootOnContour(f"a root lies on (or next to) the line near {mp.nstr(a, 15)}: a segment is still "
+                                    f"unresolved at length {mp.nstr(abs(b - a), 3)} < {mp.nstr(self.h_min, 3)}")
+            stack.append((m, fm, b, fb))
+            stack.append((a, fa, m, fm))
+        self.segments[key] = (total_l, total_m)
+        return total_l, total_m
+
+    def line(self, horizontal: bool, c: mpmath.mpf, t0: mpmath.mpf, t1: mpmath.mpf) -> tuple[mpmath.mpc, mpmath.mpc]:
+        """(increment of log F, sum of z dlog F) along the line Im z = c (horizontal) or Re z = c from
+        coordinate t0 to t1 > t0."""
+        key = (horizontal, c, t0, t1)
+        hit = self.lines.get(key)
+        if hit is not None:
+            return hit
+        nodes = self._horizontal_nodes(c) if horizontal else self.ys
+        i, j = bisect.bisect_right(nodes, t0), bisect.bisect_left(nodes, t1)
+        ts = [t0, *nodes[i:j], t1]
+        pts = [mp.mpc(t, c) if horizontal else mp.mpc(c, t) for t in ts]
+        total_l, total_m = mp.mpc(0), mp.mpc(0)
+        for za, zb in zip(pts[:-1], pts[1:], strict=True):
+            dl, dm = self._segment(za, zb)
+            total_l += dl
+            total_m += dm
+        self.lines[key] = (total_l, total_m)
+        return total_l, total_m
+
+    def count(self, cell: tuple[mpmath.mpf, ...]) -> tuple[int, mpmath.mpc]:
+        """(number of roots in the closed cell, estimate of their sum (1/2 pi i) contour integral of z dlog F)."""
+        x0, x1, y0, y1 = cell
+        self.evals = 0
+        lb, mb = self.line(True, y0, x0, x1)
+        lr, mr = self.line(False, x1, y0, y1)
+        lt, mt = self.line(True, y1, x0, x1)
+        ll, ml = self.line(False, x0, y0, y1)
+        total = lb + lr - lt - ll
+        w = mp.im(total) / (2 * mp.pi)
+        n = int(mp.nint(w))
+        if abs(w - n) > INTEGER_TOL or abs(mp.re(total)) > INTEGER_TOL or n < 0:
+            raise RuntimeError(f"winding number {mp.nstr(w, 12)} (ln|F| mismatch {mp.nstr(mp.re(total), 3)}) is not "
+                               f"a non-negative integer on [{mp.nstr(x0, 10)}, {mp.nstr(x1, 10)}] x "
+                               f"[{mp.nstr(y0, 10)}, {mp.nstr(y1, 10)}]")
+        return n, (mb + mr - mt - ml) / (2 * mp.pi * mp.j)
+
+
+def _window(x0: Num, x1: Num, y0: Num, y1: Num) -> tuple[mpmath.mpf, ...]:
+    """The rectangle as mpf's at the ambient precision; ValueError unless x0 < x1 and 0 < y0 < y1."""
+    w = tuple(mp.mpf(_num(v)) for v in (x0, x1, y0, y1))
+    if not (w[0] < w[1] and 0 < w[2] < w[3]) or not all(mp.isfinite(v) for v in w):
+        raise ValueError(f"need x0 < x1 and 0 < y0 < y1 (finite); got {w}")
+    return w
+
+
+def count_roots(q: Num, gamma: Num, f: Num, beta: Num, eta: Num, Delta: Num = 1, xi: Num = 0, *, x0: Num, x1: Num,
+                y0: Num, y1: Num, dps: int = ROOT_DPS) -> int:
+    """Number of roots of F(z; q) (docs/physics.md §3), with multiplicity, in the closed rectangle
+    [x0, x1] x [y0, y1] (x0 < x1, 0 < y0 < y1), by the argument principle at `dps` digits (no pole correction: F is
+    analytic in Im z > 0). Sampling and acceptance tests: see _Contour.
+
+    Raises RuntimeError (never guesses) if a root lies on the boundary (RootOnContour), if one count needs more than
+    MAX_EVALS evaluations of F, or if the winding number is not within INTEGER_TOL of an integer."""
+    with mp.workdps(dps):
+        window = _window(x0, x1, y0, y1)
+        contour = _Contour(q, Params.make(gamma, f, beta, eta, Delta, xi), window)
+        return contour.count(window)[0]
+
+
+def _dispersion_scale(z: mpmath.mpc, q: mpmath.mpf, p: Params) -> mpmath.mpf:
+    """The size of F's terms at z, gamma (|G_x| + |f G_y|) + |z S|: |F|/scale is a root's relative residual."""
+    g_x, g_y = response_functions_core(z, q, p.b, p.eta)
+    fric = 1 + (p.Delta - 1) / (1 - mp.j * p.xi * z * q)
+    return p.gamma * (abs(g_x) + abs(p.f * g_y)) + abs(z * fric)
+
+
+def _inside(z: mpmath.mpc, cell: tuple[mpmath.mpf, ...], margin: mpmath.mpf) -> bool:
+    x0, x1, y0, y1 = cell
+    return bool(x0 - margin <= mp.re(z) <= x1 + margin and y0 - margin <= mp.im(z) <= y1 + margin)
+
+
+def _newton_in_cell(contour: _Contour, cell: tuple[mpmath.mpf, ...], guess: mpmath.mpc) -> mpmath.mpc | None:
+    """The root in a one-root cell by the secant method from the contour estimate `guess` (if inside the cell) or
+    from the cell's centre; accepted only if it converges inside the cell enlarged by 1e-9 of its size with
+    |F| <= 10^(6 - dps) x scale. None if neither start gives such a root."""
+    x0, x1, y0, y1 = cell
+    size = max(x1 - x0, y1 - y0)
+    margin = mp.mpf("1e-9") * size
+    centre = mp.mpc((x0 + x1) / 2, (y0 + y1) / 2)
+    starts = ([guess] if _inside(guess, cell, 0) else []) + [centre]
+    tol = mp.mpf(10) ** (6 - mp.dps)
+    for z0 in starts:
+        d = mp.mpf("1e-4") * size
+        try:
+            z = mp.findroot(lambda w: dispersion_core(w, contour.q, contour.p), (z0, z0 + d * (1 + 1j)),
+                            solver="secant", maxsteps=60)
+        except (ValueError, ZeroDivisionError):
+            continue
+        z = mp.mpc(z)
+        if mp.im(z) > 0 and _inside(z, cell, margin):
+            if abs(dispersion_core(z, contour.q, contour.p)) <= tol * _dispersion_scale(z, contour.q, contour.p):
+                return z
+    return None
+
+
+def _polish_root(contour: _Contour, z: mpmath.mpc, cell: tuple[mpmath.mpf, ...]) -> mpmath.mpc:
+    """z refined by the secant method at POLISH_DPS + 10 digits and rounded to POLISH_DPS; RuntimeError if it moves
+    by more than 1e-10 |z| or leaves the (enlarged) cell."""
+    with mp.workdps(POLISH_DPS + 10):
+        d = mp.mpf("1e-12") * max(abs(z), mp.mpf("1e-3"))
+        try:
+            zp = mp.mpc(mp.findroot(lambda w: dispersion_core(w, contour.q, contour.p), (z, z + d), solver="secant"))
+        except (ValueError, ZeroDivisionError) as exc:
+            raise RuntimeError(f"polishing the root {mp.nstr(z, 15)} failed: {exc}") from exc
+        margin = mp.mpf("1e-9") * max(cell[1] - cell[0], cell[3] - cell[2])
+        if abs(zp - z) > mp.mpf("1e-10") * max(abs(z), mp.mpf("1e-3")) or not _inside(zp, cell, margin):
+            raise RuntimeError(f"polishing moved the root {mp.nstr(z, 15)} to {mp.nstr(zp, 15)}")
+    with mp.workdps(POLISH_DPS):
+        return +zp
+
+
+def _split(contour: _Contour, cell: tuple[mpmath.mpf, ...], n: int) -> list[tuple[tuple[mpmath.mpf, ...], int]]:
+    """The cell's two halves with their counts. The longer side is halved: at the lattice node (vertical edges'
+    node, for a horizontal line) nearest the middle, the middle being the geometric mean sqrt(y0 y1) for cells reaching
+    down towards the real axis (y1 > 4 y0), else at the exact middle; another position is tried when a root lies on
+    the line. RuntimeError if the halves' counts do not add up to n."""
+    x0, x1, y0, y1 = cell
+    vertical_cut = x1 - x0 >= y1 - y0
+    lo, hi = (x0, x1) if vertical_cut else (y0, y1)
+    nodes = contour.xs if vertical_cut else contour.ys
+    inner = nodes[bisect.bisect_right(nodes, lo):bisect.bisect_left(nodes, hi)]
+    if vertical_cut or y1 <= 4 * y0:
+        mid = (lo + hi) / 2
+        cands = sorted(inner, key=lambda t: abs(t - mid))[:4]
+    else:
+        mid = mp.sqrt(y0 * y1)
+        cands = sorted(inner, key=lambda t: abs(mp.log(t / mid)))[:4]
+    cands += [lo + (hi - lo) * frac for frac in (mp.mpf(1) / 2, mp.mpf(3) / 8, mp.mpf(5) / 8, mp.mpf(7) / 16)]
+    for t in cands:
+        halves = [(x0, t, y0, y1), (t, x1, y0, y1)] if vertical_cut else [(x0, x1, y0, t), (x0, x1, t, y1)]
+        try:
+            counts = [contour.count(h)[0] for h in halves]
+        except RootOnContour:
+            continue
+        if sum(counts) != n:
+            raise RuntimeError(f"the halves of a cell hold {counts} roots, the cell {n}")
+        return list(zip(halves, counts, strict=True))
+    raise RuntimeError(f"every splitting line of the cell {cell} passes through a root")
+
+
+def _isolate(contour: _Contour, window: tuple[mpmath.mpf, ...], n_total: int,
+             est: mpmath.mpc) -> list[tuple[mpmath.mpc, tuple[mpmath.mpf, ...]]]:
+    """(root at the ambient precision, its cell) for every root of the window, which holds n_total (see
+    roots_in_rectangle)."""
+    smallest = CELL_MIN_REL * contour.size
+    found: list[tuple[mpmath.mpc, tuple[mpmath.mpf, ...]]] = []
+    stack = [(window, n_total, est)]
+    while stack:
+        cell, n, est = stack.pop()
+        if n == 1:
+            z = _newton_in_cell(contour, cell, est)
+            if z is not None:
+                found.append((z, cell))
+                continue
+        if max(cell[1] - cell[0], cell[3] - cell[2]) < smallest:
+            raise RuntimeError(f"{n} root(s) in a cell of size {mp.nstr(cell[1] - cell[0], 3)} near "
+                               f"{mp.nstr(mp.mpc(cell[0], cell[2]), 15)} cannot be separated or located "
+                               "(a multiple root?)")
+        stack += [(half, m, contour.count(half)[1]) for half, m in _split(contour, cell, n) if m]
+    return found
+
+
+def roots_in_rectangle(q: Num, gamma: Num, f: Num, beta: Num, eta: Num, Delta: Num = 1, xi: Num = 0, *, x0: Num,
+                       x1: Num, y0: Num, y1: Num, dps: int = ROOT_DPS) -> list[mpmath.mpc]:
+    """Every root of F(z; q) in the closed rectangle [x0, x1] x [y0, y1] (0 < y0 < y1), sorted by decreasing Im z,
+    POLISH_DPS digits each.
+
+    The rectangle is counted (count_roots) and bisected recursively (_split; the halves reuse the parent's samples)
+    until each cell holds one root; that root is found by the secant method from the contour estimate
+    (1/2 pi i) contour integral of z dlog F (or the cell's centre), accepted only inside the cell (enlarged by 1e-9 of
+    its size) with a tiny relative residual, else the cell is split further; finally it is polished to POLISH_DPS
+    digits. The number returned always equals the count of the whole rectangle; RuntimeError otherwise (including
+    a root on the boundary, a multiple root or an unresolvable cluster)."""
+    with mp.workdps(dps):
+        window = _window(x0, x1, y0, y1)
+        contour = _Contour(q, Params.make(gamma, f, beta, eta, Delta, xi), window)
+        n_total, est = contour.count(window)
+        found = _isolate(contour, window, n_total, est) if n_total else []
+        roots = [_polish_root(contour, z, cell) for z, cell in found]
+    roots.sort(key=lambda z: (-mp.im(z), mp.re(z)))
+    for k, a in enumerate(roots):
+        if any(abs(a - b) <= mp.mpf("1e-12") * max(abs(a), mp.mpf("1e-3")) for b in roots[k + 1:]):
+            raise RuntimeError(f"the root {mp.nstr(a, 15)} was found in two cells")
+    if len(roots) != n_total:
+        raise RuntimeError(f"located {len(roots)} roots, counted {n_total}")
+    return roots
+
+
+def fastest_root(q: Num, gamma: Num, f: Num, beta: Num, eta: Num, Delta: Num = 1, xi: Num = 0, *, re_max: Num,
+                 im_min: Num, im_max: Num, dps: int = ROOT_DPS) -> tuple[mpmath.mpc | None, int]:
+    """(the root of largest Im z, the number of roots) in [-re_max, re_max] x [im_min, im_max]; (None, 0) if none.
+    From roots_in_rectangle."""
+    with mp.workdps(dps):
+        rm = mp.mpf(_num(re_max))
+    roots = roots_in_rectangle(q, gamma, f, beta, eta, Delta, xi, x0=-rm, x1=rm, y0=im_min, y1=im_max, dps=dps)
+    return (roots[0] if roots else None), len(roots)
+
+
+def _geometric(a: mpmath.mpf, b: mpmath.mpf, m: int) -> list[mpmath.mpf]:
+    """m points from a to b > a > 0 in geometric progression (both ends included)."""
+    if m == 1:
+        return [a]
+    return [a * (b / a) ** (mp.mpf(k) / (m - 1)) for k in range(m)]
+
+
+def exterior_points(re_max: Num, im_min: Num, im_max: Num, n: int = 400, factor: Num = 8) -> list[mpmath.mpc]:
+    """About n points on rays outside the window [-re_max, re_max] x [im_min, im_max] (ambient precision), each ray
+    sampled geometrically from the window outwards by `factor`:
+    * horizontal rays (half the points, a third of those at Im z = im_min exactly, the tightest height) at heights
+      im_min, ..., im_max (geometric), from |Re z| = re_max to factor re_max, on both sides;
+    * vertical rays (a quarter) at Re z = -re_max, -re_max/2, 0, re_max/2, re_max from im_max to factor im_max;
+    * radial rays (a quarter) at angles in (0, pi), from where they leave the window (beyond its corners for angles
+      near the diagonals) out to factor times that radius."""
+    rm, lo, hi, fac = (mp.mpf(_num(v)) for v in (re_max, im_min, im_max, factor))
+    pts: list[mpmath.mpc] = []
+    n_h = n // 2
+    m_bottom = max(2, n_h // 6)  # per side at Im z = im_min
+    heights = _geometric(lo, hi, 6)[1:]
+    m_h = max(2, (n_h - 2 * m_bottom) // (2 * len(heights)))
+    for y, m in [(lo, m_bottom)] + [(y, m_h) for y in heights]:
+        for x in _geometric(rm, fac * rm, m):
+            pts += [mp.mpc(x, y), mp.mpc(-x, y)]
+    xs_v = [-rm, -rm / 2, mp.mpf(0), rm / 2, rm]
+    m_v = max(2, (n // 4) // len(xs_v))
+    for x in xs_v:
+        pts += [mp.mpc(x, y) for y in _geometric(hi, fac * hi, m_v)]
+    n_ang = 10
+    m_r = max(2, (n - len(pts)) // n_ang)
+    for k in range(n_ang):
+        theta = mp.pi * (k + mp.mpf(1) / 2) / n_ang
+        c, s = mp.cos(theta), mp.sin(theta)
+        r0 = min(rm / abs(c), hi / s)
+        pts += [r * mp.expj(theta) for r in _geometric(r0, fac * r0, m_r)]
+    return pts
+
+
+def exterior_min_margin(q: Num, gamma: Num, f: Num, beta: Num, eta: Num, Delta: Num = 1, xi: Num = 0, *,
+                        re_max: Num, im_min: Num, im_max: Num, n: int = 400, factor: Num = 8,
+                        dps: int = ROOT_DPS) -> float:
+    """min over exterior_points(re_max, im_min, im_max, n, factor) of Re(F(z)/(i z)), at `dps` digits.
+
+    A positive value is consistent with the theorem that Re(F/(i z)) > 0 (hence F != 0) outside the window."""
+    with mp.workdps(dps):
+        p = Params.make(gamma, f, beta, eta, Delta, xi)
+        qq = mp.mpf(_num(q))
+        return float(min(mp.re(dispersion_core(z, qq, p) / (mp.j * z))
+                         for z in exterior_points(re_max, im_min, im_max, n, factor)))
+
+
 __all__: Sequence[str] = [
     "B",
     "neutral_curvature",
@@ -1014,6 +1423,12 @@ __all__: Sequence[str] = [
     "BranchLost",
     "C",
     "DPS",
+    "RootOnContour",
+    "count_roots",
+    "exterior_min_margin",
+    "exterior_points",
+    "fastest_root",
+    "roots_in_rectangle",
     "PrecisionError",
     "branch_tangent",
     "criterion_min_gy",
