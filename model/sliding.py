@@ -116,7 +116,7 @@ class _Search:
         while True:
             hb = min(REL_HMIN * size, AXIS_HMIN * y0)
             ht = min(REL_HMIN * size, AXIS_HMIN * y1)
-            st, n, edge, _, nev = count_rectangle(x0, x1, y0, y1, H0, poles, half, q, *self.p, hb, hb,
+            st, n, edge, _, nev = count_rectangle(x0, x1, y0, y1, _spacing(q), poles, half, q, *self.p, hb, hb,
                                                   ht, PHASE_MAX, TRAP_TOL, LIN_TOL)
             self.evaluations += nev
             if st == 0:
@@ -141,6 +141,7 @@ class _Search:
         the highest top is split until its root is located by Newton; cells below the best root found are never
         split. (None, 0) if the window holds none; RuntimeError if the contour fails."""
         prob = _Problem(q, *self.p, x, y0, y1)
+        prob.h0 = _spacing(q)
         prob.poles, prob.half = _singularities(q, self.p.beta, self.p.eta, x, y0)
         cell, n = prob.outer()
         best = _best_first(prob, cell, n) if n else None
@@ -156,10 +157,10 @@ class _Search:
             return None
         return r.z, q * r.dzds  # dz/dkH -> dz/d ln kH
 
-    def certify(self, z: complex, q: float, top: float) -> complex | None:
-        """z (a root, Im z >= floor) if no other root lies above Im z (1 - TOP_REL); else the fastest root above
+    def certify(self, z: complex, q: float, top: float, level: float) -> complex | None:
+        """z (a root, Im z >= level) if no other root lies above Im z (1 - TOP_REL); else the fastest root above
         that level. None if the window there is too wide or the count fails."""
-        lo = max(self.floor, z.imag * (1.0 - TOP_REL))
+        lo = max(level, z.imag * (1.0 - TOP_REL))
         x = self.rho(lo, q)
         if not x <= self.re_limit:
             return None
@@ -171,52 +172,54 @@ class _Search:
         return self.top_root_in(q, x, lo, top)[0]
 
     def fastest(self, q: float, warm: complex | None = None, hint: float | None = None,
-                with_count: bool = False) -> _Top:
-        """The root of largest Im z at kH = q over every branch (Im z >= floor), certified. warm: a start for Newton
-        (e.g. the fastest root at a neighbouring kH); hint: a level near the expected growth (the search starts with
-        the band above HINT_FACTOR x hint)."""
+                with_count: bool = False, level: float | None = None) -> _Top:
+        """The root of largest Im z at kH = q over every branch, certified, if it lies at or above `level` (default:
+        the floor); else status M_BELOW with searched_to = level (no root there). warm: a start for Newton (e.g. the
+        fastest root at a neighbouring kH); hint: a level near the expected growth (the search starts with the band
+        above HINT_FACTOR x hint). with_count: also count the roots above the floor."""
         ev0 = self.evaluations
         top = self.top(q)
-        res = self._fastest(q, top, warm, hint)
+        lev = self.floor if level is None else max(level, self.floor)
+        res = self._fastest(q, top, warm, hint, lev)
         if with_count and res.status == M_OK and res.count < 0:
             x = self.rho(self.floor, q)
             if x <= self.re_limit:
                 n = self.count(q, x, self.floor, top)
                 res.count = -1 if n is None else n
-        elif with_count and res.status == M_BELOW:
+        elif with_count and res.status == M_BELOW and lev == self.floor:
             res.count = 0
         res.evaluations = self.evaluations - ev0
         return res
 
-    def _fastest(self, q: float, top: float, warm: complex | None, hint: float | None) -> _Top:
-        if not top > self.floor:
-            return _Top(M_BELOW, count=0)
+    def _fastest(self, q: float, top: float, warm: complex | None, hint: float | None, level: float) -> _Top:
+        if not top > level:
+            return _Top(M_BELOW, searched_to=level, count=0 if level == self.floor else -1)
         try:
             if warm is not None:
                 got = self.polish(warm, q)
-                if got is not None and self.floor <= got[0].imag <= top:
-                    z = self.certify(got[0], q, top)
+                if got is not None and level <= got[0].imag <= top:
+                    z = self.certify(got[0], q, top, level)
                     if z is not None:
                         return self._located(z, q)
-            return self._descend(q, top, hint)
+            return self._descend(q, top, hint, level)
         except RuntimeError:
-            return _Top(M_FAILED)
+            return _Top(M_FAILED, searched_to=top)
 
-    def _descend(self, q: float, top: float, hint: float | None = None) -> _Top:
-        """Cold search, band by band from the top down, until a band holds a root: first [HINT_FACTOR x hint, top]
-        (hint: the fastest growth at a neighbouring kH), then, where the window at the floor is cheap to count
-        (eta = inf, or the layers' poles damped at the floor's height), the rest of it at once, else bands
-        [y/DESCENT, y]. A band's top root is found by best-first subdivision of the band."""
+    def _descend(self, q: float, top: float, hint: float | None, level: float) -> _Top:
+        """Search band by band from the top down to `level`, until a band holds a root: first
+        [HINT_FACTOR x hint, top] (hint: the growth expected, e.g. at a neighbouring kH), then, where the window at
+        `level` is cheap to count (eta = inf, or the layers' poles damped at that height), the rest at once, else
+        bands [y/DESCENT, y]. A band's top root is found by best-first subdivision of the band."""
         hi = top
-        cheap = math.isinf(self.p.eta) or (1.0 + self.p.eta) * q * self.p.beta * self.floor >= LADDER_DAMPED
-        expect_root = hint is not None and hint > self.floor
+        cheap = math.isinf(self.p.eta) or (1.0 + self.p.eta) * q * self.p.beta * level >= LADDER_DAMPED
+        expect_root = hint is not None and hint > level
         if expect_root:
             lo = HINT_FACTOR * hint
         else:
-            lo = self.floor if cheap else hi / DESCENT
+            lo = level if cheap else hi / DESCENT
         lowest = self.lowest_level(q)  # the lowest level whose window is within the search limit
-        while hi > self.floor:
-            lo = max(lo, self.floor, lowest)
+        while hi > level:
+            lo = max(lo, level, lowest)
             if lo >= hi:
                 return _Top(M_WIDE, searched_to=hi)
             x = self.rho(lo, q)
@@ -234,8 +237,8 @@ class _Search:
                     res.count = n
                 return res
             hi = lo
-            lo = self.floor if cheap else hi / DESCENT
-        return _Top(M_BELOW, searched_to=self.floor, count=0)
+            lo = level if cheap else hi / DESCENT
+        return _Top(M_BELOW, searched_to=level, count=0 if level == self.floor else -1)
 
     def lowest_level(self, q: float) -> float:
         """The lowest level y >= floor whose window is within the search limit, rho(y) <= re_limit (to a relative
@@ -261,6 +264,14 @@ class _Search:
         return _Top(M_OK, z=z, dzds=dzds)
 
 
+def _spacing(q: float) -> float:
+    """The initial spacing of the samples along a line: model.modes' H0 at kH >= 1, H0/kH below. F's structure away
+    from the real-axis singularities (which get graded seeds) scales like 1/kH in z at small kH (the oscillation
+    exp(2i kH z), the spacing of the roots, |z| ~ 1/kH of the long-wave roots), and the acceptance tests of a
+    segment are scale-free (relative changes of F along it)."""
+    return H0 / min(q, 1.0)
+
+
 def _singularities(q: float, beta: float, eta: float, x: float, y: float) -> tuple[np.ndarray, np.ndarray]:
     """The real-axis singularities around which lines at height >= y get graded seeds (as model.modes does), and
     the half-distances to their neighbours (capped at H0): z = +-1, +-1/beta, and the finite-eta pole families
@@ -284,7 +295,7 @@ def _singularities(q: float, beta: float, eta: float, x: float, y: float) -> tup
     p = np.concatenate((-xs[::-1], xs))
     gaps = np.diff(p)
     half = 0.5 * np.maximum(np.concatenate(([0.0], gaps)), np.concatenate((gaps, [0.0])))
-    return p, np.minimum(half, H0)
+    return p, np.minimum(half, _spacing(q))
 
 
 def _best_first(prob: _Problem, cell: tuple, n: int) -> complex:
@@ -400,25 +411,47 @@ class _Peak:
 
 
 class _Analysis:
-    """The fastest root over a kH range for one parameter set (:func:`sliding_analysis`)."""
+    """The fastest root over a kH range for one parameter set (:func:`sliding_analysis`), branch and bound: a kH
+    is searched only above the level at which it could raise a maximum found so far (the contour then stays away
+    from the real axis and its poles); the floor is searched only while no root above it has been found."""
 
-    def __init__(self, search: _Search, s_grid: np.ndarray):
+    def __init__(self, search: _Search, s_grid: np.ndarray, rate: bool = False):
         self.search = search
         self.s_grid = [float(v) for v in s_grid]
         self.lo, self.hi = self.s_grid[0], self.s_grid[-1]
+        self.rate = rate
         self.tops: dict[float, _Top] = {}
+        self.best_im = -math.inf  # the largest Im z and kH Im z of the roots found
+        self.best_rate = -math.inf
 
-    def at(self, s: float, warm: complex | None = None, hint: float | None = None) -> _Top:
-        """The certified fastest root at ln kH = s (searched once)."""
+    def level(self, s: float) -> float:
+        """The level above which a root at ln kH = s would raise a maximum (the floor until one is found)."""
+        lev = self.best_im
+        if self.rate:
+            lev = min(lev, self.best_rate * math.exp(-s))
+        return max(lev, self.search.floor)
+
+    def at(self, s: float, warm: complex | None = None, hint: float | None = None,
+           level: float | None = None) -> _Top:
+        """The certified fastest root at ln kH = s if it lies above `level` (default: self.level(s))."""
         hit = self.tops.get(s)
-        if hit is None:
-            hit = self.search.fastest(math.exp(s), warm, hint)
+        if hit is None or (hit.status == M_BELOW and level is not None and level < hit.searched_to):
+            lev = self.level(s) if level is None else level
+            hit = self.search.fastest(math.exp(s), warm, hint, level=lev)
             self.tops[s] = hit
+            if hit.status == M_OK:
+                self.best_im = max(self.best_im, hit.z.imag)
+                self.best_rate = max(self.best_rate, math.exp(s) * hit.z.imag)
         return hit
 
-    def sample(self) -> None:
-        """The fastest root at every point of the grid, each search started from the last one's root."""
+    def sample(self, start: tuple[float, complex] | None = None) -> None:
+        """Every point of the grid, from the start (a certified root, e.g. the Rayleigh branch's maximum) outward,
+        each search warm-started from the last root found."""
         prev: tuple[float, complex] | None = None
+        if start is not None:
+            t = self.at(start[0], start[1], start[1].imag, level=self.search.floor)
+            if t.status == M_OK:
+                prev = (start[0], t.z)
         for s in self.s_grid:
             if prev is None:
                 t = self.at(s)
@@ -594,34 +627,43 @@ def _uncertified(tops: dict[float, _Top], value: float, rate: bool) -> bool:
     return False
 
 
-def _analyse_one(s_grid: np.ndarray, par: tuple, floor: float, rayleigh: np.ndarray) -> list[float]:
+def _analyse_one(s_grid: np.ndarray, par: tuple, floor: float, rayleigh: np.ndarray, rate: bool) -> list[float]:
     """One column of :data:`SLIDING_ROWS` for one parameter set; rayleigh: its column of model.growth_chunk on the
-    same grid (the Rayleigh branch's own maximum is one more point searched, so the sliding maximum is never
-    below a certified maximum of the Rayleigh branch)."""
-    an = _Analysis(_Search(*par, floor), s_grid)
-    an.sample()
+    same grid (the Rayleigh branch's own maximum, a certified root, is searched first: the sliding maximum is never
+    below it, and the other kH are searched only above it)."""
+    an = _Analysis(_Search(*par, floor), s_grid, rate)
     growth, s_max, re_max = (float(rayleigh[GROWTH_ROWS.index(k)]) for k in ("growth", "ln_kH_at_max",
                                                                              "re_z_at_max"))
+    start = None
     if math.isfinite(growth) and growth >= floor and an.lo <= s_max <= an.hi:
-        an.at(s_max, complex(re_max, growth), growth)
+        start = (s_max, complex(re_max, growth))
+    an.sample(start)
     reason = _verdict_reason(list(an.tops.values()))
     nan = math.nan
     if reason != S_UNSTABLE:
         return [nan] * 9 + [float(reason), nan, nan]
     im = an.peak(rate=False)
-    rt = an.peak(rate=True)
-    rz = _rayleigh_roots(np.exp([im.s, rt.s]), par)
-    row_im = [im.value, im.s, im.z.real, float(_family(im.z, par[2], rz[0]))]
-    row_rt = [rt.value, rt.s, rt.z.real, rt.z.imag, float(_family(rt.z, par[2], rz[1]))]
+    row_im = [im.value, im.s, im.z.real, nan]
     if _uncertified(an.tops, im.value, rate=False):
         row_im, reason = [nan] * 4, S_UNSTABLE_UNCERTIFIED_MAX
-    if _uncertified(an.tops, rt.value, rate=True):
-        row_rt = [nan] * 5
-    return row_im + row_rt + [float(reason), float(im.at_end), float(rt.at_end)]
+    row_rt = [nan] * 5
+    rt = _Peak()
+    if rate:
+        rt = an.peak(rate=True)
+        if not _uncertified(an.tops, rt.value, rate=True):
+            row_rt = [rt.value, rt.s, rt.z.real, rt.z.imag, nan]
+    ks = [v for v in (row_im[1], row_rt[1]) if math.isfinite(v)]
+    if ks:
+        rz = dict(zip(ks, _rayleigh_roots(np.exp(ks), par), strict=True))
+        if math.isfinite(row_im[1]):
+            row_im[3] = float(_family(im.z, par[2], rz[row_im[1]]))
+        if math.isfinite(row_rt[1]):
+            row_rt[4] = float(_family(rt.z, par[2], rz[row_rt[1]]))
+    return row_im + row_rt + [float(reason), float(im.at_end), float(rt.at_end) if rate else nan]
 
 
 def sliding_chunk(s_grid: np.ndarray, params: np.ndarray, floor: float = DEFAULT_FLOOR,
-                  rayleigh: np.ndarray | None = None) -> np.ndarray:
+                  rayleigh: np.ndarray | None = None, rate: bool = False) -> np.ndarray:
     """Pure function of one chunk: params (6, n) rows gamma, f, beta, eta, Delta, xi -> (12, n) results.
 
     Rows (:data:`SLIDING_ROWS`): the maximum over ln kH in [s_grid[0], s_grid[-1]] of the fastest root's Im z,
@@ -638,7 +680,7 @@ def sliding_chunk(s_grid: np.ndarray, params: np.ndarray, floor: float = DEFAULT
     ray = growth_chunk(s, params) if rayleigh is None else rayleigh
     out = np.empty((len(SLIDING_ROWS), params.shape[1]))
     for j in range(params.shape[1]):
-        out[:, j] = _analyse_one(s, tuple(float(v) for v in params[:, j]), fl, ray[:, j])
+        out[:, j] = _analyse_one(s, tuple(float(v) for v in params[:, j]), fl, ray[:, j], rate)
     return out
 
 
@@ -673,14 +715,19 @@ class SlidingResult:
     rayleigh: GrowthResult
 
 
-def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None,
-                     floor=DEFAULT_FLOOR) -> SlidingResult:
+def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, floor=DEFAULT_FLOOR,
+                     rate: bool = False) -> SlidingResult:
     """Is steady sliding stable? The fastest root of every branch over a kH range (docs/physics.md §14).
 
-    kH : 1-D increasing grid (default :data:`SLIDING_KH`, 17 points over [1e-2, 1e2]); the fastest root is
-    certified at each point (:func:`fastest_mode`), followed from one point to the next, and the maximum is
-    refined between the best point's neighbours (golden-section search, then Newton on the root carrying it).
-    Verdict: stable if no root has Im z >= floor at any kH searched, unstable if one does. Parameters broadcast.
+    kH : 1-D increasing grid (default :data:`SLIDING_KH`, 17 points over [1e-2, 1e2]) whose ends are the range.
+    The Rayleigh branch's maximum (:func:`model.growth_analysis`, returned as ``.rayleigh``) is searched first;
+    then every grid point, each only above the growth found so far (branch and bound: a point below it cannot
+    raise the maximum, and the contour stays away from the real axis), at the floor until a root above it is
+    found. The best point is refined on the root that carries it (followed in kH to where its Im z is stationary,
+    Newton, and certified there). Verdict: stable if no root has Im z >= floor at any kH searched, unstable if
+    one does (:data:`SLIDING_STATUS`). rate=True also gives the maximum of the temporal rate kH Im z (a point is
+    then searched above the lower of the two levels: costlier at finite eta and large kH, where the rate often
+    keeps growing to the end of the range); else those fields are NaN. Parameters broadcast.
     """
     from .stability import _grid, growth_chunk, growth_result
 
@@ -691,7 +738,7 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     params = np.stack([a.reshape(-1) for a in arrays])
     s_grid = np.log(grid)
     ray = growth_chunk(s_grid, params)
-    rows = sliding_chunk(s_grid, params, fl, ray)
+    rows = sliding_chunk(s_grid, params, fl, ray, rate)
     r = dict(zip(SLIDING_ROWS, (row.reshape(shape) for row in rows), strict=True))
     reason = r["verdict_reason_all"]
     verdict = np.where(reason == S_STABLE, 0, np.where(np.isin(reason, (S_UNSTABLE, S_UNSTABLE_UNCERTIFIED_MAX)),
