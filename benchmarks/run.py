@@ -181,6 +181,10 @@ def other_sections() -> str:
 
     text += ("\n## All unstable roots in |Re z| <= 5, im_min <= Im z <= 2 (model.unstable_modes vs cxroots)\n\n"
              + bench_modes.markdown(bench_modes.run()))
+    from benchmarks import bench_sliding
+
+    text += ("\n## Sliding over the whole spectrum (model.sliding_analysis; `benchmarks/bench_sliding.py`)\n\n"
+             + bench_sliding.markdown(bench_sliding.run()) + bench_sliding.oracle_errors())
     from benchmarks import bench_coverage, bench_sweep, bench_thresholds, threshold_accuracy
 
     text += ("\n## Thresholds as certified neutral modes, before and after (model.crossings_chunk; "

@@ -51,7 +51,7 @@ __all__ = [
 
 DEFAULT_FLOOR = 1e-6  # roots with Im z below this are not searched (their e-folding time is > 1e6 H/(c_s kH))
 SLIDING_KH = np.logspace(-2, 2, 17)  # the default kH grid of sliding_analysis (its ends are the range)
-RE_LIMIT = 2000.0  # widest window searched (|Re z| <= RE_LIMIT): wider ones are refused (status "too wide")
+SAMPLE_LIMIT = 4e5  # a window whose bottom edge needs more samples than this (estimated) is refused ("too wide")
 DESCENT = 2.0  # ratio of the levels of the cold search (a band [y/2, y] at a time) ...
 HINT_FACTOR = 0.5  # ... below one band [HINT_FACTOR x the expected growth, top]
 TOP_REL = 1e-6  # a located root at Im z = c is certified the fastest by a count above c (1 - TOP_REL)
@@ -70,8 +70,8 @@ M_OK, M_BELOW, M_WIDE, M_FAILED = 0, 1, 2, 3
 MODE_STATUS = {
     M_OK: "certified: the root of largest Im z in the window (a count finds no other root above it)",
     M_BELOW: "below the floor: no root with Im z >= floor (the window's count is 0)",
-    M_WIDE: "refused: the window at the floor is wider than the search limit (finite eta, small floor: roots just "
-    "above the layers' poles reach far out) and no root was found above the level searched",
+    M_WIDE: "refused: the window at the floor is too wide to search (finite eta, small floor: roots just above the "
+    "layers' poles reach far out; more than 4e5 samples on its edge) and no root was found above the level searched",
     M_FAILED: "refused: the contour count failed (a root on an edge that could not be moved, or too many samples)",
 }
 
@@ -92,10 +92,10 @@ class _Search:
     """One parameter set: the windows, counts and the fastest root at any kH."""
 
     def __init__(self, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float, floor: float,
-                 re_limit: float = RE_LIMIT):
+                 sample_limit: float = SAMPLE_LIMIT):
         self.p = Params(gamma, f, beta, eta, delta, xi)
         self.floor = floor
-        self.re_limit = re_limit
+        self.sample_limit = sample_limit
         self.evaluations = 0
 
     # -- windows ---------------------------------------------------------------------------------
@@ -162,7 +162,7 @@ class _Search:
         that level. None if the window there is too wide or the count fails."""
         lo = max(level, z.imag * (1.0 - TOP_REL))
         x = self.rho(lo, q)
-        if not x <= self.re_limit:
+        if not self.affordable(q, x, lo):
             return None
         n = self.count(q, x, lo, top)
         if n is None:
@@ -183,7 +183,7 @@ class _Search:
         res = self._fastest(q, top, warm, hint, lev)
         if with_count and res.status == M_OK and res.count < 0:
             x = self.rho(self.floor, q)
-            if x <= self.re_limit:
+            if self.affordable(q, x, self.floor):
                 n = self.count(q, x, self.floor, top)
                 res.count = -1 if n is None else n
         elif with_count and res.status == M_BELOW and lev == self.floor:
@@ -240,19 +240,33 @@ class _Search:
             lo = level if cheap else hi / DESCENT
         return _Top(M_BELOW, searched_to=level, count=0 if level == self.floor else -1)
 
+    def affordable(self, q: float, x: float, y: float) -> bool:
+        """Whether the window [-x, x] at height y is within the search limit: the samples its bottom edge needs,
+        estimated as its length over the initial spacing plus five per real-axis pole it sees (finite eta: the
+        families whose poles the edge does not damp, (1 + eta) kH beta_j y < LADDER_DAMPED, spaced
+        pi / ((1 + eta) kH beta_j) in Re z far out), are at most SAMPLE_LIMIT."""
+        if not math.isfinite(x):
+            return False
+        n = 2.0 * x / _spacing(q)
+        if math.isfinite(self.p.eta):
+            for bj in (1.0, self.p.beta):
+                if (1.0 + self.p.eta) * q * bj * y < LADDER_DAMPED:
+                    n += 5.0 * 2.0 * x * (1.0 + self.p.eta) * q * bj / math.pi
+        return n <= self.sample_limit
+
     def lowest_level(self, q: float) -> float:
-        """The lowest level y >= floor whose window is within the search limit, rho(y) <= re_limit (to a relative
-        1e-3, on the safe side): rho decreases with y."""
-        if self.rho(self.floor, q) <= self.re_limit:
+        """The lowest level y >= floor whose window is within the search limit (to a relative 1e-3, on the safe
+        side): the window shrinks as y grows."""
+        if self.affordable(q, self.rho(self.floor, q), self.floor):
             return self.floor
         lo, hi = self.floor, max(2.0 * self.floor, 1.0)
-        while not self.rho(hi, q) <= self.re_limit:
+        while not self.affordable(q, self.rho(hi, q), hi):
             lo, hi = hi, 2.0 * hi
             if hi > 1e6:
                 return math.inf
         while hi - lo > 1e-3 * hi:
             mid = 0.5 * (lo + hi)
-            if self.rho(mid, q) <= self.re_limit:
+            if self.affordable(q, self.rho(mid, q), mid):
                 hi = mid
             else:
                 lo = mid
@@ -572,7 +586,7 @@ def fastest_mode(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, floor=D
     by a count: no other root of F lies above Im z (1 - 1e-6) in the window. Its family (:data:`FAMILIES`)
     compares it with the Rayleigh branch at the same kH (:func:`model.rayleigh_branch`) and else says how fast
     it travels. With count=True, also the number of roots with Im z >= floor (refused, -1, where the window at the
-    floor is wider than the search limit of |Re z| <= 2000: finite eta with a small floor). Arguments broadcast.
+    floor is too wide to search: finite eta with a small floor). Arguments broadcast.
     """
     fl = _floor(floor)
     q = check("kH", kH)

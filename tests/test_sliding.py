@@ -104,6 +104,17 @@ def test_half_space_limit_has_no_growing_root():
 # ------------------------------------------------------------------------------------------------
 
 
+def _floor_of_width(kH: float, p: dict, width: float) -> float:
+    """The lowest floor (to 1e-3 relative) whose window has re_max <= width (re_max falls as the floor rises)."""
+    lo, hi = 1e-6, 1.0
+    if float(model.root_window(kH, **p, floor=lo)[0]) <= width:
+        return lo
+    while hi / lo > 1.001:
+        mid = math.sqrt(lo * hi)
+        lo, hi = (lo, mid) if float(model.root_window(kH, **p, floor=mid)[0]) <= width else (mid, hi)
+    return hi
+
+
 def _random_cases(seed: int) -> list[tuple[float, dict, float]]:
     """Parameter sets whose complete window at their floor is at most 25 wide (the oracle's cost), mostly where
     sliding is unstable, Delta < 1 with xi > 0 in about half: 14 at eta = inf with floor 1e-6, and 12 at finite
@@ -125,9 +136,7 @@ def _random_cases(seed: int) -> list[tuple[float, dict, float]]:
                 inf_cases.append((kH, p, 1e-6))
             continue
         kH = 10 ** rnd.uniform(-0.5, 0.5)
-        search = sliding._Search(p["gamma"], p["f"], p["beta"], p["eta"], p.get("Delta", 1.0), p.get("xi", 0.0),
-                                 1e-6, re_limit=20.0)
-        floor = search.lowest_level(kH)
+        floor = _floor_of_width(kH, p, 20.0)
         if not 1e-3 < floor < 0.05:
             continue
         n = int(model.fastest_mode(kH, **p, floor=floor).count)

@@ -1,0 +1,128 @@
+"""Benchmark of model.sliding_analysis (issue 31): cost per parameter set, and how often sliding (every branch)
+and the Rayleigh branch disagree; the fastest root against the oracle.
+
+The samples are issue 31's: 120 random points each at eta = inf, 10 and 2 with gamma in [0.1, 30] (log), f in
+[0.2, 1.2], beta in [0.08, 0.68], Delta in [0.2, 1], xi = 1, on the default kH grid (model.SLIDING_KH, 17 points
+over [1e-2, 1e2]) and the default floor 1e-6. Each point is one call of model.sliding_analysis (warm: the kernels
+are compiled before the first timed call), which also gives the Rayleigh branch alone on the same grid
+(`.rayleigh`, model.growth_analysis). Timings are on this machine while other jobs may run: compare ratios.
+Run ``python benchmarks/bench_sliding.py`` (about 1 minute).
+"""
+
+from __future__ import annotations
+
+import math
+import statistics
+import sys
+import time
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+import model  # noqa: E402
+from tests import oracle  # noqa: E402
+
+ETAS = (math.inf, 10.0, 2.0)
+N = 120
+SEED = 31
+VERDICT = {0: "stable", 1: "unstable", 2: "undetermined"}
+
+
+def sample(eta: float, n: int = N, seed: int = SEED) -> list[dict]:
+    """Issue 31's random parameter sets at one eta."""
+    rng = np.random.default_rng([seed, 0 if math.isinf(eta) else int(eta)])
+    return [dict(gamma=float(10 ** rng.uniform(-1, math.log10(30))), f=float(rng.uniform(0.2, 1.2)),
+                 beta=float(rng.uniform(0.08, 0.68)), Delta=float(rng.uniform(0.2, 1.0)), xi=1.0, eta=eta)
+            for _ in range(n)]
+
+
+def run(etas: tuple[float, ...] = ETAS, n: int = N) -> dict[float, list[dict]]:
+    """Per eta, one record per point: the time, both verdicts, both growths and the family at the maximum."""
+    model.sliding_analysis(gamma=3.0, f=0.9, beta=0.3)  # compile / load the kernels
+    model.sliding_analysis(gamma=3.0, f=0.9, beta=0.3, eta=10.0)
+    out: dict[float, list[dict]] = {}
+    for eta in etas:
+        rows = []
+        for p in sample(eta, n):
+            t0 = time.perf_counter()
+            r = model.sliding_analysis(**p)
+            dt = time.perf_counter() - t0
+            rows.append(dict(p=p, seconds=dt, rayleigh=int(r.rayleigh.verdict), sliding=int(r.verdict),
+                             reason=int(r.verdict_reason), g_r=float(r.rayleigh.growth), g_s=float(r.growth),
+                             family=int(r.family), kH=float(r.kH_at_max), at_end=bool(r.max_at_end)))
+        out[eta] = rows
+    return out
+
+
+def _eta(eta: float) -> str:
+    return "inf" if math.isinf(eta) else f"{eta:g}"
+
+
+def markdown(results: dict[float, list[dict]]) -> str:
+    """The cost table, the verdict table and the families at the maximum."""
+    lines = ["Cost per parameter set of `model.sliding_analysis` (17 kH over [1e-2, 1e2], floor 1e-6; targets of "
+             "issue 31: median <= 10 ms at eta = inf, <= 100 ms at eta = 10):", "",
+             "| eta | points | median [ms] | 90th percentile [ms] | max [ms] |", "|---|---|---|---|---|"]
+    for eta, rows in results.items():
+        ms = sorted(1e3 * r["seconds"] for r in rows)
+        lines.append(f"| {_eta(eta)} | {len(rows)} | {statistics.median(ms):.1f} | {ms[int(0.9 * (len(ms) - 1))]:.1f} "
+                     f"| {ms[-1]:.1f} |")
+    lines += ["", "Verdicts (Rayleigh branch alone -> sliding, every branch), and where sliding is unstable how the "
+              "fastest root compares with the Rayleigh branch's maximum:", "",
+              "| eta | Rayleigh stable -> sliding unstable | Rayleigh stable -> sliding stable | Rayleigh unstable "
+              "-> sliding unstable | Rayleigh undetermined -> sliding (stable / unstable / undetermined) | sliding "
+              "undetermined | fastest root faster than the Rayleigh branch (x1.01) | maximum at an end of the kH range "
+              "| families at the maximum |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    for eta, rows in results.items():
+        pairs = Counter((r["rayleigh"], r["sliding"]) for r in rows)
+        n_ray0 = sum(v for (a, _), v in pairs.items() if a == 0)
+        n_ray1 = sum(v for (a, _), v in pairs.items() if a == 1)
+        und = "/".join(str(pairs[(2, b)]) for b in (0, 1, 2))
+        faster = sum(1 for r in rows if r["sliding"] == 1 and math.isfinite(r["g_s"])
+                     and (r["rayleigh"] != 1 or r["g_s"] > 1.01 * r["g_r"]))
+        fams = Counter(model.FAMILIES.get(r["family"], "maximum not certified").split(" (")[0] for r in rows
+                       if r["sliding"] == 1)
+        ends = sum(1 for r in rows if r["sliding"] == 1 and r["at_end"])
+        fam_text = ", ".join(f"{k}: {v}" for k, v in sorted(fams.items()))
+        lines.append(f"| {_eta(eta)} | {pairs[(0, 1)]} of {n_ray0} | {pairs[(0, 0)]} of {n_ray0} | {pairs[(1, 1)]} of "
+                     f"{n_ray1} | {und} | {sum(1 for r in rows if r['sliding'] == 2)} | {faster} | {ends} | {fam_text} |")
+    reasons = Counter((_eta(eta), r["reason"]) for eta, rows in results.items() for r in rows
+                      if r["sliding"] == 2 or r["reason"] == 4)
+    if reasons:
+        lines += ["", "Undetermined or uncertified maxima: " + ", ".join(
+            f"eta = {e}: {n} x '{model.SLIDING_STATUS[c]}'" for (e, c), n in sorted(reasons.items()))]
+    return "\n".join(lines) + "\n"
+
+
+def oracle_errors(n: int = 8) -> str:
+    """The fastest root and the count above the floor against the oracle on a few of the test's random cases."""
+    from tests.test_sliding import ORACLE_CASES
+
+    worst, agree, roots = 0.0, 0, 0
+    for kH, p, floor in ORACLE_CASES[:: max(1, len(ORACLE_CASES) // n)]:
+        fm = model.fastest_mode(kH, **p, floor=floor)
+        args = dict(gamma=p["gamma"], f=p["f"], beta=p["beta"], eta=p.get("eta", math.inf),
+                    Delta=p.get("Delta", 1.0), xi=p.get("xi", 0.0))
+        z_o, n_o = oracle.fastest_root(kH, **args, re_max=float(fm.re_max), im_min=floor, im_max=float(fm.im_max))
+        agree += int(fm.count) == n_o
+        if z_o is not None:
+            roots += 1
+            worst = max(worst, abs(complex(fm.z) - complex(z_o)) / abs(complex(z_o)))
+    return (f"\nAgainst the oracle (tests/oracle.py §8, 20 digits, its own contour sampling) on "
+            f"{len(ORACLE_CASES[:: max(1, len(ORACLE_CASES) // n)])} of tests/test_sliding.py's random cases: counts "
+            f"above the floor equal in {agree}; the fastest root's largest relative error {worst:.1e} "
+            f"({roots} cases with a root).\n")
+
+
+def main() -> None:
+    text = markdown(run()) + oracle_errors()
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
