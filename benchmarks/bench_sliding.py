@@ -89,8 +89,9 @@ def markdown(results: dict[float, list[dict]]) -> str:
                        if r["sliding"] == 1)
         ends = sum(1 for r in rows if r["sliding"] == 1 and r["at_end"])
         fam_text = ", ".join(f"{k}: {v}" for k, v in sorted(fams.items()))
+        n_und = sum(1 for r in rows if r["sliding"] == 2)
         lines.append(f"| {_eta(eta)} | {pairs[(0, 1)]} of {n_ray0} | {pairs[(0, 0)]} of {n_ray0} | {pairs[(1, 1)]} of "
-                     f"{n_ray1} | {und} | {sum(1 for r in rows if r['sliding'] == 2)} | {faster} | {ends} | {fam_text} |")
+                     f"{n_ray1} | {und} | {n_und} | {faster} | {ends} | {fam_text} |")
     reasons = Counter((_eta(eta), r["reason"]) for eta, rows in results.items() for r in rows
                       if r["sliding"] == 2 or r["reason"] == 4)
     if reasons:
