@@ -6,7 +6,7 @@ The samples are issue 31's: 120 random points each at eta = inf, 10 and 2 with g
 over [1e-2, 1e2]) and the default floor 1e-6. Each point is one call of model.sliding_analysis (warm: the kernels
 are compiled before the first timed call), which also gives the Rayleigh branch alone on the same grid
 (`.rayleigh`, model.growth_analysis). Timings are on this machine while other jobs may run: compare ratios.
-Run ``python benchmarks/bench_sliding.py`` (about 1 minute).
+Run ``python benchmarks/bench_sliding.py`` (about 5 minutes).
 """
 
 from __future__ import annotations
@@ -100,6 +100,33 @@ def markdown(results: dict[float, list[dict]]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def denser_grid(results: dict[float, list[dict]], n_dense: int = 129, limits: dict | None = None) -> str:
+    """How often the default 17-point grid's verdict or maximum differs from a grid of n_dense points over the same
+    range (the roots the search misses between grid points, docs/physics.md §14.7)."""
+    limits = {math.inf: N, 10.0: 40} if limits is None else limits
+    grid = np.logspace(-2, 2, n_dense)
+    lines = [f"\nAgainst a {n_dense}-point kH grid over the same range (same floor): sets whose verdict or maximum (to "
+             "1e-9 relative) differs from the default grid's, and by how much the dense grid's maximum is larger:", "",
+             "| eta | sets | differ | dense / default maximum (where both unstable) | verdicts differ |",
+             "|---|---|---|---|---|"]
+    for eta, n in limits.items():
+        rows = results.get(eta, [])[:n]
+        diff, ratios, verdicts = 0, [], 0
+        for r in rows:
+            d = model.sliding_analysis(**r["p"], kH=grid)
+            gd, ga = float(d.growth), r["g_s"]
+            same_v = int(d.verdict) == r["sliding"]
+            same_g = (math.isnan(gd) and math.isnan(ga)) or abs(gd - ga) <= 1e-9 * max(abs(gd), 1e-300)
+            if not (same_v and same_g):
+                diff += 1
+                verdicts += not same_v
+                if same_v and math.isfinite(gd) and math.isfinite(ga) and ga > 0:
+                    ratios.append(gd / ga)
+        rtext = ", ".join(f"{x:.3g}" for x in sorted(ratios)) or "-"
+        lines.append(f"| {_eta(eta)} | {len(rows)} | {diff} | {rtext} | {verdicts} |")
+    return "\n".join(lines) + "\n"
+
+
 def oracle_errors(n: int = 8) -> str:
     """The fastest root and the count above the floor against the oracle on a few of the test's random cases."""
     from tests.test_sliding import ORACLE_CASES
@@ -121,7 +148,8 @@ def oracle_errors(n: int = 8) -> str:
 
 
 def main() -> None:
-    text = markdown(run()) + oracle_errors()
+    results = run()
+    text = markdown(results) + denser_grid(results) + oracle_errors()
     print(text)
 
 

@@ -51,7 +51,8 @@ __all__ = [
 
 DEFAULT_FLOOR = 1e-6  # roots with Im z below this are not searched (their e-folding time is > 1e6 H/(c_s kH))
 SLIDING_KH = np.logspace(-2, 2, 17)  # the default kH grid of sliding_analysis (its ends are the range)
-SAMPLE_LIMIT = 4e5  # a window whose bottom edge needs more samples than this (estimated) is refused ("too wide")
+SAMPLE_LIMIT = 2e5  # a window whose bottom edge needs more samples than this (estimated) is refused ("too wide")
+POLE_SAMPLES = 25.0  # samples per real-axis pole per level of its graded seeds (the estimate of _Search.affordable)
 DESCENT = 2.0  # ratio of the levels of the cold search (a band [y/2, y] at a time) ...
 HINT_FACTOR = 0.5  # ... below one band [HINT_FACTOR x the expected growth, top]
 TOP_REL = 1e-6  # a located root at Im z = c is certified the fastest by a count above c (1 - TOP_REL)
@@ -71,7 +72,7 @@ MODE_STATUS = {
     M_OK: "certified: the root of largest Im z in the window (a count finds no other root above it)",
     M_BELOW: "below the floor: no root with Im z >= floor (the window's count is 0)",
     M_WIDE: "refused: the window at the floor is too wide to search (finite eta, small floor: roots just above the "
-    "layers' poles reach far out; more than 4e5 samples on its edge) and no root was found above the level searched",
+    "layers' poles reach far out; more than 2e5 samples on its edge) and no root was found above the level searched",
     M_FAILED: "refused: the contour count failed (a root on an edge that could not be moved, or too many samples)",
 }
 
@@ -242,16 +243,18 @@ class _Search:
 
     def affordable(self, q: float, x: float, y: float) -> bool:
         """Whether the window [-x, x] at height y is within the search limit: the samples its bottom edge needs,
-        estimated as its length over the initial spacing plus five per real-axis pole it sees (finite eta: the
+        estimated as its length over the initial spacing plus, for each real-axis pole it sees (finite eta: the
         families whose poles the edge does not damp, (1 + eta) kH beta_j y < LADDER_DAMPED, spaced
-        pi / ((1 + eta) kH beta_j) in Re z far out), are at most SAMPLE_LIMIT."""
+        d = pi / ((1 + eta) kH beta_j) in Re z far out), POLE_SAMPLES x (1 + log3(d / y)) samples (measured: the
+        graded seeds and the refinement between them), are at most SAMPLE_LIMIT."""
         if not math.isfinite(x):
             return False
         n = 2.0 * x / _spacing(q)
         if math.isfinite(self.p.eta):
             for bj in (1.0, self.p.beta):
                 if (1.0 + self.p.eta) * q * bj * y < LADDER_DAMPED:
-                    n += 5.0 * 2.0 * x * (1.0 + self.p.eta) * q * bj / math.pi
+                    d = math.pi / ((1.0 + self.p.eta) * q * bj)
+                    n += 2.0 * x / d * POLE_SAMPLES * (1.0 + max(0.0, math.log(d / y) / math.log(3.0)))
         return n <= self.sample_limit
 
     def lowest_level(self, q: float) -> float:
@@ -412,6 +415,10 @@ STATIONARY_H = 1e-5  # the difference step (in ln kH) of d(objective)/d ln kH al
 FOLLOW_ROUNDS = 4  # Newton rounds on the stationary point, then certified there; a higher root found starts again
 STATIONARY_TOL = 1e-10  # |step in ln kH| at which the stationary point has converged
 END_TOL = 1e-12  # a maximum within this of an end of the range (in ln kH) lies at that end
+TRACK_FRACTION = 0.125  # roots above this x the maximum (and the floor) at a grid point are followed to their peaks
+TRACK_FRACTION_FINITE = 0.25  # ... at finite eta (the stack's resonances: many roots, slower to locate)
+CERT_MARGIN = 1e-9  # a peak counts as higher than the maximum M above M (1 + CERT_MARGIN)
+CERT_ROUNDS = 6  # rounds of refining the maximum and following the roots between the grid points
 
 
 @dataclass
@@ -435,6 +442,7 @@ class _Analysis:
         self.lo, self.hi = self.s_grid[0], self.s_grid[-1]
         self.rate = rate
         self.tops: dict[float, _Top] = {}
+        self.untracked: list[tuple[float, float]] = []  # grid points where roots could not be tracked (refused)
         self.best_im = -math.inf  # the largest Im z and kH Im z of the roots found
         self.best_rate = -math.inf
 
@@ -528,6 +536,112 @@ class _Analysis:
             return False
         self.at(s, z, z.imag)
         return True
+
+
+    # -- between the points searched ------------------------------------------------------------------------
+    def roots_above(self, s: float, level: float) -> list[tuple[complex, complex]] | None:
+        """Every root with Im z >= level at ln kH = s, with its dz/d ln kH (None if the window there is refused)."""
+        q = math.exp(s)
+        top = self.search.top(q)
+        if not top > level:
+            return []
+        x = self.search.rho(level, q)
+        if not self.search.affordable(q, x, level):
+            return None
+        n = self.search.count(q, x, level, top)  # the compiled count first: most points hold none
+        if n is None:
+            return None
+        if n == 0:
+            return []
+        prob = _Problem(q, *self.search.p, x, level, top)
+        prob.h0 = _spacing(q)
+        prob.poles, prob.half = _singularities(q, self.search.p.beta, self.search.p.eta, x, level)
+        try:
+            cell, n = prob.outer()
+            roots = prob.locate(cell, n) if n else []
+        except RuntimeError:
+            return None
+        finally:
+            self.search.evaluations += prob.evaluations
+        out = []
+        for z in roots:
+            got = self.search.polish(complex(z), q)
+            if got is not None and abs(got[0] - z) <= 1e-10 * abs(z):
+                out.append(got)
+        return out
+
+    def follow_to_peak(self, z: complex, dz: complex, s: float, end: float) -> tuple[float, complex] | None:
+        """Follow the root z (slope dz) from ln kH = s towards `end` while its Im z rises; where it stops rising
+        inside, the stationary point by Newton (as :meth:`refine`). (s, z) of that peak, or None if Im z falls from
+        the start, rises all the way to `end` (the root is there: the search at `end` covers it), or the root is
+        lost (it leaves the physical sheet through a cut)."""
+        sign = 1.0 if end > s else -1.0
+        if not math.isfinite(dz.real) or sign * dz.imag <= 0.0:
+            return None
+        cap = FOLLOW_STEP
+        for _ in range(FOLLOW_ITERS):
+            if cap < STATIONARY_TOL:
+                return None
+            s_new = s + sign * min(cap, abs(end - s))
+            pred = z + dz * (s_new - s)
+            got = self.search.polish(pred, math.exp(s_new))
+            if got is None or abs(got[0] - pred) > 0.1 * abs(pred - z) + 1e-12 * abs(z):
+                cap *= 0.5
+                continue
+            if sign * got[1].imag <= 0.0:  # passed the peak: Newton on the stationary point from here
+                return self.stationary(got[0], got[1], s_new)
+            z, dz, s = got[0], got[1], s_new
+            if s == end:
+                return None
+            cap = min(FOLLOW_STEP, 2.0 * cap)
+        return None
+
+    def stationary(self, z: complex, dz: complex, s: float) -> tuple[float, complex] | None:
+        """Newton on Im dz/d ln kH = 0 along the root z from ln kH = s (g' by a difference over STATIONARY_H)."""
+        for _ in range(12):
+            other = self.search.polish(z + dz * STATIONARY_H, math.exp(s + STATIONARY_H))
+            if other is None:
+                return None
+            dg = (other[1].imag - dz.imag) / STATIONARY_H
+            if not dg < 0.0:
+                return None
+            step = max(-FOLLOW_STEP, min(FOLLOW_STEP, -dz.imag / dg))
+            s_new = min(max(s + step, self.lo), self.hi)
+            pred = z + dz * (s_new - s)
+            got = self.search.polish(pred, math.exp(s_new))
+            if got is None or abs(got[0] - pred) > 0.1 * abs(pred - z) + 1e-12 * abs(z):
+                return None
+            z, dz, s_prev, s = got[0], got[1], s, s_new
+            if abs(s - s_prev) <= STATIONARY_TOL:
+                break
+        return s, z
+
+    def follow_and_search(self, z: complex, dz: complex, s: float, end: float, best: float) -> bool:
+        """Follow the root z from ln kH = s towards `end` to its peak; search there if the peak is above `best`."""
+        peak = self.follow_to_peak(z, dz, s, end)
+        if peak is None or not peak[1].imag > best * (1.0 + CERT_MARGIN) or peak[0] in self.tops:
+            return False
+        t = self.at(peak[0], peak[1], peak[1].imag, level=best)
+        return t.status == M_OK and t.z.imag > best
+
+    def track(self, best: float) -> bool:
+        """Between the grid points: every root with Im z >= max(floor, TRACK_FRACTION x best) at a grid point is
+        followed into both neighbouring intervals to where its Im z peaks; a peak above `best` is searched there
+        (certified). True if a root higher than `best` was found."""
+        frac = TRACK_FRACTION if math.isinf(self.search.p.eta) else TRACK_FRACTION_FINITE
+        level = max(self.search.floor, frac * best)
+        grid = self.s_grid
+        higher = False
+        for i, s in enumerate(grid):
+            roots = self.roots_above(s, level)
+            if roots is None:
+                self.untracked.append((s, level))
+                continue
+            for z, dz in roots:
+                for j in (i - 1, i + 1):
+                    if 0 <= j < len(grid):
+                        higher = self.follow_and_search(z, dz, s, grid[j], best) or higher
+        return higher
 
 
 def _family(z: complex, beta: float, rayleigh_z: complex) -> int:
@@ -656,24 +770,32 @@ def _analyse_one(s_grid: np.ndarray, par: tuple, floor: float, rayleigh: np.ndar
     nan = math.nan
     if reason != S_UNSTABLE:
         return [nan] * 9 + [float(reason), nan, nan]
-    im = an.peak(rate=False)
+    im, certified = _certified_peak(an)
     row_im = [im.value, im.s, im.z.real, nan]
-    if _uncertified(an.tops, im.value, rate=False):
+    if not certified:
         row_im, reason = [nan] * 4, S_UNSTABLE_UNCERTIFIED_MAX
+    rt = an.peak(rate=True) if rate else _Peak()
     row_rt = [nan] * 5
-    rt = _Peak()
-    if rate:
-        rt = an.peak(rate=True)
-        if not _uncertified(an.tops, rt.value, rate=True):
-            row_rt = [rt.value, rt.s, rt.z.real, rt.z.imag, nan]
+    if rate and not _uncertified(an.tops, rt.value, rate=True):
+        row_rt = [rt.value, rt.s, rt.z.real, rt.z.imag, nan]
     ks = [v for v in (row_im[1], row_rt[1]) if math.isfinite(v)]
-    if ks:
-        rz = dict(zip(ks, _rayleigh_roots(np.exp(ks), par), strict=True))
-        if math.isfinite(row_im[1]):
-            row_im[3] = float(_family(im.z, par[2], rz[row_im[1]]))
-        if math.isfinite(row_rt[1]):
-            row_rt[4] = float(_family(rt.z, par[2], rz[row_rt[1]]))
+    rz = dict(zip(ks, _rayleigh_roots(np.exp(ks), par), strict=True)) if ks else {}
+    if math.isfinite(row_im[1]):
+        row_im[3] = float(_family(im.z, par[2], rz[row_im[1]]))
+    if math.isfinite(row_rt[1]):
+        row_rt[4] = float(_family(rt.z, par[2], rz[row_rt[1]]))
     return row_im + row_rt + [float(reason), float(im.at_end), float(rt.at_end) if rate else nan]
+
+
+def _certified_peak(an: _Analysis) -> tuple[_Peak, bool]:
+    """The maximum of Im z, refined, then the roots followed between the grid points (_Analysis.track): a root found
+    higher starts another round. Certified unless a search was refused above it."""
+    im = an.peak(rate=False)
+    for _ in range(CERT_ROUNDS):
+        if not an.track(im.value):
+            break
+        im = an.peak(rate=False)
+    return im, not _uncertified(an.tops, im.value, rate=False)
 
 
 def sliding_chunk(s_grid: np.ndarray, params: np.ndarray, floor: float = DEFAULT_FLOOR,

@@ -430,8 +430,13 @@ def _params6(name: str, params: np.ndarray) -> np.ndarray:
 
 
 def crossings_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: tuple[float, float] | None = None,
-                    rtol: float | None = None, max_crossings: int = MAX_CROSSINGS) -> Crossings:
+                    rtol: float | None = None, max_crossings: int = MAX_CROSSINGS, branches: str = "rayleigh",
+                    floor: float | None = None) -> Crossings:
     """Every crossing of the max growth in gamma or eta for every parameter set of one chunk (Sect. IV; §9).
+
+    branches : "rayleigh" (default: the Rayleigh branch's max growth, as the paper) or "all" (the max growth over
+    every branch, model.sliding_analysis's, with its growth floor `floor`, default model.DEFAULT_FLOOR: every
+    change of the sliding verdict solved as the neutral mode of the root that crosses, docs/physics.md §14.10).
 
     name : "gamma" or "eta"; s_grid : the ln kH grid (its ends are the kH range of the max growth);
     params : (6, n) in growth_chunk's layout (rows gamma, f, beta, eta, Delta, xi) with the row of `name` ignored,
@@ -449,6 +454,12 @@ def crossings_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: t
         raise ValueError(f"max_crossings must be an integer >= 1; got {max_crossings!r}")
     p = _params6(name, params)
     s = np.ascontiguousarray(s_grid, dtype=float)
+    if _branches(branches) == "all":
+        from .sliding import DEFAULT_FLOOR, _floor
+        from .sliding_thresholds import all_crossings_chunk
+
+        fl = _floor(DEFAULT_FLOOR if floor is None else floor)
+        return all_crossings_chunk(THRESHOLD_ROWS[name], name, s, p, (lo, hi), fl, int(max_crossings))
     n = p.shape[1]
     res = _empty(n, int(max_crossings), name)
     which = THRESHOLD_ROWS[name]
@@ -460,6 +471,13 @@ def crossings_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: t
         crossings, scan = _point_crossings(pt, ts, rows[k])
         _fill(res, i, pt, crossings, scan)
     return res
+
+
+def _branches(branches) -> str:
+    """The branches argument, validated: "rayleigh" or "all"."""
+    if branches not in ("rayleigh", "all"):
+        raise ValueError(f'branches must be "rayleigh" (the Rayleigh branch) or "all" (every branch); got {branches!r}')
+    return branches
 
 
 def critical_gamma_chunk(s_grid: np.ndarray, params: np.ndarray, *, gamma_range: tuple[float, float] = (1e-2, 1e3),
@@ -513,13 +531,14 @@ class ThresholdChunk:
 
 
 def threshold_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: tuple[float, float] | None = None,
-                    rtol: float | None = None) -> ThresholdChunk:
+                    rtol: float | None = None, branches: str = "rayleigh", floor: float | None = None
+                    ) -> ThresholdChunk:
     """The threshold of gamma or eta (the first certified crossing) for every parameter set of one chunk.
 
     Arguments as :func:`crossings_chunk`; the first certified crossing and, where there is none, the first sign
     change's location and bracket (so a jump's location is kept) and the reason (:data:`THRESHOLD_STATUS`).
     """
-    r = crossings_chunk(name, s_grid, params, bounds, rtol)
+    r = crossings_chunk(name, s_grid, params, bounds, rtol, MAX_CROSSINGS, branches, floor)
     n = r.value.shape[0]
     ok = (r.reason == X_CERTIFIED) | (r.reason == X_EDGE)
     k = np.where(ok.any(axis=1), np.argmax(ok, axis=1), 0)
@@ -532,10 +551,19 @@ def threshold_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: t
                           r.n_undetermined, r.evaluations)
 
 
-def _no_threshold_message(name: str, bounds: tuple[float, float], r: ThresholdChunk, i: int) -> str:
+def _no_threshold_message(name: str, bounds: tuple[float, float], r: ThresholdChunk, i: int,
+                          branches: str = "rayleigh") -> str:
     """The ValueError text for element i of r (reason != 0): the parameter, the range and why."""
     valid = f"[{bounds[0]:g}, {bounds[1]:g}]"
     code = int(r.reason[i])
+    if branches == "all":
+        why = {T_STABLE: "sliding is stable throughout (no root of any branch above the floor at any scan value)",
+               T_UNSTABLE: "sliding is unstable throughout (a root above the floor at every scan value)",
+               T_UNDEFINED: "the sliding verdict is undetermined where it would change",
+               T_JUMP: f"the sliding verdict changes with no neutral mode at {name} = {r.location[i]:.10g}",
+               T_NOT_CERTIFIED: f"the sliding verdict changes at {name} = {r.location[i]:.10g}, but no neutral mode "
+               "there passed the certificates"}.get(code, THRESHOLD_STATUS.get(code, f"reason {code}"))
+        return f"no sliding threshold (every branch) for {name} in {valid}: {why}"
     span = f"between {r.growth_min[i]:.3g} and {r.growth_max[i]:.3g}"
     nu = int(r.n_undetermined[i])
     if nu:
@@ -560,11 +588,16 @@ def _broadcast(fixed: dict) -> tuple[dict[str, np.ndarray], tuple[int, ...]]:
     return dict(zip(fixed, (a.ravel().astype(float) for a in arrays), strict=True)), arrays[0].shape
 
 
-def _chunks(name: str, bounds, kH, fixed: dict, rtol, workers: int | None, fun):
-    """fun(name, s, params_chunk, bounds, rtol) over chunks of CHUNK parameter sets on `workers` threads."""
+def _chunks(name: str, bounds, kH, fixed: dict, rtol, workers: int | None, fun, branches: str = "rayleigh"):
+    """fun(name, s, params_chunk, bounds, rtol) over chunks of CHUNK parameter sets on `workers` threads (the default
+    kH grid: DEFAULT_KH for the Rayleigh branch, model.SLIDING_KH for every branch)."""
     bounds = check_range(f"{name}_range", bounds, name)
     check_rtol(rtol)
     cols, shape = _broadcast(fixed)
+    if kH is None and _branches(branches) == "all":
+        from .sliding import SLIDING_KH
+
+        kH = SLIDING_KH
     s = np.log(DEFAULT_KH if kH is None else _grid(kH))
     n = int(np.prod(shape))
     cols[name] = np.full(n, np.nan)
@@ -587,13 +620,17 @@ def _grid(kH) -> np.ndarray:
     return q
 
 
-def _thresholds(name: str, bounds, kH, fixed: dict, rtol: float | None, workers: int | None):
+def _thresholds(name: str, bounds, kH, fixed: dict, rtol: float | None, workers: int | None,
+                branches: str = "rayleigh", floor: float | None = None):
     """The first certified threshold of `name` for every element of the broadcast fixed parameters."""
-    parts, cols, shape, bounds = _chunks(name, bounds, kH, fixed, rtol, workers, threshold_chunk)
+    def fun(name_, s, c, b, r):
+        return threshold_chunk(name_, s, c, b, r, branches, floor)
+
+    parts, cols, shape, bounds = _chunks(name, bounds, kH, fixed, rtol, workers, fun, branches)
     for c, part in enumerate(parts):
         bad = np.flatnonzero(part.reason != T_FOUND)
         if bad.size:
-            msg = _no_threshold_message(name, bounds, part, int(bad[0]))
+            msg = _no_threshold_message(name, bounds, part, int(bad[0]), branches)
             if shape:  # which element of the broadcast input
                 i = c * CHUNK + int(bad[0])
                 at = ", ".join(f"{k} = {cols[k][i]:.6g}" for k in fixed)
@@ -603,12 +640,13 @@ def _thresholds(name: str, bounds, kH, fixed: dict, rtol: float | None, workers:
     return out.reshape(shape) if shape else float(out[0])
 
 
-def _all_crossings(name: str, bounds, kH, fixed: dict, rtol, workers, max_crossings: int) -> Crossings:
+def _all_crossings(name: str, bounds, kH, fixed: dict, rtol, workers, max_crossings: int, branches: str = "rayleigh",
+                   floor: float | None = None) -> Crossings:
     """crossings_chunk over the broadcast fixed parameters, reshaped to their shape (+ the crossing axis)."""
     def fun(name_, s, c, b, r):
-        return crossings_chunk(name_, s, c, b, r, max_crossings)
+        return crossings_chunk(name_, s, c, b, r, max_crossings, branches, floor)
 
-    parts, _, shape, _ = _chunks(name, bounds, kH, fixed, rtol, workers, fun)
+    parts, _, shape, _ = _chunks(name, bounds, kH, fixed, rtol, workers, fun, branches)
     k = int(max_crossings)
     out = {}
     for f_ in Crossings.__dataclass_fields__:
@@ -621,7 +659,8 @@ def _all_crossings(name: str, bounds, kH, fixed: dict, rtol, workers, max_crossi
 
 def critical_gammas(*, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, gamma_range=(1e-2, 1e3),
                     rtol: float | None = None, workers: int | None = None,
-                    max_crossings: int = MAX_CROSSINGS) -> Crossings:
+                    max_crossings: int = MAX_CROSSINGS, branches: str = "rayleigh",
+                    floor: float | None = None) -> Crossings:
     """Every crossing in gamma of the max growth on the Rayleigh branch, each solved as a neutral mode and certified.
 
     Sect. IV, Fig. 4c; docs/physics.md §9. Returns :class:`Crossings` with the shape of the broadcast parameters
@@ -631,21 +670,25 @@ def critical_gammas(*, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, gamma_
     the first certified one (`.first`, what :func:`critical_gamma` returns). kH: the grid whose ends are the kH
     range of the max growth (default DEFAULT_KH, [1e-4, 1e4]); the work is split into chunks run on `workers`
     threads. Never raises for a parameter set without crossings: count 0 and status say why.
+    branches="all": the crossings of the max growth over every branch instead (the sliding verdict of
+    :func:`model.sliding_analysis` with its `floor`; default kH :data:`model.SLIDING_KH`; docs/physics.md §14.10).
     """
     return _all_crossings("gamma", gamma_range, kH, dict(f=f, beta=beta, eta=eta, Delta=Delta, xi=xi), rtol,
-                          workers, max_crossings)
+                          workers, max_crossings, branches, floor)
 
 
 def critical_etas(*, gamma, f, beta, Delta=1.0, xi=0.0, kH=None, eta_range=(1.0, 1e8), rtol: float | None = None,
-                  workers: int | None = None, max_crossings: int = MAX_CROSSINGS) -> Crossings:
-    """Every crossing in eta of the max growth on the Rayleigh branch, solved and certified: :func:`critical_gammas`
-    with eta scanned over eta_range (log-spaced)."""
+                  workers: int | None = None, max_crossings: int = MAX_CROSSINGS, branches: str = "rayleigh",
+                  floor: float | None = None) -> Crossings:
+    """Every crossing in eta of the max growth on the Rayleigh branch (or over every branch, branches="all"), solved
+    and certified: :func:`critical_gammas` with eta scanned over eta_range (log-spaced)."""
     return _all_crossings("eta", eta_range, kH, dict(gamma=gamma, f=f, beta=beta, Delta=Delta, xi=xi), rtol,
-                          workers, max_crossings)
+                          workers, max_crossings, branches, floor)
 
 
 def critical_gamma(*, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, gamma_range=(1e-2, 1e3),
-                   rtol: float | None = None, workers: int | None = None):
+                   rtol: float | None = None, workers: int | None = None, branches: str = "rayleigh",
+                   floor: float | None = None):
     """gamma at which the max growth on the Rayleigh branch first changes sign in gamma_range: a certified neutral
     mode, to ~1e-12 relative.
 
@@ -655,16 +698,19 @@ def critical_gamma(*, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, gamma_r
     side below may be the unstable one); never a jump of the max growth or a pole-dense mode. ValueError naming
     gamma, the range and why (stable throughout, unstable throughout, undefined, a jump, pole-dense, not certified)
     if an element has no certified crossing in gamma_range. kH: the grid (default DEFAULT_KH); rtol: validated
-    (see :func:`crossings_chunk`); the work is split into chunks run on `workers` threads.
+    (see :func:`crossings_chunk`); the work is split into chunks run on `workers` threads. branches="all": the
+    first certified change of the sliding verdict over every branch (with its `floor`; docs/physics.md §14.10).
     """
-    return _thresholds("gamma", gamma_range, kH, dict(f=f, beta=beta, eta=eta, Delta=Delta, xi=xi), rtol, workers)
+    return _thresholds("gamma", gamma_range, kH, dict(f=f, beta=beta, eta=eta, Delta=Delta, xi=xi), rtol, workers,
+                       branches, floor)
 
 
 def critical_eta(*, gamma, f, beta, Delta=1.0, xi=0.0, kH=None, eta_range=(1.0, 1e8), rtol: float | None = None,
-                 workers: int | None = None):
+                 workers: int | None = None, branches: str = "rayleigh", floor: float | None = None):
     """eta at which the max growth on the Rayleigh branch first changes sign in eta_range (certified), ~1e-12.
 
     Sect. IV; docs/physics.md §9. Check value: 3.2982 for gamma = 3, f = 0.9, beta = 0.3 (paper: "~3.3").
     As :func:`critical_gamma` with eta scanned over eta_range; ValueError without a certified crossing.
     """
-    return _thresholds("eta", eta_range, kH, dict(gamma=gamma, f=f, beta=beta, Delta=Delta, xi=xi), rtol, workers)
+    return _thresholds("eta", eta_range, kH, dict(gamma=gamma, f=f, beta=beta, Delta=Delta, xi=xi), rtol, workers,
+                       branches, floor)

@@ -683,17 +683,19 @@ def _neutral_params(p: Params, which: str, t: mpmath.mpf) -> Params:
     return dataclasses.replace(p, **{which: mp.exp(t)})
 
 
-def _neutral_residual(p: Params, which: str, v: list, edge_s: mpmath.mpf | None) -> list:
+def _neutral_residual(p: Params, which: str, v: list, edge_s: mpmath.mpf | None, lip: mpmath.mpf = 0) -> list:
     """The three real equations of a neutral mode at v = (x, s, t) (or two at fixed s = edge_s for v = (x, t)):
     Re F = Im F = 0 at the real z = x, q = e^s, and Im(dF/ds / dF/dz) = 0 (Im z stationary in s = ln q).
-    F = dispersion_core; its derivatives by central differences of relative step NEUTRAL_H."""
+    F = dispersion_core at x + i lip (lip > 0 tiny: the upper lip of the cuts |x| > 1 at eta = inf, the limit from
+    Im z > 0; mpmath's square root of a negative real is +i sqrt, the lower lip for x > 1); its derivatives by
+    central differences of relative step NEUTRAL_H."""
     if edge_s is None:
         x, s, t = v
     else:
         (x, t), s = v, edge_s
     pp = _neutral_params(p, which, t)
     q = mp.exp(s)
-    z = mp.mpc(x, 0)
+    z = mp.mpc(x, lip)
     fv = dispersion_core(z, q, pp)
     if edge_s is not None:
         return [mp.re(fv), mp.im(fv)]
@@ -717,6 +719,7 @@ def neutral_mode(
     xi: Num = 0,
     edge: bool = False,
     maxit: int = 30,
+    upper_lip: bool = False,
 ) -> tuple[mpmath.mpf, mpmath.mpf, mpmath.mpf]:
     """(x, q, value): a neutral mode of F(z; q) = 0 for the threshold parameter `which` ("gamma" or "eta"): real
     z = x, Im z stationary in ln q (dIm z/d ln q = 0, i.e. Im(F_q/F_z) = 0), at the parameter value `value`
@@ -724,6 +727,8 @@ def neutral_mode(
 
     Newton's method on the real equations in (x, ln q, ln value) at NEUTRAL_DPS digits, from (x0, q0, value0), with a
     central-difference Jacobian (step NEUTRAL_HJ); the parameter named by `which` is ignored in the arguments.
+    upper_lip: F at x + i 10^-(NEUTRAL_DPS + 10), the upper lip of the cuts at eta = inf (any root's neutral mode
+    beyond the shear speed; the Rayleigh branch's lie below it, where both agree).
     Converged when the step is below 10^-(DPS + 5) relative in x and the parameter (and NEUTRAL_S_TOL in ln q, to
     which the parameter is stationary); ValueError otherwise. Rounded to DPS digits.
     """
@@ -731,6 +736,7 @@ def neutral_mode(
         raise ValueError(f"which must be 'gamma' or 'eta'; got {which!r}")
     p = Params.make(gamma, f, beta, eta, Delta, xi)
     with mp.workdps(NEUTRAL_DPS):
+        lip = mp.mpf(10) ** (-(NEUTRAL_DPS + 10)) if upper_lip else mp.mpf(0)
         edge_s = mp.log(_num(q0)) if edge else None
         v = [mp.mpf(_num(x0)), mp.log(_num(q0)), mp.log(_num(value0))]
         if edge:
@@ -738,14 +744,14 @@ def neutral_mode(
         n = len(v)
         tol = mp.mpf(10) ** (-(DPS + 5))
         for _ in range(maxit):
-            r = _neutral_residual(p, which, v, edge_s)
+            r = _neutral_residual(p, which, v, edge_s, lip)
             jac = mp.matrix(n, n)
             for k in range(n):
                 h = NEUTRAL_HJ * max(abs(v[k]), 1)
                 up, dn = list(v), list(v)
                 up[k] += h
                 dn[k] -= h
-                ru, rd = _neutral_residual(p, which, up, edge_s), _neutral_residual(p, which, dn, edge_s)
+                ru, rd = _neutral_residual(p, which, up, edge_s, lip), _neutral_residual(p, which, dn, edge_s, lip)
                 for i in range(n):
                     jac[i, k] = (ru[i] - rd[i]) / (2 * h)
             step = mp.lu_solve(jac, mp.matrix([-ri for ri in r]))

@@ -290,3 +290,36 @@ def test_bad_parameters_are_refused():
         model.fastest_mode(-1.0, **PAPER)
     with pytest.raises(ValueError, match="kH"):
         model.sliding_analysis(**PAPER, kH=[1.0, 0.5])
+
+
+# ------------------------------------------------------------------------------------------------
+# thresholds of sliding (every branch)
+# ------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("f", [0.9, -0.9])
+def test_sliding_threshold_in_gamma_is_the_oracles_neutral_mode(f):
+    """f = +-0.9, beta = 0.3, eta = inf: sliding turns unstable at gamma = 1.1866, well below the Rayleigh branch's
+    2.4149 (+0.9; none for -0.9), through the backward (forward for -0.9) root just beyond the shear speed whose
+    maximum reaches the end of the kH range [1e-2, 1e2] there (reason 1). The neutral mode, on the upper lip of the
+    cut, equals the oracle's (50 digits) to 1e-12; the mirror f -> -f maps x -> -x."""
+    c = model.critical_gammas(f=f, beta=0.3, branches="all")
+    assert int(c.count) == 1 and int(c.reason[0]) == 1 and int(c.direction[0]) == 1
+    value, kH, x = float(c.value[0]), float(c.kH[0]), float(c.z[0])
+    assert abs(value - 1.18660385697411) < 1e-11 and kH == pytest.approx(100.0, rel=1e-14)
+    assert 1.0 < abs(x) < 1.001 and np.sign(x) == -np.sign(f)
+    xo, qo, vo = oracle.neutral_mode("gamma", x, kH, value, 0, f, 0.3, INF, edge=True, upper_lip=True)
+    assert abs(float(vo) - value) <= 1e-12 * value and abs(float(xo) - x) <= 1e-12
+    # either side of the threshold: the sliding verdict (with a floor far below the growth there) changes
+    for g, verdict in ((value * (1 - 1e-3), 0), (value * (1 + 1e-3), 1)):
+        assert int(model.sliding_analysis(gamma=g, f=f, beta=0.3, floor=1e-10).verdict) == verdict
+
+
+def test_sliding_thresholds_api():
+    ray = model.critical_gamma(f=0.9, beta=0.3)
+    allb = model.critical_gamma(f=0.9, beta=0.3, branches="all")
+    assert allb < ray and abs(ray - 2.414880573904695) < 1e-12
+    with pytest.raises(ValueError, match="branches"):
+        model.critical_gammas(f=0.9, beta=0.3, branches="every")
+    with pytest.raises(ValueError, match="no sliding threshold"):
+        model.critical_gamma(f=0.9, beta=0.3, eta=10.0, branches="all", gamma_range=(1.0, 10.0))

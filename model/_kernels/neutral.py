@@ -25,6 +25,7 @@ NEUTRAL_FD = 1e-5  # step (relative in Re z, absolute in s and t) of the central
 NEUTRAL_STEP = 0.5  # largest Newton step in s = ln kH and in t (larger steps are scaled down: damping)
 NEUTRAL_TOL = 1e-12  # converged when the last step is below this relative to max(|x|, 1e-3), max(1, |t|) ...
 NEUTRAL_TOL_S = 1e-9  # ... and in s below this (t is stationary in s at the neutral mode: s matters to 2nd order)
+UPPER_LIP = 5e-300  # Im z of the evaluation of a real z on the upper lip of the cuts (eta = inf, |Re z| > 1)
 
 
 @jitted
@@ -37,15 +38,17 @@ def _with_param(p: Params, which: int, t: float) -> Params:
 
 
 @jitted
-def _neutral_terms(x: float, s: float, t: float, which: int,
-                   p: Params) -> tuple[complex, complex, complex, complex, float]:
-    """F, dF/dz, dF/ds, dF/dt at the real z = x, s = ln kH, t = ln gamma or ln eta, and the rounding scale of F.
+def _neutral_terms(x: float, s: float, t: float, which: int, p: Params,
+                   lip: float) -> tuple[complex, complex, complex, complex, float]:
+    """F, dF/dz, dF/ds, dF/dt at the real z = x (evaluated at x + i lip: lip = 5e-300 gives the upper lip of the
+    cuts at |x| > 1 for eta = inf, the limit from Im z > 0; 0.0 the value the Rayleigh thresholds use), s = ln kH,
+    t = ln gamma or ln eta, and the rounding scale of F.
 
     dF/d ln gamma = gamma (G_x + i f G_y) exactly; dF/d ln eta by a central difference of step ETA_FD (Newton's
     Jacobian only: the equations themselves are exact)."""
     pp = _with_param(p, which, t)
     q = math.exp(s)
-    z = complex(x, 0.0)
+    z = complex(x, lip)
     fv, dfv, sc, fq = _weighted_dispersion(z, q, pp.gamma, 1.0, pp)
     if which == P_GAMMA:
         ft = _weighted_dispersion(z, q, pp.gamma, 0.0, pp)[0]
@@ -57,11 +60,11 @@ def _neutral_terms(x: float, s: float, t: float, which: int,
 
 
 @jitted
-def _slope_eq(x: float, s: float, t: float, which: int, p: Params) -> float:
+def _slope_eq(x: float, s: float, t: float, which: int, p: Params, lip: float) -> float:
     """The third equation of a neutral mode: Im(dF/ds / dF/dz) = -Im dz/ds (zero where Im z is stationary in s)."""
     pp = _with_param(p, which, t)
     q = math.exp(s)
-    _, dfv, _, fq = _weighted_dispersion(complex(x, 0.0), q, pp.gamma, 1.0, pp)
+    _, dfv, _, fq = _weighted_dispersion(complex(x, lip), q, pp.gamma, 1.0, pp)
     if dfv == 0:
         return math.nan
     return (q * fq * _cinv(dfv)).imag
@@ -96,13 +99,13 @@ def _solve3(a: np.ndarray, r: np.ndarray, n: int) -> bool:
 
 @jitted
 def _neutral_system(x: float, s: float, t: float, which: int, edge: bool, p: Params, a: np.ndarray,
-                    r: np.ndarray) -> tuple[int, float]:
+                    r: np.ndarray, lip: float) -> tuple[int, float]:
     """Newton's linear system of a neutral mode at (x, s, t): fills a and r (r = -residual); (size, |F|/scale).
 
     Unknowns (x, t) at fixed s for an edge mode (Im z = 0 at an end of the kH range: 2 equations Re F = Im F = 0),
     else (x, s, t) with the slope equation (_slope_eq) as the third, its derivatives by central differences.
     Size 0 if F or its derivatives are not finite."""
-    fv, fz, fs, ft, sc = _neutral_terms(x, s, t, which, p)
+    fv, fz, fs, ft, sc = _neutral_terms(x, s, t, which, p, lip)
     if not (cmath.isfinite(fv) and cmath.isfinite(fz) and cmath.isfinite(fs) and cmath.isfinite(ft)) or fz == 0:
         return 0, math.inf
     a[0, 0], a[1, 0], r[0], r[1] = fz.real, fz.imag, -fv.real, -fv.imag
@@ -115,29 +118,32 @@ def _neutral_system(x: float, s: float, t: float, which: int, edge: bool, p: Par
     r[2] = -(fs * _cinv(fz)).imag
     hx = NEUTRAL_FD * max(abs(x), 1e-3)
     h = NEUTRAL_FD
-    a[2, 0] = (_slope_eq(x + hx, s, t, which, p) - _slope_eq(x - hx, s, t, which, p)) / (2.0 * hx)
-    a[2, 1] = (_slope_eq(x, s + h, t, which, p) - _slope_eq(x, s - h, t, which, p)) / (2.0 * h)
-    a[2, 2] = (_slope_eq(x, s, t + h, which, p) - _slope_eq(x, s, t - h, which, p)) / (2.0 * h)
+    a[2, 0] = (_slope_eq(x + hx, s, t, which, p, lip) - _slope_eq(x - hx, s, t, which, p, lip)) / (2.0 * hx)
+    a[2, 1] = (_slope_eq(x, s + h, t, which, p, lip) - _slope_eq(x, s - h, t, which, p, lip)) / (2.0 * h)
+    a[2, 2] = (_slope_eq(x, s, t + h, which, p, lip) - _slope_eq(x, s, t - h, which, p, lip)) / (2.0 * h)
     return 3, abs(fv) / sc
 
 
 @jitted
 def neutral_mode(x0: float, s0: float, t0: float, which: int, edge: bool, gamma: float, f: float, beta: float,
-                 eta: float, delta: float, xi: float) -> tuple[float, float, float, bool, int, float, float, float]:
+                 eta: float, delta: float, xi: float,
+                 lip: float = 0.0) -> tuple[float, float, float, bool, int, float, float, float]:
     """A neutral mode by Newton's method from (x0, s0, t0): real z = x, s = ln kH, t = ln gamma (which = P_GAMMA)
     or ln eta (P_ETA) with F(x; e^s) = 0 and Im dz/ds = 0 (or, for edge = True, s fixed at an end of the range).
 
     Returns (x, s, t, converged, iterations, |F|/scale, Im dz/dt, Re dz/dt): dz/dt = -F_t/F_z at the mode, whose
     imaginary part is the slope of the max growth across the threshold (its sign: the crossing's direction).
     Converged when the last step is below NEUTRAL_TOL (relative) in x and t and NEUTRAL_TOL_S in s; steps in s
-    and t are scaled down to NEUTRAL_STEP. The parameter being solved for is ignored in the arguments.
+    and t are scaled down to NEUTRAL_STEP. The parameter being solved for is ignored in the arguments. F is
+    evaluated at x + i lip (see _neutral_terms: 0.0 for the Rayleigh branch, UPPER_LIP for any root at eta = inf,
+    whose neutral mode beyond the shear speed lies on the upper lip of the cut).
     """
     p = Params(gamma, f, beta, eta, delta, xi)
     a = np.empty((3, 3))
     r = np.empty(3)
     x, s, t = x0, s0, t0
     for it in range(NEUTRAL_ITERS):
-        n, res = _neutral_system(x, s, t, which, edge, p, a, r)
+        n, res = _neutral_system(x, s, t, which, edge, p, a, r, lip)
         if n == 0 or not _solve3(a, r, n):
             break
         dx = r[0]
@@ -151,7 +157,7 @@ def neutral_mode(x0: float, s0: float, t0: float, which: int, edge: bool, gamma:
             break
         if (damp == 1.0 and abs(dx) <= NEUTRAL_TOL * max(abs(x), 1e-3) and abs(dt) <= NEUTRAL_TOL * max(1.0, abs(t))
                 and abs(ds) <= NEUTRAL_TOL_S):
-            fv, fz, _, ft, sc = _neutral_terms(x, s, t, which, p)
+            fv, fz, _, ft, sc = _neutral_terms(x, s, t, which, p, lip)
             if fz == 0 or not sc > 0.0:
                 break
             dzdt = -ft * _cinv(fz)
