@@ -860,8 +860,11 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     then every grid point, each only above the growth found so far (branch and bound: a point below it cannot
     raise the maximum, and the contour stays away from the real axis), at the floor until a root above it is
     found. The best point is refined on the root that carries it (followed in kH to where its Im z is stationary,
-    Newton, and certified there). Verdict: stable if no root has Im z >= floor at any kH searched, unstable if
-    one does (:data:`SLIDING_STATUS`). rate=True also gives the maximum of the temporal rate kH Im z (a point is
+    Newton, and certified there); then every root above max(floor, M/8) (M/4 at finite eta) at a grid point is
+    followed to its peak in the neighbouring intervals, and a peak above the maximum M is certified and taken.
+    A root that is above M/8 at no grid point and peaks higher between two of them is not excluded (docs/physics.md
+    §14.7 measures how often). Verdict: stable if no root has Im z >= floor at any kH searched, unstable if one
+    does (:data:`SLIDING_STATUS`). rate=True also gives the maximum of the temporal rate kH Im z (a point is
     then searched above the lower of the two levels: costlier at finite eta and large kH, where the rate often
     keeps growing to the end of the range); else those fields are NaN. Parameters broadcast.
     """
