@@ -352,15 +352,21 @@ class _Problem:
                         f"{complex(0.5 * (x0 + x1), 0.5 * (y0 + y1))} could not be located "
                         f"(located {len(roots)} of the {n_total} counted)"
                     )
-            a, b = self.split(c)
-            da, ma = self.winding(a)
-            db, mb = self.winding(b)
-            na, nb = self.count_of(da), self.count_of(db)
-            if na + nb != n:
-                raise RuntimeError(f"unstable_modes: split counts {na} + {nb} != {n} (contour sampling failed)")
+            (a, na, ma), (b, nb, mb) = self.halves(c, n)
             stack.append((b, nb, mb))
             stack.append((a, na, ma))
         return np.array(roots, dtype=np.complex128)
+
+    def halves(self, cell: tuple, n: int) -> tuple[tuple, tuple]:
+        """The two halves of a cell holding n roots (:meth:`split`), each with its count and first moment; a
+        RuntimeError if the counts do not add up to n."""
+        a, b = self.split(cell)
+        da, ma = self.winding(a)
+        db, mb = self.winding(b)
+        na, nb = self.count_of(da), self.count_of(db)
+        if na + nb != n:
+            raise RuntimeError(f"unstable_modes: split counts {na} + {nb} != {n} (contour sampling failed)")
+        return (a, na, ma), (b, nb, mb)
 
 
 # ------------------------------------------------------------------------------------------------

@@ -330,24 +330,13 @@ def _best_first(prob: _Problem, cell: tuple, n: int) -> complex:
             if z is not None:
                 best = z if best is None or z.imag > best.imag else best
                 continue
-        for cc, nn, mm in _halves(prob, c, n):
+        for cc, nn, mm in prob.halves(c, n):
             if nn > 0:
                 heapq.heappush(heap, (-cc[3], order, cc, nn, mm))
                 order += 1
     if best is None:
         raise RuntimeError("sliding: a counted root could not be located")
     return best
-
-
-def _halves(prob: _Problem, cell: tuple, n: int) -> tuple[tuple, tuple]:
-    """The two halves of a cell holding n roots (split across its longer side), with their counts and moments."""
-    a, b = prob.split(cell)
-    da, ma = prob.winding(a)
-    db, mb = prob.winding(b)
-    na, nb = prob.count_of(da), prob.count_of(db)
-    if na + nb != n:
-        raise RuntimeError(f"sliding: split counts {na} + {nb} != {n} (contour sampling failed)")
-    return (a, na, ma), (b, nb, mb)
 
 
 # ------------------------------------------------------------------------------------------------

@@ -50,6 +50,7 @@ from .thresholds import (
     X_NOT_CERTIFIED,
     X_UNDEFINED,
     Crossings,
+    _Crossing,
     _empty,
 )
 
@@ -79,23 +80,6 @@ class _Side:
     s: float = math.nan  # its ln kH
     z: complex = complex(math.nan, math.nan)
     slope: float = math.nan  # dG/dt there: Im dz/dt of that root at fixed kH (envelope theorem)
-
-
-@dataclass
-class _Found:
-    """One change of the sliding verdict: the threshold if certified, and what is known about it."""
-
-    reason: int
-    lo: float
-    hi: float
-    t: float = math.nan
-    s: float = math.nan
-    x: float = math.nan
-    direction: int = 0
-
-    @property
-    def certified(self) -> bool:
-        return self.reason in (X_CERTIFIED, X_EDGE)
 
 
 class _Point:
@@ -181,7 +165,7 @@ def _neutral(pt: _Point, u: _Side, t_stable: float, t_unstable: float) -> tuple[
     return None
 
 
-def _certify(pt: _Point, x: float, s: float, t: float, slope: float) -> _Found | None:
+def _certify(pt: _Point, x: float, s: float, t: float, slope: float) -> _Crossing | None:
     """The crossing at the neutral mode (x, s, t) if both sides confirm it (module docstring, step 3): at t -/+ d the
     sliding analysis with a floor well below |slope| d finds no root on the stable side, and on the unstable side
     the neutral mode's continuation as the fastest root, with the growth its slope predicts."""
@@ -199,7 +183,7 @@ def _certify(pt: _Point, x: float, s: float, t: float, slope: float) -> _Found |
         return None
     if pt.ev(t - direction * d, local).sign != -1.0:
         return None
-    return _Found(X_EDGE if pt.at_edge(s) else X_CERTIFIED, t - d, t + d, t, s, x, direction)
+    return _Crossing(X_EDGE if pt.at_edge(s) else X_CERTIFIED, t - d, t + d, t, s, x, direction)
 
 
 def _approach(pt: _Point, u: _Side, t_stable: float, t_unstable: float) -> tuple[float, float, float, float] | None:
@@ -221,7 +205,7 @@ def _approach(pt: _Point, u: _Side, t_stable: float, t_unstable: float) -> tuple
     return None
 
 
-def _solve_bracket(pt: _Point, a: _Side, b: _Side) -> _Found:
+def _solve_bracket(pt: _Point, a: _Side, b: _Side) -> _Crossing:
     """The verdict change between a and b (opposite signs): the neutral mode, certified, with bisection."""
     approached: set[complex] = set()  # the roots approached so far (each root once: an approach costs searches)
     for _ in range(BISECTIONS):
@@ -235,20 +219,20 @@ def _solve_bracket(pt: _Point, a: _Side, b: _Side) -> _Found:
                 return found
         m = pt.ev(0.5 * (a.t + b.t))
         if not math.isfinite(m.sign):
-            return _Found(X_UNDEFINED, a.t, b.t, m.t)
+            return _Crossing(X_UNDEFINED, a.t, b.t, m.t)
         if m.sign == a.sign:
             a = m
         else:
             b = m
     u = a if a.sign > 0 else b
     reason = X_JUMP if u.g > JUMP_GROWTH * pt.floor else X_NOT_CERTIFIED
-    return _Found(reason, a.t, b.t, 0.5 * (a.t + b.t))
+    return _Crossing(reason, a.t, b.t, 0.5 * (a.t + b.t))
 
 
-def _crossings(pt: _Point, ts: np.ndarray) -> tuple[list[_Found], list[_Side]]:
+def _crossings(pt: _Point, ts: np.ndarray) -> tuple[list[_Crossing], list[_Side]]:
     """Every change of the sliding verdict over the scan values ts (opposite verdicts, or only NaN between)."""
     scan = [pt.ev(float(t)) for t in ts]
-    out: list[_Found] = []
+    out: list[_Crossing] = []
     prev: _Side | None = None
     gap = False
     for e in scan:
@@ -256,12 +240,12 @@ def _crossings(pt: _Point, ts: np.ndarray) -> tuple[list[_Found], list[_Side]]:
             gap = prev is not None or gap
             continue
         if prev is not None and prev.sign != e.sign:
-            out.append(_Found(X_UNDEFINED, prev.t, e.t) if gap else _solve_bracket(pt, prev, e))
+            out.append(_Crossing(X_UNDEFINED, prev.t, e.t) if gap else _solve_bracket(pt, prev, e))
         prev, gap = e, False
     return out, scan
 
 
-def _status(found: list[_Found], scan: list[_Side]) -> int:
+def _status(found: list[_Crossing], scan: list[_Side]) -> int:
     if any(c.certified for c in found):
         return T_FOUND
     if found:
