@@ -857,7 +857,7 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     then searched above the lower of the two levels: costlier at finite eta and large kH, where the rate often
     keeps growing to the end of the range); else those fields are NaN. Parameters broadcast.
     """
-    from .stability import _grid, growth_chunk, growth_result
+    from .stability import _grid, _growth_result, growth_chunk
 
     fl = _floor(floor)
     grid = SLIDING_KH if kH is None else _grid(kH)
@@ -880,4 +880,4 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
                          r["re_z_at_max_all"] + 1j * r["growth_all"], fam(r["family_all"]), r["rate_all"],
                          np.exp(r["ln_kH_at_max_rate_all"]), z_rate, fam(r["family_rate_all"]),
                          r["max_at_end_all"] == 1.0, r["rate_at_end_all"] == 1.0, verdict, reason.astype(np.int8), fl,
-                         (float(grid[0]), float(grid[-1])), growth_result(ray, shape))
+                         (float(grid[0]), float(grid[-1])), _growth_result(ray, shape))

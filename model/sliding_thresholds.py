@@ -256,7 +256,7 @@ def _status(found: list[_Crossing], scan: list[_Side]) -> int:
     return T_STABLE if all(v < 0 for v in signs) else (T_UNSTABLE if all(v > 0 for v in signs) else T_UNDEFINED)
 
 
-def all_crossings_chunk(which: int, name: str, s_grid: np.ndarray, p: np.ndarray, bounds: tuple[float, float],
+def _all_crossings_chunk(which: int, name: str, s_grid: np.ndarray, p: np.ndarray, bounds: tuple[float, float],
                         floor: float, max_crossings: int) -> Crossings:
     """Every change of the sliding verdict in gamma or eta (row `which` of p, ignored) for each parameter set of a
     chunk, p (6, n) in growth_chunk's layout; the range `bounds` (validated by the caller)."""

@@ -157,10 +157,10 @@ def growth_analysis(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, work
     else:
         parts = [growth_chunk(s, c, tol or None) for c in chunks]
     out = np.concatenate(parts, axis=1) if parts else np.empty((K.NOUT, 0))
-    return growth_result(out, shape)
+    return _growth_result(out, shape)
 
 
-def growth_result(rows: np.ndarray, shape: tuple[int, ...]) -> GrowthResult:
+def _growth_result(rows: np.ndarray, shape: tuple[int, ...]) -> GrowthResult:
     """The GrowthResult of :func:`growth_chunk` rows (:data:`GROWTH_ROWS`) for parameter sets of this shape."""
     res = [r.reshape(shape) for r in rows]
     reason = res[7].astype(np.int8)  # the kernel always gives a code

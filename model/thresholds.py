@@ -456,10 +456,10 @@ def crossings_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: t
     s = np.ascontiguousarray(s_grid, dtype=float)
     if _branches(branches) == "all":
         from .sliding import DEFAULT_FLOOR, _floor
-        from .sliding_thresholds import all_crossings_chunk
+        from .sliding_thresholds import _all_crossings_chunk
 
         fl = _floor(DEFAULT_FLOOR if floor is None else floor)
-        return all_crossings_chunk(THRESHOLD_ROWS[name], name, s, p, (lo, hi), fl, int(max_crossings))
+        return _all_crossings_chunk(THRESHOLD_ROWS[name], name, s, p, (lo, hi), fl, int(max_crossings))
     n = p.shape[1]
     res = _empty(n, int(max_crossings), name)
     which = THRESHOLD_ROWS[name]
