@@ -510,9 +510,11 @@ def test_the_progress_bar_is_labelled(small, monkeypatch) -> None:
 
 
 @pytest.mark.ui
-def test_new_inputs_mid_computation_cancel_it_in_the_browser(served_app: str, browser_page, monkeypatch) -> None:
+def test_new_inputs_mid_computation_cancel_it_in_the_browser(served_app: str, browser_page, monkeypatch,
+                                                             fresh_caches) -> None:
     """A user changes the resolution while the map is being computed: the page shows the new map's progress at once,
-    then the new map; the stale computation stops after its chunk and never reaches the page."""
+    then the new map; the stale computation stops after its chunk and never reaches the page. (Empty caches: a coarse
+    map an earlier test of this process computed would come back from the cache at once, with no progress to see.)"""
     held, go_on = threading.Event(), threading.Event()
     real = sm.compute_chunk
     computed: list[int] = []
