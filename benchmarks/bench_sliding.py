@@ -100,30 +100,78 @@ def markdown(results: dict[float, list[dict]]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def denser_grid(results: dict[float, list[dict]], n_dense: int = 129, limits: dict | None = None) -> str:
+DENSE_LIMITS = {math.inf: N, 10.0: 40, 2.0: 30}  # sets compared with a dense kH grid, per eta
+
+
+def dense_results(results: dict[float, list[dict]], n_dense: int = 129,
+                  limits: dict | None = None) -> dict[float, list[tuple[float, int]]]:
+    """(growth, verdict) on a grid of n_dense points over the same range, for the first sets of each eta."""
+    limits = DENSE_LIMITS if limits is None else limits
+    grid = np.logspace(-2, 2, n_dense)
+    out = {}
+    for eta, n in limits.items():
+        out[eta] = []
+        for r in results.get(eta, [])[:n]:
+            d = model.sliding_analysis(**r["p"], kH=grid)
+            out[eta].append((float(d.growth), int(d.verdict)))
+    return out
+
+
+def _differ(rows: list[dict], dense: list[tuple[float, int]]) -> tuple[int, list[float], int]:
+    """(sets differing from the dense grid, dense / default maxima where both unstable, verdicts differing)."""
+    diff, ratios, verdicts = 0, [], 0
+    for r, (gd, vd) in zip(rows, dense, strict=False):
+        ga = r["g_s"]
+        same_v = vd == r["sliding"]
+        same_g = (math.isnan(gd) and math.isnan(ga)) or abs(gd - ga) <= 1e-9 * max(abs(gd), 1e-300)
+        if not (same_v and same_g):
+            diff += 1
+            verdicts += not same_v
+            if same_v and math.isfinite(gd) and math.isfinite(ga) and ga > 0:
+                ratios.append(gd / ga)
+    return diff, ratios, verdicts
+
+
+def denser_grid(results: dict[float, list[dict]], dense: dict[float, list[tuple[float, int]]],
+                n_dense: int = 129) -> str:
     """How often the default 17-point grid's verdict or maximum differs from a grid of n_dense points over the same
     range (the roots the search misses between grid points, docs/physics.md §14.7)."""
-    limits = {math.inf: N, 10.0: 40} if limits is None else limits
-    grid = np.logspace(-2, 2, n_dense)
     lines = [f"\nAgainst a {n_dense}-point kH grid over the same range (same floor): sets whose verdict or maximum (to "
              "1e-9 relative) differs from the default grid's, and by how much the dense grid's maximum is larger:", "",
              "| eta | sets | differ | dense / default maximum (where both unstable) | verdicts differ |",
              "|---|---|---|---|---|"]
-    for eta, n in limits.items():
-        rows = results.get(eta, [])[:n]
-        diff, ratios, verdicts = 0, [], 0
-        for r in rows:
-            d = model.sliding_analysis(**r["p"], kH=grid)
-            gd, ga = float(d.growth), r["g_s"]
-            same_v = int(d.verdict) == r["sliding"]
-            same_g = (math.isnan(gd) and math.isnan(ga)) or abs(gd - ga) <= 1e-9 * max(abs(gd), 1e-300)
-            if not (same_v and same_g):
-                diff += 1
-                verdicts += not same_v
-                if same_v and math.isfinite(gd) and math.isfinite(ga) and ga > 0:
-                    ratios.append(gd / ga)
+    for eta, dn in dense.items():
+        diff, ratios, verdicts = _differ(results.get(eta, [])[: len(dn)], dn)
         rtext = ", ".join(f"{x:.3g}" for x in sorted(ratios)) or "-"
-        lines.append(f"| {_eta(eta)} | {len(rows)} | {diff} | {rtext} | {verdicts} |")
+        lines.append(f"| {_eta(eta)} | {len(dn)} | {diff} | {rtext} | {verdicts} |")
+    return "\n".join(lines) + "\n"
+
+
+def track_fraction(results: dict[float, list[dict]], dense: dict[float, list[tuple[float, int]]],
+                   fractions: tuple[float, ...] = (0.25, 0.5)) -> str:
+    """Run time against error of the level of the between-grid tracking at finite eta (model.sliding's
+    TRACK_FRACTION_FINITE: roots above that fraction of the maximum at a grid point are followed): the median cost
+    and the sets differing from the dense grid, on the sets compared with it."""
+    from model import sliding
+
+    lines = ["\nThe between-grid tracking at finite eta (roots above a fraction of the maximum M at a grid point are "
+             f"followed; the default is M x {sliding.TRACK_FRACTION_FINITE:g}): cost against the sets differing from "
+             "the dense grid:", "", "| eta | fraction of M | sets | median [ms] | differ | dense / default maximum |",
+             "|---|---|---|---|---|---|"]
+    default = sliding.TRACK_FRACTION_FINITE
+    try:
+        for eta, dn in dense.items():
+            if math.isinf(eta):
+                continue
+            for frac in fractions:
+                sliding.TRACK_FRACTION_FINITE = frac
+                rows = run((eta,), len(dn))[eta]
+                diff, ratios, _ = _differ(rows, dn)
+                ms = statistics.median(1e3 * r["seconds"] for r in rows)
+                rtext = ", ".join(f"{x:.3g}" for x in sorted(ratios)) or "-"
+                lines.append(f"| {_eta(eta)} | {frac:g} | {len(rows)} | {ms:.1f} | {diff} | {rtext} |")
+    finally:
+        sliding.TRACK_FRACTION_FINITE = default
     return "\n".join(lines) + "\n"
 
 
@@ -149,7 +197,8 @@ def oracle_errors(n: int = 8) -> str:
 
 def main() -> None:
     results = run()
-    text = markdown(results) + denser_grid(results) + oracle_errors()
+    dense = dense_results(results)
+    text = markdown(results) + denser_grid(results, dense) + track_fraction(results, dense) + oracle_errors()
     print(text)
 
 

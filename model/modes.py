@@ -148,7 +148,8 @@ class _Line:
 class _Problem:
     """One parameter set: line sampling with graded seeds, counting and locating (see module docstring)."""
 
-    def __init__(self, q, gamma, f, beta, eta, delta, xi, re_max, im_min, im_max):
+    def __init__(self, q, gamma, f, beta, eta, delta, xi, re_max, im_min, im_max,
+                 h0: float = H0, singularities: tuple[np.ndarray, np.ndarray] | None = None):
         self.par = (q, gamma, f, beta, eta, delta, xi)
         self.re_max = re_max
         self.im_min = im_min
@@ -156,8 +157,9 @@ class _Problem:
         self.size = max(2.0 * re_max, im_max - im_min)
         self.evaluations = 0
         self.tols = (PHASE_MAX, TRAP_TOL, LIN_TOL)  # the acceptance tests of a sampled segment
-        self.h0 = H0
-        self.poles, self.half = self._real_axis_singularities()
+        self.h0 = h0  # the initial spacing of the samples along a line
+        # the real-axis singularities whose neighbourhoods get graded seeds (model.sliding passes its own)
+        self.poles, self.half = self._real_axis_singularities() if singularities is None else singularities
 
     def _real_axis_singularities(self) -> tuple[np.ndarray, np.ndarray]:
         """Real-axis poles / branch points of F with |x| <= re_max + 1 (docs/physics.md §2) and the

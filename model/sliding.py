@@ -98,13 +98,22 @@ class _Search:
         self.floor = floor
         self.sample_limit = sample_limit
         self.evaluations = 0
+        self._rho: dict[tuple[float, float], float] = {}  # the windows computed (a few bisections each)
+        self._top: dict[float, float] = {}
 
     # -- windows ---------------------------------------------------------------------------------
     def rho(self, y: float, q: float) -> float:
-        return exclusion_radius(y, q, self.p)
+        key = (y, q)
+        hit = self._rho.get(key)
+        if hit is None:
+            hit = self._rho[key] = exclusion_radius(y, q, self.p)
+        return hit
 
     def top(self, q: float) -> float:
-        return top_of_roots(self.floor, q, self.p)
+        hit = self._top.get(q)
+        if hit is None:
+            hit = self._top[q] = top_of_roots(self.floor, q, self.p)
+        return hit
 
     # -- counts ----------------------------------------------------------------------------------
     def count(self, q: float, x: float, y0: float, y1: float) -> int | None:
@@ -141,9 +150,7 @@ class _Search:
         """(the root of largest Im z in [-x, x] x [y0, y1], the number of roots there): best first, the cell with
         the highest top is split until its root is located by Newton; cells below the best root found are never
         split. (None, 0) if the window holds none; RuntimeError if the contour fails."""
-        prob = _Problem(q, *self.p, x, y0, y1)
-        prob.h0 = _spacing(q)
-        prob.poles, prob.half = _singularities(q, self.p.beta, self.p.eta, x, y0)
+        prob = _Problem(q, *self.p, x, y0, y1, _spacing(q), _singularities(q, self.p.beta, self.p.eta, x, y0))
         cell, n = prob.outer()
         best = _best_first(prob, cell, n) if n else None
         self.evaluations += prob.evaluations
@@ -208,11 +215,16 @@ class _Search:
 
     def _descend(self, q: float, top: float, hint: float | None, level: float) -> _Top:
         """Search band by band from the top down to `level`, until a band holds a root: first
-        [HINT_FACTOR x hint, top] (hint: the growth expected, e.g. at a neighbouring kH), then, where the window at
-        `level` is cheap to count (eta = inf, or the layers' poles damped at that height), the rest at once, else
-        bands [y/DESCENT, y]. A band's top root is found by best-first subdivision of the band."""
+        [HINT_FACTOR x hint, top] (hint: the growth expected, e.g. at a neighbouring kH), then the rest at once
+        where the window at `level` is cheap to count (eta = inf, or the layers' poles damped at that height) or
+        `level` is above the floor (a maximum found elsewhere: the search shows that nothing lies above it), else
+        bands [y/DESCENT, y] (the floor at finite eta: a root found high up spares the widest windows). A band's top
+        root is found by best-first subdivision of the band."""
         hi = top
-        cheap = math.isinf(self.p.eta) or (1.0 + self.p.eta) * q * self.p.beta * level >= LADDER_DAMPED
+        # one band where the window at `level` is cheap, or where a root above that level is already known (the
+        # level is then a maximum found: the search only has to show that nothing lies above it, in one count)
+        cheap = (math.isinf(self.p.eta) or (1.0 + self.p.eta) * q * self.p.beta * level >= LADDER_DAMPED
+                 or level > self.floor)
         expect_root = hint is not None and hint > level
         if expect_root:
             lo = HINT_FACTOR * hint
@@ -297,6 +309,13 @@ def _singularities(q: float, beta: float, eta: float, x: float, y: float) -> tup
     pole spacing by less than exp(-2 LADDER_DAMPED) of its size, and the adaptive sampling alone resolves it."""
     xmax = x + 1.0
     pts = [1.0, 1.0 / beta]
+    if math.isinf(eta) or (1.0 + eta) * q * beta * y >= LADDER_DAMPED:  # the branch points alone (no NumPy: fast)
+        h = _spacing(q)
+        xs = [v for v in sorted(set(pts)) if v <= xmax]
+        p = [-v for v in reversed(xs)] + xs
+        gaps = [b - a for a, b in zip(p[:-1], p[1:], strict=True)]
+        half = [min(h, 0.5 * max(lo, hi)) for lo, hi in zip([0.0, *gaps], [*gaps, 0.0], strict=True)]
+        return np.array(p), np.array(half)
     if math.isfinite(eta):
         a = math.pi / ((1.0 + eta) * q)
         for bj in (1.0, beta):
@@ -405,7 +424,7 @@ FOLLOW_ROUNDS = 4  # Newton rounds on the stationary point, then certified there
 STATIONARY_TOL = 1e-10  # |step in ln kH| at which the stationary point has converged
 END_TOL = 1e-12  # a maximum within this of an end of the range (in ln kH) lies at that end
 TRACK_FRACTION = 0.125  # roots above this x the maximum (and the floor) at a grid point are followed to their peaks
-TRACK_FRACTION_FINITE = 0.25  # ... at finite eta (the stack's resonances: many roots, slower to locate)
+TRACK_FRACTION_FINITE = 0.5  # ... at finite eta (windows ~ 1/level, many roots: M/4 costs 1.6-1.9x, §14.8)
 CERT_MARGIN = 1e-9  # a peak counts as higher than the maximum M above M (1 + CERT_MARGIN)
 CERT_ROUNDS = 6  # rounds of refining the maximum and following the roots between the grid points
 
@@ -432,6 +451,8 @@ class _Analysis:
         self.rate = rate
         self.tops: dict[float, _Top] = {}
         self.untracked: list[tuple[float, float]] = []  # grid points where roots could not be tracked (refused)
+        # every root above a level at a grid point (s -> (level, [(z, dz/d ln kH)])): the sample's and the track's
+        self.known: dict[float, tuple[float, list[tuple[complex, complex]]]] = {}
         self.best_im = -math.inf  # the largest Im z and kH Im z of the roots found
         self.best_rate = -math.inf
 
@@ -464,12 +485,40 @@ class _Analysis:
             if t.status == M_OK:
                 prev = (start[0], t.z)
         for s in self.s_grid:
-            if prev is None:
+            t = self.every_root(s) if prev is not None else None
+            if t is None and prev is None:
                 t = self.at(s)
-            else:  # the growth of the guided modes falls like 1/kH: the expected level scales so
+            elif t is None:  # the growth of the guided modes falls like 1/kH: the expected level scales so
                 t = self.at(s, prev[1], prev[1].imag * min(1.0, math.exp(prev[0] - s)))
             if t.status == M_OK:
                 prev = (s, t.z)
+
+    def every_root(self, s: float) -> _Top | None:
+        """The grid point ln kH = s searched once for the sample and the track (:meth:`track`): every root above
+        the track's fraction of the level (a maximum M found so far), located (:meth:`roots_above`); the fastest of
+        them is certified by that count. The track then needs no other contour here (its level, the fraction of the
+        final maximum, is not lower). None where that window is refused (the caller searches above the level
+        alone)."""
+        if s in self.tops:
+            return self.tops[s]
+        roots = self.roots_above(s, max(self.search.floor, self.fraction() * self.level(s)))
+        if roots is None:
+            return None
+        if not roots:
+            t = _Top(M_BELOW, searched_to=self.known[s][0])
+        else:
+            z, dz = max(roots, key=lambda r: r[0].imag)
+            t = _Top(M_OK, z=z, dzds=dz)
+            self.best_im = max(self.best_im, z.imag)
+            self.best_rate = max(self.best_rate, math.exp(s) * z.imag)
+        if self.known[s][0] == self.search.floor:
+            t.count = len(roots)
+        self.tops[s] = t
+        return t
+
+    def fraction(self) -> float:
+        """Roots above this fraction of the maximum at a grid point are followed between the grid points."""
+        return TRACK_FRACTION if math.isinf(self.search.p.eta) else TRACK_FRACTION_FINITE
 
     @staticmethod
     def objective(rate: bool, s: float, t: _Top) -> float:
@@ -529,7 +578,17 @@ class _Analysis:
 
     # -- between the points searched ------------------------------------------------------------------------
     def roots_above(self, s: float, level: float) -> list[tuple[complex, complex]] | None:
-        """Every root with Im z >= level at ln kH = s, with its dz/d ln kH (None if the window there is refused)."""
+        """Every root with Im z >= level at ln kH = s, with its dz/d ln kH (None if the window there is refused, or
+        a counted root could not be located and polished)."""
+        hit = self.known.get(s)
+        if hit is not None and hit[0] <= level:
+            return [r for r in hit[1] if r[0].imag >= level]
+        got = self._roots_above(s, level)
+        if got is not None:
+            self.known[s] = (level, got)
+        return got
+
+    def _roots_above(self, s: float, level: float) -> list[tuple[complex, complex]] | None:
         q = math.exp(s)
         top = self.search.top(q)
         if not top > level:
@@ -537,14 +596,15 @@ class _Analysis:
         x = self.search.rho(level, q)
         if not self.search.affordable(q, x, level):
             return None
-        n = self.search.count(q, x, level, top)  # the compiled count first: most points hold none
-        if n is None:
-            return None
-        if n == 0:
-            return []
-        prob = _Problem(q, *self.search.p, x, level, top)
-        prob.h0 = _spacing(q)
-        prob.poles, prob.half = _singularities(q, self.search.p.beta, self.search.p.eta, x, level)
+        if not self.expect_roots(s, level):
+            # the compiled count first (it keeps no samples: most points hold no root), unless roots are expected
+            n = self.search.count(q, x, level, top)
+            if n is None:
+                return None
+            if n == 0:
+                return []
+        prob = _Problem(q, *self.search.p, x, level, top, _spacing(q),
+                        _singularities(q, self.search.p.beta, self.search.p.eta, x, level))
         try:
             cell, n = prob.outer()
             roots = prob.locate(cell, n) if n else []
@@ -555,9 +615,24 @@ class _Analysis:
         out = []
         for z in roots:
             got = self.search.polish(complex(z), q)
-            if got is not None and abs(got[0] - z) <= 1e-10 * abs(z):
-                out.append(got)
+            if got is None or not abs(got[0] - z) <= 1e-10 * abs(z):
+                return None  # not every root counted is known: the list would certify nothing
+            out.append(got)
         return out
+
+    def expect_roots(self, s: float, level: float) -> bool:
+        """Whether ln kH = s is known, or expected, to hold a root above `level`: a root found there, or above the
+        level at the neighbouring grid point searched (roots move little between neighbours). The contour is then
+        sampled once, keeping its samples to locate the roots, rather than counted first."""
+        here = self.tops.get(s)
+        if here is not None and here.status == M_OK and here.z.imag >= level:
+            return True
+        i = self.s_grid.index(s) if s in self.s_grid else -1
+        for j in (i - 1, i + 1):
+            hit = self.known.get(self.s_grid[j]) if 0 <= j < len(self.s_grid) and i >= 0 else None
+            if hit is not None and any(r[0].imag >= level for r in hit[1]):
+                return True
+        return False
 
     def follow_to_peak(self, z: complex, dz: complex, s: float, end: float) -> tuple[float, complex] | None:
         """Follow the root z (slope dz) from ln kH = s towards `end` while its Im z rises; where it stops rising
@@ -617,8 +692,7 @@ class _Analysis:
         """Between the grid points: every root with Im z >= max(floor, TRACK_FRACTION x best) at a grid point is
         followed into both neighbouring intervals to where its Im z peaks; a peak above `best` is searched there
         (certified). True if a root higher than `best` was found."""
-        frac = TRACK_FRACTION if math.isinf(self.search.p.eta) else TRACK_FRACTION_FINITE
-        level = max(self.search.floor, frac * best)
+        level = max(self.search.floor, self.fraction() * best)
         grid = self.s_grid
         higher = False
         for i, s in enumerate(grid):
@@ -846,16 +920,17 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
 
     kH : 1-D increasing grid (default :data:`SLIDING_KH`, 17 points over [1e-2, 1e2]) whose ends are the range.
     The Rayleigh branch's maximum (:func:`model.growth_analysis`, returned as ``.rayleigh``) is searched first;
-    then every grid point, each only above the growth found so far (branch and bound: a point below it cannot
-    raise the maximum, and the contour stays away from the real axis), at the floor until a root above it is
-    found. The best point is refined on the root that carries it (followed in kH to where its Im z is stationary,
-    Newton, and certified there); then every root above max(floor, M/8) (M/4 at finite eta) at a grid point is
+    then every grid point, once a growth M is known only above a fraction of it (every root there located in one
+    contour, which serves the maximum and the tracking below; branch and bound: a root lower cannot raise the
+    maximum, and the contour stays away from the real axis), at the floor until a root above it is found. The
+    best point is refined on the root that carries it (followed in kH to where its Im z is stationary,
+    Newton, and certified there); then every root above max(floor, M/8) (M/2 at finite eta) at a grid point is
     followed to its peak in the neighbouring intervals, and a peak above the maximum M is certified and taken.
-    A root that is above M/8 at no grid point and peaks higher between two of them is not excluded (docs/physics.md
-    §14.7 measures how often). Verdict: stable if no root has Im z >= floor at any kH searched, unstable if one
-    does (:data:`SLIDING_STATUS`). rate=True also gives the maximum of the temporal rate kH Im z (a point is
-    then searched above the lower of the two levels: costlier at finite eta and large kH, where the rate often
-    keeps growing to the end of the range); else those fields are NaN. Parameters broadcast.
+    A root that is above M/8 (M/2) at no grid point and peaks higher between two of them is not excluded
+    (docs/physics.md §14.7 measures how often). Verdict: stable if no root has Im z >= floor at any kH searched,
+    unstable if one does (:data:`SLIDING_STATUS`). rate=True also gives the maximum of the temporal rate kH Im z
+    (a point is then searched above the lower of the two levels: costlier at finite eta and large kH, where the
+    rate often keeps growing to the end of the range); else those fields are NaN. Parameters broadcast.
     """
     from .stability import _grid, _growth_result, growth_chunk
 

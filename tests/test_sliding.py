@@ -266,6 +266,35 @@ def test_sliding_maximum_is_never_below_the_rayleigh_branch():
                 assert abs(float(r.growth) - float(r.rayleigh.growth)) <= 1e-12 * float(r.growth), p
 
 
+@pytest.mark.parametrize("eta", [INF, 10.0])
+def test_grid_points_searched_once_agree_with_fastest_mode_at_each_kH(eta):
+    """sliding_analysis searches a grid point once for the sample and the track (every root above a fraction of the
+    maximum so far, located: _Analysis.every_root). At each grid point its fastest root is fastest_mode's (the
+    banded, best-first search of one kH, checked against the oracle above), and a point found empty above a level
+    has no root there."""
+    rng = np.random.default_rng(2031 if math.isinf(eta) else 2032)
+    searched_once = 0
+    for _ in range(3):
+        p = dict(gamma=float(10 ** rng.uniform(0.0, 1.3)), f=float(rng.uniform(0.3, 1.2)),
+                 beta=float(rng.uniform(0.1, 0.65)), Delta=float(rng.uniform(0.3, 1.0)), xi=1.0, eta=eta)
+        ray = model.growth_analysis(**p, kH=model.SLIDING_KH)
+        an = sliding._Analysis(sliding._Search(*(p[k] for k in ("gamma", "f", "beta", "eta", "Delta", "xi")),
+                                               model.DEFAULT_FLOOR), np.log(model.SLIDING_KH))
+        g = float(ray.growth)
+        an.sample((math.log(float(ray.kH_at_max)), complex(float(ray.re_z_at_max), g))
+                  if math.isfinite(g) and g >= model.DEFAULT_FLOOR else None)
+        for s, (level, roots) in an.known.items():
+            searched_once += 1
+            fm = model.fastest_mode(math.exp(s), **p)
+            t = an.tops[s]
+            if roots:
+                assert t.status == sliding.M_OK and abs(t.z - complex(fm.z)) <= 1e-10 * abs(t.z), (p, s)
+                assert all(r[0].imag <= t.z.imag for r in roots)
+            else:
+                assert t.status == sliding.M_BELOW and not float(fm.growth) >= level, (p, s)
+    assert searched_once >= 10
+
+
 def test_sliding_analysis_broadcasts_and_chunk_rows():
     g = np.array([[1.0], [3.0]])
     r = model.sliding_analysis(gamma=g, f=0.9, beta=0.3, eta=np.array([INF, INF]))

@@ -22,6 +22,8 @@ from .records import Params
 R0_FACTOR = 1.05  # the bound is used for |z| >= R0_FACTOR / beta (it needs |z| > 1/beta)
 RHO_MAX = 1e12  # an exclusion radius beyond this is reported as inf (no finite window)
 BISECTIONS = 60  # bisection steps of rho and of the top (the bracket ends are always valid: no accuracy is lost)
+RHO_TOL = 1e-7  # relative width at which the bisection of rho stops (its upper end is returned: the safe side)
+TOP_TOL = 1e-5  # ... and that of the top of the roots (a window a relative 1e-5 taller costs nothing)
 
 
 @jitted(inline="always")
@@ -94,7 +96,7 @@ def exclusion_radius(y: float, q: float, p: Params) -> float:
             hi = mid
         else:
             lo = mid
-        if hi - lo <= 1e-12 * hi:
+        if hi - lo <= RHO_TOL * hi:
             break
     return hi
 
@@ -113,6 +115,6 @@ def top_of_roots(y_min: float, q: float, p: Params) -> float:
             hi = mid
         else:
             lo = mid
-        if hi - lo <= 1e-9 * hi:
+        if hi - lo <= TOP_TOL * hi:
             break
     return hi
