@@ -57,6 +57,7 @@ from __future__ import annotations
 
 import cmath
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -145,11 +146,40 @@ class _Line:
         return c1 - c0, m1 - m0
 
 
+def _roots_from_sums(n: int, s1: complex, s2: complex, known: list[complex],
+                     polish: Callable[[complex], tuple[complex, complex] | None],
+                     inside: Callable[[complex], bool]) -> list[tuple[complex, complex]] | None:
+    """The n roots counted in a rectangle, without subdividing it: the known ones (roots there found otherwise) and
+    at most two more, whose starts come from the estimates s1, s2 of the sum of the n roots and of their squares
+    (model._kernels.contour.count_rectangle) less the known ones' (one more: s1'; two: the roots of
+    x^2 - s1' x + (s1'^2 - s2')/2); each polished (polish(z) -> (root, slope) or None). The count certifies the
+    result: it is returned only if it holds n distinct roots inside the rectangle (else None: subdivide)."""
+    m = n - len(known)
+    if not 0 <= m <= 2:
+        return None
+    a1 = s1 - sum(known, 0j)
+    a2 = s2 - sum((v * v for v in known), 0j)
+    if m == 0:
+        starts: list[complex] = []
+    elif m == 1:
+        starts = [a1]
+    else:
+        d = cmath.sqrt(2.0 * a2 - a1 * a1)  # (r1 - r2)^2 = 2 (r1^2 + r2^2) - (r1 + r2)^2
+        starts = [0.5 * (a1 + d), 0.5 * (a1 - d)]
+    out: list[tuple[complex, complex]] = []
+    for z0 in [*known, *starts]:
+        got = polish(z0)
+        if got is None or not inside(got[0]) or any(abs(got[0] - u[0]) <= 1e-8 * abs(got[0]) for u in out):
+            return None
+        out.append(got)
+    return out
+
+
 class _Problem:
     """One parameter set: line sampling with graded seeds, counting and locating (see module docstring)."""
 
     def __init__(self, q, gamma, f, beta, eta, delta, xi, re_max, im_min, im_max,
-                 h0: float = H0, singularities: tuple[np.ndarray, np.ndarray] | None = None):
+                 h0: float | None = None, singularities: tuple[np.ndarray, np.ndarray] | None = None):
         self.par = (q, gamma, f, beta, eta, delta, xi)
         self.re_max = re_max
         self.im_min = im_min
@@ -157,7 +187,7 @@ class _Problem:
         self.size = max(2.0 * re_max, im_max - im_min)
         self.evaluations = 0
         self.tols = (PHASE_MAX, TRAP_TOL, LIN_TOL)  # the acceptance tests of a sampled segment
-        self.h0 = h0  # the initial spacing of the samples along a line
+        self.h0 = H0 if h0 is None else h0  # the initial spacing of the samples along a line (H0 read at set-up)
         # the real-axis singularities whose neighbourhoods get graded seeds (model.sliding passes its own)
         self.poles, self.half = self._real_axis_singularities() if singularities is None else singularities
 

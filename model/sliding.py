@@ -30,8 +30,9 @@ from ._kernels.contour import H0, LIN_TOL, PHASE_MAX, TRAP_TOL, count_rectangle
 from ._kernels.newton import FULL_TOL, KH, _newton
 from ._kernels.records import NO_BOX, Params
 from ._kernels.window import exclusion_radius, top_of_roots
+from ._sliding_cuts import CHARTS, CutCharts
 from ._validate import check
-from .modes import AXIS_HMIN, MAX_LADDER_POLES, MAX_SHIFTS, REL_HMIN, SHIFT, SHIFT_GROWTH, _Problem
+from .modes import AXIS_HMIN, MAX_LADDER_POLES, MAX_SHIFTS, REL_HMIN, SHIFT, SHIFT_GROWTH, _Problem, _roots_from_sums
 from .stability import GROWTH_ROWS, GrowthResult
 
 __all__ = [
@@ -119,6 +120,13 @@ class _Search:
     def count(self, q: float, x: float, y0: float, y1: float) -> int | None:
         """Roots in [-x, x] x [y0, y1] (edges moved outward past a root on them, as model.modes does); None if the
         count failed."""
+        got = self.count_sums(q, x, y0, y1)
+        return None if got is None else got[0]
+
+    def count_sums(self, q: float, x: float, y0: float, y1: float
+                   ) -> tuple[int, complex, complex, tuple[float, float, float, float]] | None:
+        """(count, estimates of the sum of the roots and of their squares, the rectangle counted: [-x, x] x [y0, y1]
+        with its edges moved outward past a root on them) or None if the count failed."""
         size = max(2.0 * x, y1 - y0)
         poles, half = _singularities(q, self.p.beta, self.p.eta, x, y0)
         x0, x1 = -x, x
@@ -126,11 +134,11 @@ class _Search:
         while True:
             hb = min(REL_HMIN * size, AXIS_HMIN * y0)
             ht = min(REL_HMIN * size, AXIS_HMIN * y1)
-            st, n, edge, _, nev = count_rectangle(x0, x1, y0, y1, _spacing(q), poles, half, q, *self.p, hb, hb,
-                                                  ht, PHASE_MAX, TRAP_TOL, LIN_TOL)
+            st, n, edge, _, nev, s1, s2 = count_rectangle(x0, x1, y0, y1, _spacing(q), poles, half, q, *self.p, hb,
+                                                          hb, ht, PHASE_MAX, TRAP_TOL, LIN_TOL)
             self.evaluations += nev
             if st == 0:
-                return n
+                return n, s1, s2, (x0, x1, y0, y1)
             if st != 1:
                 return None
             shifts[edge] += 1
@@ -423,9 +431,13 @@ STATIONARY_H = 1e-5  # the difference step (in ln kH) of d(objective)/d ln kH al
 FOLLOW_ROUNDS = 4  # Newton rounds on the stationary point, then certified there; a higher root found starts again
 STATIONARY_TOL = 1e-10  # |step in ln kH| at which the stationary point has converged
 END_TOL = 1e-12  # a maximum within this of an end of the range (in ln kH) lies at that end
-TRACK_FRACTION = 0.125  # roots above this x the maximum (and the floor) at a grid point are followed to their peaks
+TRACK_FRACTION = 0.25  # roots above this x the maximum (and the floor) at a grid point are followed to their peaks
+# (at eta = inf; M/8 found no more on issue 31's samples once the roots across the cuts are followed)
 TRACK_FRACTION_FINITE = 0.5  # ... at finite eta (windows ~ 1/level, many roots: M/4 costs 1.6-1.9x, §14.8)
+FLOOR_WATCH = 0.1  # eta = inf: the roots in [floor x FLOOR_WATCH, floor) at a grid point are followed between them
 CERT_MARGIN = 1e-9  # a peak counts as higher than the maximum M above M (1 + CERT_MARGIN)
+CUT_CHARTS = True  # eta = inf: also follow the roots across the cuts beside the branch points (model._sliding_cuts)
+CHART_MAX_ROOTS = 2  # ... where a chart's box holds at most this many (their number grows like kH: cost)
 CERT_ROUNDS = 6  # rounds of refining the maximum and following the roots between the grid points
 
 
@@ -451,6 +463,8 @@ class _Analysis:
         self.rate = rate
         self.tops: dict[float, _Top] = {}
         self.untracked: list[tuple[float, float]] = []  # grid points where roots could not be tracked (refused)
+        self.charts: CutCharts | None = None  # eta = inf: the charts across the cuts (model._sliding_cuts)
+        self.chart_roots: dict[tuple[float, int], list[tuple[complex, complex]] | None] = {}
         # every root above a level at a grid point (s -> (level, [(z, dz/d ln kH)])): the sample's and the track's
         self.known: dict[float, tuple[float, list[tuple[complex, complex]]]] = {}
         self.best_im = -math.inf  # the largest Im z and kH Im z of the roots found
@@ -485,7 +499,7 @@ class _Analysis:
             if t.status == M_OK:
                 prev = (start[0], t.z)
         for s in self.s_grid:
-            t = self.every_root(s) if prev is not None else None
+            t = self.every_root(s) if prev is not None or math.isinf(self.search.p.eta) else None
             if t is None and prev is None:
                 t = self.at(s)
             elif t is None:  # the growth of the guided modes falls like 1/kH: the expected level scales so
@@ -501,20 +515,40 @@ class _Analysis:
         alone)."""
         if s in self.tops:
             return self.tops[s]
-        roots = self.roots_above(s, max(self.search.floor, self.fraction() * self.level(s)))
-        if roots is None:
+        fl = self.search.floor
+        watch = fl * FLOOR_WATCH if math.isinf(self.search.p.eta) else fl
+        found = self.roots_above(s, max(watch, self.fraction() * self.level(s)))
+        if found is None:
             return None
+        roots = [r for r in found if r[0].imag >= fl]
         if not roots:
-            t = _Top(M_BELOW, searched_to=self.known[s][0])
+            t = _Top(M_BELOW, searched_to=max(self.known[s][0], fl))
         else:
             z, dz = max(roots, key=lambda r: r[0].imag)
             t = _Top(M_OK, z=z, dzds=dz)
             self.best_im = max(self.best_im, z.imag)
             self.best_rate = max(self.best_rate, math.exp(s) * z.imag)
-        if self.known[s][0] == self.search.floor:
+        if self.known[s][0] <= fl:
             t.count = len(roots)
         self.tops[s] = t
         return t
+
+    def rises_above_floor(self) -> bool:
+        """eta = inf, where no root reaches the floor at any grid point: every root in [floor x FLOOR_WATCH, floor)
+        at a grid point followed to its peaks in the neighbouring intervals, and the roots across the cuts
+        (:meth:`across_cuts`); True if one rises above the floor between the grid points (found and certified
+        there)."""
+        fl = self.search.floor
+        higher = False
+        for i, s in enumerate(self.s_grid):
+            hit = self.known.get(s)
+            if hit is None:
+                continue
+            for z, dz in hit[1]:
+                for j in (i - 1, i + 1):
+                    if 0 <= j < len(self.s_grid):
+                        higher = self.follow_and_search(z, dz, s, self.s_grid[j], fl) or higher
+        return self.across_cuts(fl) or higher
 
     def fraction(self) -> float:
         """Roots above this fraction of the maximum at a grid point are followed between the grid points."""
@@ -597,12 +631,20 @@ class _Analysis:
         if not self.search.affordable(q, x, level):
             return None
         if not self.expect_roots(s, level):
-            # the compiled count first (it keeps no samples: most points hold no root), unless roots are expected
-            n = self.search.count(q, x, level, top)
-            if n is None:
+            # the compiled count first (it keeps no samples: most points hold no root), with the sums of the roots
+            # and of their squares: up to two roots not known are located from them, certified by the count
+            counted = self.search.count_sums(q, x, level, top)
+            if counted is None:
                 return None
+            n, s1, s2, (x0, x1, y0, y1) = counted
             if n == 0:
                 return []
+            here = self.tops.get(s)
+            known = [here.z] if here is not None and here.status == M_OK and here.z.imag >= level else []
+            got = _roots_from_sums(n, s1, s2, known, lambda z: self.search.polish(z, q),
+                                   lambda z: x0 <= z.real <= x1 and y0 <= z.imag <= y1)
+            if got is not None:
+                return got
         prob = _Problem(q, *self.search.p, x, level, top, _spacing(q),
                         _singularities(q, self.search.p.beta, self.search.p.eta, x, level))
         try:
@@ -621,16 +663,13 @@ class _Analysis:
         return out
 
     def expect_roots(self, s: float, level: float) -> bool:
-        """Whether ln kH = s is known, or expected, to hold a root above `level`: a root found there, or above the
-        level at the neighbouring grid point searched (roots move little between neighbours). The contour is then
-        sampled once, keeping its samples to locate the roots, rather than counted first."""
-        here = self.tops.get(s)
-        if here is not None and here.status == M_OK and here.z.imag >= level:
-            return True
+        """Whether ln kH = s is expected to hold more than two roots above `level` (the neighbouring grid point
+        searched does): the contour is then sampled once, keeping its samples to locate the roots, rather than
+        counted first (roots move little between neighbours)."""
         i = self.s_grid.index(s) if s in self.s_grid else -1
         for j in (i - 1, i + 1):
             hit = self.known.get(self.s_grid[j]) if 0 <= j < len(self.s_grid) and i >= 0 else None
-            if hit is not None and any(r[0].imag >= level for r in hit[1]):
+            if hit is not None and sum(r[0].imag >= level for r in hit[1]) > 2:
                 return True
         return False
 
@@ -704,7 +743,62 @@ class _Analysis:
                 for j in (i - 1, i + 1):
                     if 0 <= j < len(grid):
                         higher = self.follow_and_search(z, dz, s, grid[j], best) or higher
+        if math.isinf(self.search.p.eta) and CUT_CHARTS:
+            higher = self.across_cuts(best) or higher
         return higher
+
+    def across_cuts(self, best: float) -> bool:
+        """At eta = inf: every root in the charts beside the branch points (model._sliding_cuts) at every grid point,
+        followed into both neighbouring intervals (a root that arrived from the left is not followed back); where
+        one grows on the physical sheet above `best`, that kH is searched (certified). True if a root higher than
+        `best` was found."""
+        if self.charts is None:
+            self.charts = CutCharts(self.search.p)
+        ev0 = self.charts.evaluations
+        crowded: set[int] = set()  # charts whose box held more than CHART_MAX_ROOTS roots at a smaller kH
+        arrivals: dict[int, list[complex]] = {}  # chart -> where the roots followed from the last grid point arrived
+        higher = False
+        for i, s in enumerate(self.s_grid):
+            for chart in CHARTS:
+                came = arrivals.pop(chart, [])
+                roots = self.chart_roots_at(s, chart, crowded, came)
+                if roots is None:
+                    self.untracked.append((s, -float(chart)))
+                    continue
+                for v, dv in roots:
+                    back = not any(abs(v - a) <= 1e-8 * abs(v) for a in came)
+                    for j in (i - 1, i + 1) if back else (i + 1,):
+                        higher = self.follow_chart_root(v, dv, i, j, chart, best, arrivals) or higher
+        self.search.evaluations += self.charts.evaluations - ev0
+        return higher
+
+    def chart_roots_at(self, s: float, chart: int, crowded: set[int], came: list[complex]
+                       ) -> list[tuple[complex, complex]] | None:
+        """The roots in a chart's box at grid point s (None: the count failed, or the box is crowded: more than
+        CHART_MAX_ROOTS roots, which grow in number like kH, so the chart is not counted at larger kH). came: the
+        roots followed there from the last grid point."""
+        key = (s, chart)
+        if chart in crowded:
+            self.chart_roots[key] = None
+        elif key not in self.chart_roots:
+            n, roots = self.charts.roots(math.exp(s), chart, came, CHART_MAX_ROOTS)
+            if n > CHART_MAX_ROOTS:
+                crowded.add(chart)
+            self.chart_roots[key] = roots
+        return self.chart_roots[key]
+
+    def follow_chart_root(self, v: complex, dv: complex, i: int, j: int, chart: int, best: float,
+                          arrivals: dict[int, list[complex]]) -> bool:
+        """Follow a chart root from grid point i to grid point j; search its highest growing point if above best."""
+        if not 0 <= j < len(self.s_grid):
+            return False
+        top, arrived = self.charts.highest(v, dv, self.s_grid[i], self.s_grid[j], chart, best)
+        if j > i and arrived is not None:
+            arrivals.setdefault(chart, []).append(arrived)
+        if top is None or not top[1].imag > best * (1.0 + CERT_MARGIN) or top[0] in self.tops:
+            return False
+        t = self.at(top[0], top[1], top[1].imag, level=best)
+        return t.status == M_OK and t.z.imag > best
 
 
 def _family(z: complex, beta: float, rayleigh_z: complex) -> int:
@@ -830,6 +924,8 @@ def _analyse_one(s_grid: np.ndarray, par: tuple, floor: float, rayleigh: np.ndar
         start = (s_max, complex(re_max, growth))
     an.sample(start)
     reason = _verdict_reason(list(an.tops.values()))
+    if reason == S_STABLE and math.isinf(par[3]) and an.rises_above_floor():
+        reason = _verdict_reason(list(an.tops.values()))
     nan = math.nan
     if reason != S_UNSTABLE:
         return [nan] * 9 + [float(reason), nan, nan]
@@ -924,13 +1020,14 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     contour, which serves the maximum and the tracking below; branch and bound: a root lower cannot raise the
     maximum, and the contour stays away from the real axis), at the floor until a root above it is found. The
     best point is refined on the root that carries it (followed in kH to where its Im z is stationary,
-    Newton, and certified there); then every root above max(floor, M/8) (M/2 at finite eta) at a grid point is
-    followed to its peak in the neighbouring intervals, and a peak above the maximum M is certified and taken.
-    A root that is above M/8 (M/2) at no grid point and peaks higher between two of them is not excluded
-    (docs/physics.md §14.7 measures how often). Verdict: stable if no root has Im z >= floor at any kH searched,
-    unstable if one does (:data:`SLIDING_STATUS`). rate=True also gives the maximum of the temporal rate kH Im z
-    (a point is then searched above the lower of the two levels: costlier at finite eta and large kH, where the
-    rate often keeps growing to the end of the range); else those fields are NaN. Parameters broadcast.
+    Newton, and certified there); then every root above max(floor, M/4) (M/2 at finite eta) at a grid point is
+    followed to its peak in the neighbouring intervals, and at eta = inf every root beside a branch point is
+    followed across the cuts (:mod:`model._sliding_cuts`); a peak above the maximum M is certified and taken. What
+    is not excluded between the grid points, and how often it matters, is in docs/physics.md §14.7. Verdict:
+    stable if no root has Im z >= floor at any kH searched, unstable if one does (:data:`SLIDING_STATUS`).
+    rate=True also gives the maximum of the temporal rate kH Im z (a point is then searched above the lower of the
+    two levels: costlier at finite eta and large kH, where the rate often keeps growing to the end of the range);
+    else those fields are NaN. Parameters broadcast.
     """
     from .stability import _grid, _growth_result, growth_chunk
 

@@ -283,15 +283,16 @@ def test_grid_points_searched_once_agree_with_fastest_mode_at_each_kH(eta):
         g = float(ray.growth)
         an.sample((math.log(float(ray.kH_at_max)), complex(float(ray.re_z_at_max), g))
                   if math.isfinite(g) and g >= model.DEFAULT_FLOOR else None)
-        for s, (level, roots) in an.known.items():
+        for s, (level, found) in an.known.items():
             searched_once += 1
             fm = model.fastest_mode(math.exp(s), **p)
             t = an.tops[s]
+            roots = [r for r in found if r[0].imag >= model.DEFAULT_FLOOR]  # (eta = inf: searched to floor/10)
             if roots:
                 assert t.status == sliding.M_OK and abs(t.z - complex(fm.z)) <= 1e-10 * abs(t.z), (p, s)
                 assert all(r[0].imag <= t.z.imag for r in roots)
             else:
-                assert t.status == sliding.M_BELOW and not float(fm.growth) >= level, (p, s)
+                assert t.status == sliding.M_BELOW and not float(fm.growth) >= max(level, model.DEFAULT_FLOOR), (p, s)
     assert searched_once >= 10
 
 
@@ -352,3 +353,81 @@ def test_sliding_thresholds_api():
         model.critical_gammas(f=0.9, beta=0.3, branches="every")
     with pytest.raises(ValueError, match="no sliding threshold"):
         model.critical_gamma(f=0.9, beta=0.3, eta=10.0, branches="all", gamma_range=(1.0, 10.0))
+
+
+# -- roots across the cuts beside the branch points (eta = inf; model._sliding_cuts) -------------------------------
+
+
+@pytest.mark.parametrize("chart", [1, 2, 3, 4])
+def test_chart_across_a_cut_is_f_on_the_physical_sheet_against_the_oracle(chart):
+    """In a chart (the local variable w = alpha_d beside +-1/beta, alpha_s beside +-1), F at a point with Re w > 0
+    and Im z > 0 is F of the physical sheet at z(w): the oracle's (mpmath, principal square roots), to 1e-12; and
+    dF/dv is the derivative of the chart's F (a central difference, to 1e-6)."""
+    from model._kernels.response import CHART_ORIGIN, chart_point, dispersion_eval
+
+    rng = random.Random(chart)
+    p = dict(gamma=2.7, f=0.8, beta=0.41, eta=INF, Delta=0.7, xi=0.9)
+    par = (p["gamma"], p["f"], p["beta"], -float(chart), p["Delta"], p["xi"])
+    checked = 0
+    for _ in range(12):
+        w = complex(rng.uniform(0.01, 0.5), rng.uniform(-0.5, 0.5))
+        v = w + CHART_ORIGIN
+        z = chart_point(v, p["beta"], chart)[0]
+        if not z.imag > 0:
+            continue
+        kH = 10 ** rng.uniform(-1.5, 1.5)
+        fv, dfv, _ = dispersion_eval(v, kH, *par)
+        with mp.workdps(30):
+            fo = complex(oracle.dispersion(z, kH, p["gamma"], p["f"], p["beta"], INF, p["Delta"], p["xi"]))
+        assert abs(fv - fo) <= 1e-12 * max(abs(fo), 1.0), (chart, w, kH)
+        h = 1e-6
+        num = (dispersion_eval(v + h, kH, *par)[0] - dispersion_eval(v - h, kH, *par)[0]) / (2 * h)
+        assert abs(num - dfv) <= 1e-6 * max(abs(dfv), 1.0), (chart, w, kH)
+        checked += 1
+    assert checked >= 4
+
+
+BORN_AT_THE_CUT = dict(gamma=3.5880114280439144, f=0.628106392219389, beta=0.45668014955490915,
+                       Delta=0.8914233559279807, xi=1.0)  # issue 31's sample 14 at eta = inf (bench_sliding)
+
+
+def test_a_root_born_at_the_cut_between_grid_points_is_found(monkeypatch):
+    """A root of the other sheet comes out of the cut just beyond 1/beta at kH ~ 0.76, grows to Im z = 0.0167 at kH
+    = 0.81 (ten times the fastest root at any grid point) and leaves through the real axis at kH ~ 0.88: it is on
+    the physical sheet between two grid points only. Followed in the chart beside 1/beta from the grid point kH = 1
+    (where it lies below the real axis), it is found: the default grid gives the maximum of a 129-point grid."""
+    r = model.sliding_analysis(**BORN_AT_THE_CUT)
+    dense = model.sliding_analysis(**BORN_AT_THE_CUT, kH=np.logspace(-2, 2, 129))
+    assert int(r.verdict_reason) == sliding.S_UNSTABLE and int(dense.verdict_reason) == sliding.S_UNSTABLE
+    assert abs(float(r.growth) - 0.016718942940617272) <= 1e-9 * 0.0167
+    assert abs(float(r.growth) - float(dense.growth)) <= 1e-9 * float(r.growth)
+    z = complex(r.z_at_max)
+    assert 1.0 < z.real < 1.0 / BORN_AT_THE_CUT["beta"] and 0.7 < float(r.kH_at_max) < 0.9
+    with mp.workdps(30):
+        res = abs(oracle.dispersion(z, float(r.kH_at_max), BORN_AT_THE_CUT["gamma"], BORN_AT_THE_CUT["f"],
+                                    BORN_AT_THE_CUT["beta"], INF, BORN_AT_THE_CUT["Delta"], BORN_AT_THE_CUT["xi"]))
+        res /= abs(oracle.dispersion_dz(z, float(r.kH_at_max), BORN_AT_THE_CUT["gamma"], BORN_AT_THE_CUT["f"],
+                                        BORN_AT_THE_CUT["beta"], INF, BORN_AT_THE_CUT["Delta"],
+                                        BORN_AT_THE_CUT["xi"]))
+    assert res < 1e-12 * abs(z)  # a root of the oracle's F on the physical sheet
+    monkeypatch.setattr(sliding, "CUT_CHARTS", False)
+    without = model.sliding_analysis(**BORN_AT_THE_CUT)
+    assert float(without.growth) < 0.2 * float(r.growth)  # what the search found before the charts
+
+
+RISES_ABOVE_THE_FLOOR = dict(gamma=1.6267023614672673, f=0.7395206334034172, beta=0.6558710838935,
+                             Delta=0.6928799066512659, xi=1.0)  # issue 31's sample 38 at eta = inf (bench_sliding)
+
+
+def test_a_root_rising_above_the_floor_between_grid_points_is_found(monkeypatch):
+    """A backward root just beyond the shear speed is 8.5e-7 (below the floor 1e-6) at the grid points kH = 31.6 and
+    56.2 and reaches 1.4e-6 between them: followed from the grid points (where it lies in [floor/10, floor)), it is
+    found, and the verdict is unstable, as on a 129-point grid. Without following it the verdict was stable."""
+    r = model.sliding_analysis(**RISES_ABOVE_THE_FLOOR)
+    assert int(r.verdict) == 1 and int(r.rayleigh.verdict) == 0
+    assert 1e-6 < float(r.growth) < 2e-6 and 31.6 < float(r.kH_at_max) < 56.2
+    assert -1.01 < complex(r.z_at_max).real < -1.0
+    for kH in (model.SLIDING_KH[14], model.SLIDING_KH[15]):  # below the floor at the grid points on either side
+        assert int(model.fastest_mode(kH, **RISES_ABOVE_THE_FLOOR).count) == 0
+    monkeypatch.setattr(sliding, "FLOOR_WATCH", 1.0)
+    assert int(model.sliding_analysis(**RISES_ABOVE_THE_FLOOR).verdict) == 0

@@ -9,7 +9,7 @@ Everything here works on plain Python/NumPy scalars and arrays inside numba-comp
 ``elementary``     complex elementary functions (overflow-safe |w|, 1/w, sqrt, exp, log, tanh/sech) and the series
                    and divided differences of g(u) = tanh(sqrt u)/sqrt u and psi(t) = expm1(t)/t
 ``response``       the response functions G_x, G_y in cancellation-free form and the dispersion function F, with
-                   their derivatives (§2)
+                   their derivatives (§2); F in the charts across the cuts beside the branch points (§14.7)
 ``newton``         Newton's method: the one loop and stopping rule for every root of the model (§8)
 ``rayleigh``       the Rayleigh speed z_R(beta), Newton on the Rayleigh cubic (§5)
 ``continuation``   predictor-corrector continuation of a root in ln kH (and the homotopy to its start at kH = 1e4)
@@ -19,6 +19,7 @@ Everything here works on plain Python/NumPy scalars and arrays inside numba-comp
 ``contour``        the argument principle: adaptive sampling of F along lines, the winding number of a rectangle,
                    Newton in a cell (§10)
 ``window``         where the roots can be: the large-|z| bound of F and the window it gives (§14)
+``cuts``           a root followed in kH in a chart across the cuts beside a branch point (§14.7)
 =================  ===================================================================================================
 
 Compile options and numba's cache

@@ -223,40 +223,44 @@ def _newton_cell(z0: complex, x0: float, x1: float, y0: float, y1: float, mult: 
 def count_rectangle(x0: float, x1: float, y0: float, y1: float, h0: float, poles: np.ndarray, half: np.ndarray,
                     q: float, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float,
                     h_bottom: float, h_side: float, h_top: float, tol_phase: float, tol_trap: float,
-                    tol_lin: float) -> tuple[int, int, int, float, int]:
+                    tol_lin: float) -> tuple[int, int, int, float, int, complex, complex]:
     """The number of roots of F(z; kH = q) in [x0, x1] x [y0, y1] (0 < y0 < y1) by the argument principle.
 
     The four edges are sampled by :func:`_sample_line` (bottom, right, top, left; the smallest segments h_bottom,
     h_side, h_top) and the log-increments of their accepted segments summed counterclockwise; the samples are not
     kept (:class:`model.modes._Problem` keeps them where roots are to be located). Returns (status, count, edge,
-    t_bad, evaluations): status 0 = counted, 1 = a root on (or within the smallest segment of) edge `edge` near
-    its coordinate t_bad, 2 = too many samples on a line, 3 = F not finite, 4 = the winding number is not within
-    WINDING_TOL of an integer.
+    t_bad, evaluations, s1, s2): status 0 = counted, 1 = a root on (or within the smallest segment of) edge `edge`
+    near its coordinate t_bad, 2 = too many samples on a line, 3 = F not finite, 4 = the winding number is not
+    within WINDING_TOL of an integer; s1, s2: estimates of the sum of the roots and of their squares, (1/2 pi i)
+    times the closed integrals of z^k dlog F by the midpoint rule on the accepted segments (starts for Newton: the
+    segments are coarse; a count certifies what Newton finds from them).
     """
     nev = 0
     total = 0j
+    m1 = 0j
+    m2 = 0j
     for edge in range(4):
-        if edge == 0:
-            _, _, lg, st, tb, ne = _sample_line(x0, x1, y0, True, h0, 0.0, y0, poles, half, q, gamma, f, beta,
-                                                eta, delta, xi, h_bottom, tol_phase, tol_trap, tol_lin)
-        elif edge == 1:
-            _, _, lg, st, tb, ne = _sample_line(y0, y1, x1, False, h0, y0, 0.0, poles, half, q, gamma, f, beta,
-                                                eta, delta, xi, h_side, tol_phase, tol_trap, tol_lin)
-        elif edge == 2:
-            _, _, lg, st, tb, ne = _sample_line(x0, x1, y1, True, h0, 0.0, y1, poles, half, q, gamma, f, beta,
-                                                eta, delta, xi, h_top, tol_phase, tol_trap, tol_lin)
-        else:
-            _, _, lg, st, tb, ne = _sample_line(y0, y1, x0, False, h0, y0, 0.0, poles, half, q, gamma, f, beta,
-                                                eta, delta, xi, h_side, tol_phase, tol_trap, tol_lin)
+        horizontal = edge % 2 == 0
+        c = y0 if edge == 0 else (x1 if edge == 1 else (y1 if edge == 2 else x0))
+        t0 = x0 if horizontal else y0
+        t1 = x1 if horizontal else y1
+        geo0 = 0.0 if horizontal else y0
+        lad_y = c if horizontal else 0.0
+        h_min = h_bottom if edge == 0 else (h_top if edge == 2 else h_side)
+        ts, _, lg, st, tb, ne = _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta,
+                                             eta, delta, xi, h_min, tol_phase, tol_trap, tol_lin)
         nev += ne
         if st != 0:
-            return st, 0, edge, tb, nev
-        s = 0j
+            return st, 0, edge, tb, nev, 0j, 0j
+        sg = 1.0 if edge < 2 else -1.0
         for k in range(lg.shape[0]):
-            s += lg[k]
-        total += s if edge < 2 else -s
+            tm = 0.5 * (ts[k] + ts[k + 1])
+            zm = _point(tm, c, horizontal)
+            total += sg * lg[k]
+            m1 += sg * zm * lg[k]
+            m2 += sg * zm * zm * lg[k]
     w = total.imag / (2.0 * math.pi)
     n = round(w)
     if abs(w - n) > WINDING_TOL:
-        return 4, 0, -1, w, nev
-    return 0, int(n), -1, 0.0, nev
+        return 4, 0, -1, w, nev, 0j, 0j
+    return 0, int(n), -1, 0.0, nev, m1 / (2j * math.pi), m2 / (2j * math.pi)

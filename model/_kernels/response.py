@@ -43,12 +43,20 @@ def response_inf(
     z: complex, q: float, beta: float
 ) -> tuple[complex, complex, complex, complex, complex, complex, float]:
     """G_x, G_y, dG_x/dz, dG_y/dz, dG_x/dq, dG_y/dq and a rounding scale for eta = inf (Eqs. Gx_LSA, Gy_LSA)."""
-    b2 = beta * beta
-    z2 = z * z
     us = _fix0((1.0 - z) * (1.0 + z))
     ud = _fix0((1.0 - beta * z) * (1.0 + beta * z))
-    a_s = _csqrt(us)
-    a_d = _csqrt(ud)
+    return response_inf_alpha(z, _csqrt(us), _csqrt(ud), q, beta)
+
+
+@jitted
+def response_inf_alpha(
+    z: complex, a_s: complex, a_d: complex, q: float, beta: float
+) -> tuple[complex, complex, complex, complex, complex, complex, float]:
+    """As :func:`response_inf`, with alpha_s and alpha_d given (the physical sheet: their principal values; a chart
+    across a cut near a branch point: their continuations, :func:`chart_point`). The z-derivatives take
+    d alpha_j/dz = -beta_j^2 z / alpha_j, true on every sheet."""
+    b2 = beta * beta
+    z2 = z * z
     inv_as = _cinv(a_s)
     inv_ad = _cinv(a_d)
     das = -z * inv_as
@@ -192,6 +200,34 @@ def response(
     return response_fin(z, q, beta, eta)
 
 
+# a chart's variable is v = w + CHART_ORIGIN: its boxes |w| < 1 lie above the real v axis, and the lines that split
+# a box centred on Re v = 0, Im v = 1 (at dyadic fractions of it) never pass through w = 0, where 1/alpha is infinite
+CHART_ORIGIN = complex(0.0123456789, 1.0 + 0.0098765432)
+
+
+@jitted
+def chart_point(v: complex, beta: float, chart: int) -> tuple[complex, complex, complex, complex]:
+    """(z, alpha_s, alpha_d, dz/dv) at the point v of a chart across the cuts beside a branch point b (eta = inf;
+    docs/physics.md §14.7). w = v - CHART_ORIGIN is the local uniformizing variable: chart 1, 2: b = +-1/beta,
+    w = alpha_d, z = b sqrt(1 - w^2) and alpha_s = -i sgn(b) sqrt(z^2 - 1) (its continuation from Im z > 0 across
+    |Re z| > 1); chart 3, 4: b = +-1, w = alpha_s, z = b sqrt(1 - w^2), alpha_d principal. F is analytic in w
+    near w = 0 (both sides of the cut); the physical sheet with Im z > 0 is Re w > 0, Im z > 0."""
+    w = v - CHART_ORIGIN
+    sgn = 1.0 if chart == 1 or chart == 3 else -1.0
+    r = _csqrt(_fix0((1.0 - w) * (1.0 + w)))
+    if chart <= 2:
+        z = sgn * r / beta
+        a_d = w
+        a_s = -1j * sgn * _csqrt(_fix0((z - 1.0) * (z + 1.0)))
+        dzdv = -w / (beta * beta * z)
+    else:
+        z = sgn * r
+        a_s = w
+        a_d = _csqrt(_fix0((1.0 - beta * z) * (1.0 + beta * z)))
+        dzdv = -w / z
+    return z, a_s, a_d, dzdv
+
+
 @jitted
 def _weighted_dispersion(z: complex, q: float, wg: float, wz: float, p: Params) -> tuple[complex, complex, float,
                                                                                            complex]:
@@ -199,11 +235,19 @@ def _weighted_dispersion(z: complex, q: float, wg: float, wz: float, p: Params) 
 
     The rounding scale is the sum of the magnitudes of the terms plus |z F'| (the change of F under a
     relative perturbation of z by one unit: no evaluation can resolve F below eps times this).
+
+    Internal: p.eta = -c (c = 1..4) evaluates F in the chart c of :func:`chart_point` (z is then the chart's v, and
+    dF/dz is dF/dv); the physical parameters never take that value (eta > 0 is validated).
     """
     f = p.f
     delta = p.delta
     xi = p.xi
-    gx, gy, dgx, dgy, qgx, qgy, sc = response(z, q, p.beta, p.eta)
+    dzdv = 1.0 + 0j
+    if p.eta < 0.0:
+        z, a_s, a_d, dzdv = chart_point(z, p.beta, int(-p.eta))
+        gx, gy, dgx, dgy, qgx, qgy, sc = response_inf_alpha(z, a_s, a_d, q, p.beta)
+    else:
+        gx, gy, dgx, dgy, qgx, qgy, sc = response(z, q, p.beta, p.eta)
     if delta == 1.0:
         sf = 1.0 + 0j
         dsf = 0j
@@ -219,6 +263,8 @@ def _weighted_dispersion(z: complex, q: float, wg: float, wz: float, p: Params) 
     dfval = wg * (dgx + 1j * f * dgy) + wz * 1j * (sf + z * dsf)
     qfval = wg * (qgx + 1j * f * qgy) + wz * 1j * z * qsf
     scale = wg * (sc + _abs1(f * gy)) + wz * _abs1(z) * sabs + _abs1(z * dfval)
+    if p.eta < 0.0:
+        dfval = dfval * dzdv
     return fval, dfval, scale, qfval
 
 
