@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ._kernels.contour import LIN_TOL, PHASE_MAX, TRAP_TOL, count_rectangle
-from ._kernels.cuts import follow_chart
+from ._kernels.cuts import WARM_ITERS, follow_chart, growth_in_chart
 from ._kernels.newton import FULL_TOL, KH, _newton
 from ._kernels.records import NO_BOX, Params
 from ._kernels.response import CHART_ORIGIN, chart_point
@@ -28,7 +28,6 @@ CHARTS = (1, 2, 3, 4)  # beside +1/beta, -1/beta, +1, -1 (chart_point)
 CHART_BOX = 0.6  # the box's half-width over the distance (in w) to the chart's other singularities (and to |w| = 1)
 CHART_H0 = 0.25  # initial sample spacing on the box's edges
 FOLLOW_STEP = 0.05  # largest step in ln kH when a chart root is followed
-WARM_ITERS = 40  # Newton evaluations per step
 _EMPTY = np.empty(0)
 
 
@@ -38,11 +37,17 @@ class CutCharts:
     def __init__(self, p: Params):
         self.p = p
         self.evaluations = 0
+        # per chart: the parameters that select it (eta = -chart) and the box's half-width
+        self._par = {c: Params(p.gamma, p.f, p.beta, -float(c), p.delta, p.xi) for c in CHARTS}
+        self._half = {c: self._half_width(c) for c in CHARTS}
 
     def _params(self, chart: int) -> Params:
-        return Params(self.p.gamma, self.p.f, self.p.beta, -float(chart), self.p.delta, self.p.xi)
+        return self._par[chart]
 
     def half_width(self, chart: int) -> float:
+        return self._half[chart]
+
+    def _half_width(self, chart: int) -> float:
         """The box's half-width in w: the chart is valid for |w| below the distance to the other branch points
         (sqrt(1 - beta^2) in alpha_d, sqrt(1/beta^2 - 1) in alpha_s) and to |w| = 1 (the chart's own square root);
         the box's corners stay within CHART_BOX x sqrt(2) of that."""
@@ -101,14 +106,6 @@ class CutCharts:
             return None
         return r.z, q * r.dzds
 
-    def growing_z(self, v: complex, chart: int) -> complex | None:
-        """z at the chart point v if it lies on the physical sheet with Im z > 0 (Re w > 0), else None."""
-        w = v - CHART_ORIGIN
-        if not w.real > 0.0:
-            return None
-        z = chart_point(v, self.p.beta, chart)[0]
-        return z if z.imag > 0.0 else None
-
     def highest(self, v: complex, dv: complex, s: float, end: float, chart: int, best: float
                 ) -> tuple[tuple[float, complex] | None, complex | None]:
         """Follow the chart root v (slope dv) from ln kH = s to `end` (:func:`model._kernels.cuts.follow_chart`).
@@ -132,8 +129,6 @@ class CutCharts:
             if a < 0.0:
                 s_star = min(max(-b / (2.0 * a), min(s0, s2)), max(s0, s2))
                 got = self.polish(v_k, math.exp(s_star), chart)
-                if got is not None:
-                    z_star = self.growing_z(got[0], chart)
-                    if z_star is not None and z_star.imag > im_k:
-                        return (s_star, z_star), arrived
+                if got is not None and growth_in_chart(got[0], self.p.beta, chart) > im_k:
+                    return (s_star, chart_point(got[0], self.p.beta, chart)[0]), arrived
         return (s_k, chart_point(v_k, self.p.beta, chart)[0]), arrived

@@ -462,7 +462,6 @@ class _Analysis:
         self.lo, self.hi = self.s_grid[0], self.s_grid[-1]
         self.rate = rate
         self.tops: dict[float, _Top] = {}
-        self.untracked: list[tuple[float, float]] = []  # grid points where roots could not be tracked (refused)
         self.charts: CutCharts | None = None  # eta = inf: the charts across the cuts (model._sliding_cuts)
         self.chart_roots: dict[tuple[float, int], list[tuple[complex, complex]] | None] = {}
         # every root above a level at a grid point (s -> (level, [(z, dz/d ln kH)])): the sample's and the track's
@@ -509,15 +508,18 @@ class _Analysis:
 
     def every_root(self, s: float) -> _Top | None:
         """The grid point ln kH = s searched once for the sample and the track (:meth:`track`): every root above
-        the track's fraction of the level (a maximum M found so far), located (:meth:`roots_above`); the fastest of
-        them is certified by that count. The track then needs no other contour here (its level, the fraction of the
-        final maximum, is not lower). None where that window is refused (the caller searches above the level
-        alone)."""
+        the track's fraction of the level (a maximum M found so far; at eta = inf before any root is found, above
+        floor x FLOOR_WATCH), located (:meth:`roots_above`); the fastest of them is certified by that count. The
+        track then needs no other contour here (its level, the fraction of the final maximum, is not lower). None
+        where that window is refused (the caller searches above the level alone)."""
         if s in self.tops:
             return self.tops[s]
         fl = self.search.floor
-        watch = fl * FLOOR_WATCH if math.isinf(self.search.p.eta) else fl
-        found = self.roots_above(s, max(watch, self.fraction() * self.level(s)))
+        if math.isinf(self.search.p.eta) and self.level(s) <= fl:  # nothing found yet: down to the watched band
+            level = fl * FLOOR_WATCH  # (:meth:`rises_above_floor` follows its roots if sliding is stable)
+        else:
+            level = max(fl, self.fraction() * self.level(s))
+        found = self.roots_above(s, level)
         if found is None:
             return None
         roots = [r for r in found if r[0].imag >= fl]
@@ -534,21 +536,10 @@ class _Analysis:
         return t
 
     def rises_above_floor(self) -> bool:
-        """eta = inf, where no root reaches the floor at any grid point: every root in [floor x FLOOR_WATCH, floor)
-        at a grid point followed to its peaks in the neighbouring intervals, and the roots across the cuts
-        (:meth:`across_cuts`); True if one rises above the floor between the grid points (found and certified
-        there)."""
-        fl = self.search.floor
-        higher = False
-        for i, s in enumerate(self.s_grid):
-            hit = self.known.get(s)
-            if hit is None:
-                continue
-            for z, dz in hit[1]:
-                for j in (i - 1, i + 1):
-                    if 0 <= j < len(self.s_grid):
-                        higher = self.follow_and_search(z, dz, s, self.s_grid[j], fl) or higher
-        return self.across_cuts(fl) or higher
+        """eta = inf, where no root reaches the floor at any grid point: :meth:`track` with M = floor from the roots
+        in [floor x FLOOR_WATCH, floor) at the grid points (known from the sample); True if one rises above the floor
+        between the grid points (found and certified there)."""
+        return self.track(self.search.floor, self.search.floor * FLOOR_WATCH)
 
     def fraction(self) -> float:
         """Roots above this fraction of the maximum at a grid point are followed between the grid points."""
@@ -727,19 +718,17 @@ class _Analysis:
         t = self.at(peak[0], peak[1], peak[1].imag, level=best)
         return t.status == M_OK and t.z.imag > best
 
-    def track(self, best: float) -> bool:
-        """Between the grid points: every root with Im z >= max(floor, TRACK_FRACTION x best) at a grid point is
-        followed into both neighbouring intervals to where its Im z peaks; a peak above `best` is searched there
-        (certified). True if a root higher than `best` was found."""
-        level = max(self.search.floor, self.fraction() * best)
+    def track(self, best: float, level: float | None = None) -> bool:
+        """Between the grid points: every root with Im z >= level (default max(floor, fraction x best)) at a grid
+        point is followed into both neighbouring intervals to where its Im z peaks, and at eta = inf the roots across
+        the cuts (:meth:`across_cuts`); a peak above `best` is searched there (certified). True if a root higher than
+        `best` was found. A grid point whose window is refused is not followed from (docs/physics.md §14.7)."""
+        if level is None:
+            level = max(self.search.floor, self.fraction() * best)
         grid = self.s_grid
         higher = False
         for i, s in enumerate(grid):
-            roots = self.roots_above(s, level)
-            if roots is None:
-                self.untracked.append((s, level))
-                continue
-            for z, dz in roots:
+            for z, dz in self.roots_above(s, level) or []:
                 for j in (i - 1, i + 1):
                     if 0 <= j < len(grid):
                         higher = self.follow_and_search(z, dz, s, grid[j], best) or higher
@@ -761,11 +750,7 @@ class _Analysis:
         for i, s in enumerate(self.s_grid):
             for chart in CHARTS:
                 came = arrivals.pop(chart, [])
-                roots = self.chart_roots_at(s, chart, crowded, came)
-                if roots is None:
-                    self.untracked.append((s, -float(chart)))
-                    continue
-                for v, dv in roots:
+                for v, dv in self.chart_roots_at(s, chart, crowded, came) or []:
                     back = not any(abs(v - a) <= 1e-8 * abs(v) for a in came)
                     for j in (i - 1, i + 1) if back else (i + 1,):
                         higher = self.follow_chart_root(v, dv, i, j, chart, best, arrivals) or higher

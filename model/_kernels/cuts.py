@@ -23,7 +23,7 @@ MIN_STEP = 1e-9  # a step in ln kH this small ends the follow (the root is lost)
 
 
 @jitted
-def _growth(v: complex, beta: float, chart: int) -> float:
+def growth_in_chart(v: complex, beta: float, chart: int) -> float:
     """Im z at the chart point v if it lies on the physical sheet with Im z > 0, else -inf."""
     w = v - CHART_ORIGIN
     if not w.real > 0.0:
@@ -43,8 +43,7 @@ def follow_chart(v: complex, dv: complex, s: float, end: float, p: Params, chart
     gk = np.empty(FOLLOW_ITERS + 1)
     sign = 1.0 if end > s else -1.0
     cap = step_max
-    n = 0
-    sk[0], vk[0], gk[0] = s, v, _growth(v, p.beta, chart)
+    sk[0], vk[0], gk[0] = s, v, growth_in_chart(v, p.beta, chart)
     n = 1
     evals = 0
     for _ in range(FOLLOW_ITERS):
@@ -58,7 +57,7 @@ def follow_chart(v: complex, dv: complex, s: float, end: float, p: Params, chart
             cap *= 0.5
             continue
         v, dv, s = r.z, math.exp(s_new) * r.dzds, s_new
-        sk[n], vk[n], gk[n] = s, v, _growth(v, p.beta, chart)
+        sk[n], vk[n], gk[n] = s, v, growth_in_chart(v, p.beta, chart)
         n += 1
         cap = min(step_max, 2.0 * cap)
     return sk[:n], vk[:n], gk[:n], n, evals
