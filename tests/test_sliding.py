@@ -431,3 +431,29 @@ def test_a_root_rising_above_the_floor_between_grid_points_is_found(monkeypatch)
         assert int(model.fastest_mode(kH, **RISES_ABOVE_THE_FLOOR).count) == 0
     monkeypatch.setattr(sliding, "FLOOR_WATCH", 1.0)
     assert int(model.sliding_analysis(**RISES_ABOVE_THE_FLOOR).verdict) == 0
+
+
+HUMP_BETWEEN_GRID = dict(gamma=0.22691293642141988, f=0.9141748518780519, beta=0.42186930346996965,
+                         Delta=0.7571758773509893, xi=1.0, eta=10.0)  # issue 31's sample 12 at eta = 10 (bench_sliding)
+
+
+def test_at_finite_eta_the_maximum_is_a_lower_bound_and_says_so():
+    """At finite eta a root can come up through the real axis beside a pole of the layers and fall back within 0.03
+    decades of kH, between two grid points where it lies below the axis: the default grid does not see it. The result
+    says so (lower_bound, docs/physics.md §14.7): its growth is a certified root's, and lower than that root's peak,
+    which is the fastest root at its kH (the oracle's F vanishes there); a grid through that kH finds it. At eta =
+    inf the flag is False."""
+    r = model.sliding_analysis(**HUMP_BETWEEN_GRID)
+    assert bool(r.lower_bound) and int(r.verdict_reason) == sliding.S_UNSTABLE
+    kh_peak = 0.2526548620079365
+    fm = model.fastest_mode(kh_peak, **HUMP_BETWEEN_GRID, count=False)
+    z = complex(fm.z)
+    assert abs(z - (3.5607739153409788 + 0.00809879384063006j)) <= 1e-9 * abs(z)
+    assert float(r.growth) < 0.6 * z.imag  # the default grid's maximum, 0.00467: a lower bound
+    p = {k: HUMP_BETWEEN_GRID[k] for k in ("gamma", "f", "beta", "eta", "Delta", "xi")}
+    with mp.workdps(30):
+        res = abs(oracle.dispersion(z, kh_peak, *p.values())) / abs(oracle.dispersion_dz(z, kh_peak, *p.values()))
+    assert res < 1e-10 * abs(z)
+    through = model.sliding_analysis(**HUMP_BETWEEN_GRID, kH=np.sort(np.append(model.SLIDING_KH, kh_peak)))
+    assert float(through.growth) >= z.imag * (1 - 1e-9)
+    assert not bool(model.sliding_analysis(**{**HUMP_BETWEEN_GRID, "eta": INF}).lower_bound)
