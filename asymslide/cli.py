@@ -130,7 +130,7 @@ def _adaptive_spec(args: argparse.Namespace) -> tuple[list[str], object]:
 def _sweep_settings(args: argparse.Namespace, specs: Sequence[str]) -> tuple[dict, dict]:
     """The axes (from `specs`) and the other settings of ``asymslide sweep``'s arguments (SweepError or ValueError if
     bad)."""
-    from atlas_engine.sweep import CountSpec, SweepError, parse_axis, parse_fixed
+    from atlas_engine.sweep import CountSpec, SlidingSpec, SweepError, _number, parse_axis, parse_fixed
 
     axes = dict(parse_axis(a) for a in specs)
     if len(axes) != len(args.axis):
@@ -146,8 +146,11 @@ def _sweep_settings(args: argparse.Namespace, specs: Sequence[str]) -> tuple[dic
         if len(window) != 3:
             raise SweepError(f"--count must be re_max,im_min,im_max; got {args.count!r}")
         count = CountSpec(tuple(parse_axis(f"kH={args.count_kH}")[1]), window)  # type: ignore[arg-type]
+    sliding = None
+    if args.sliding:
+        sliding = SlidingSpec(tuple(parse_axis(f"kH={args.sliding_kH}")[1]), _number("--floor", args.floor))
     settings = dict(fixed=fixed, kH=kh, rtol=args.rtol, growth=not args.no_growth, gamma_c=not args.no_gamma_c,
-                    gamma_range=gamma_range, count=count, chunk_points=args.chunk_points)
+                    gamma_range=gamma_range, count=count, chunk_points=args.chunk_points, sliding=sliding)
     return axes, settings
 
 
@@ -326,6 +329,14 @@ def build_parser() -> argparse.ArgumentParser:
                     help="also count every unstable root (any branch) in this window")
     sw.add_argument("--count-kH", default="0.1:10:5:log", metavar="LO:HI:N[:log]",
                     help="kH grid of the count (default 0.1:10:5:log)")
+    sw.add_argument("--sliding", action="store_true",
+                    help="also the sliding verdict over every branch (growth_all, verdict_all, ...; dense sweeps; "
+                    "about 10 ms a point at eta = inf, 0.1 s at finite eta)")
+    sw.add_argument("--sliding-kH", default="1e-2:1e2:17:log", metavar="LO:HI:N[:log]",
+                    help="kH grid of the sliding verdict (default 1e-2:1e2:17:log, the model's)")
+    sw.add_argument("--floor", default="1e-6", metavar="GROWTH",
+                    help="growth floor of the sliding verdict: roots with Im z below it are not searched "
+                    "(default 1e-6)")
     sw.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler, e.g. tcp://HOST:8786 (default: "
                                                            "threads on this machine)")
     sw.add_argument("--workers", type=int, default=None, help="threads on this machine (default: one per core)")

@@ -81,7 +81,8 @@ def points_done(path: Path, plan: engine.Plan) -> dict[str, int]:
         done = engine.done_chunks(path)
     except (OSError, ValueError, KeyError):
         return {}
-    blocks = {"growth": plan.growth_blocks(), "gamma_c": plan.gamma_c_blocks()}
+    blocks = {"growth": plan.growth_blocks(), "gamma_c": plan.gamma_c_blocks(), "count": plan.count_blocks(),
+              "sliding": plan.sliding_blocks()}
     return {kind: sum(math.prod(b - a for a, b in blocks[kind][i]) for i in np.flatnonzero(flags))
             for kind, flags in done.items()}
 

@@ -17,7 +17,13 @@ that diagram on a grid. The engine only distributes: every number is computed by
   grows), ``gamma_c_crossing_reason`` (:data:`model.CROSSING_STATUS`); per point ``gamma_c_n_crossings`` (may
   exceed CROSSINGS) and ``gamma_c_complete`` (1 where every crossing is certified);
 - optionally ``unstable_count``: :func:`model.unstable_count` (all branches) in a stated window at each kH of a
-  stated grid.
+  stated grid;
+- optionally the sliding verdict over every branch (:func:`model.sliding_chunk`, as :func:`model.sliding_analysis`,
+  on its own kH grid ``kH_sliding`` with a stated growth floor; docs/physics.md §14): ``growth_all``,
+  ``kH_at_max_all``, ``re_z_at_max_all`` (z at the maximum is re_z_at_max_all + i growth_all), ``family_all``
+  (:data:`model.FAMILIES`), ``verdict_all`` and ``verdict_reason_all`` (:data:`model.SLIDING_STATUS`),
+  ``max_at_end_all`` and ``lower_bound_all`` (1 at finite η: the maximum is a lower bound of the continuous one).
+  A store without them covers the Rayleigh branch only (``asymslide info`` says so).
 
 The grid is cut into chunks (a hyper-rectangle of grid points each, aligned with the Zarr chunks). A chunk is a
 pure task: it needs only this package on the machine that runs it, and returns its arrays to the process that
@@ -75,6 +81,23 @@ GAMMA_C_CHUNK_POINTS = 256
 COUNT_CHUNK_POINTS = 16
 #: the window of the optional all-branch count: model.unstable_count's defaults
 DEFAULT_WINDOW = (5.0, 1e-4, 2.0)
+#: grid points per sliding chunk (model.sliding_chunk: ~10 ms a point at eta = inf, ~0.1 s at finite eta)
+SLIDING_CHUNK_POINTS = 64
+#: the sliding variables (every branch; model.sliding_chunk): dtype, fill, long name
+SLIDING_VARS = {
+    "growth_all": (np.float64, np.nan, "max over kH of Im(c/c_s) over every branch (sliding; NaN unless unstable with "
+                   "a certified maximum; at finite eta a lower bound: lower_bound_all)"),
+    "kH_at_max_all": (np.float64, np.nan, "kH where the growth over every branch is largest"),
+    "re_z_at_max_all": (np.float64, np.nan, "Re z of the fastest root at the maximum (z = re_z_at_max_all + i "
+                        "growth_all)"),
+    "family_all": (np.int8, -1, "family of the fastest root at the maximum (model.FAMILIES; -1: none)"),
+    "verdict_all": (np.int8, -1, "sliding (every branch above the floor): 0 stable, 1 unstable, 2 undetermined (-1: "
+                    "not computed); why: verdict_reason_all"),
+    "verdict_reason_all": (np.int8, -1, "the sliding verdict's reason code (model.SLIDING_STATUS; -1: not computed)"),
+    "max_at_end_all": (np.int8, -1, "1 where the maximum lies at an end of the kH range (it may continue beyond)"),
+    "lower_bound_all": (np.int8, -1, "1 at finite eta: growth_all is the maximum at the kH searched and along the "
+                        "roots followed, a lower bound of the continuous one (docs/physics.md §14.7)"),
+}
 #: seconds a scheduler address may take to answer (the command then fails within ~10 s of its start)
 CONNECT_TIMEOUT = 8
 #: the growth variables, their Zarr fill values (where not computed) and attributes
@@ -130,6 +153,18 @@ class CountSpec:
 
 
 @dataclass(frozen=True)
+class SlidingSpec:
+    """The optional sliding verdict over every branch: :func:`model.sliding_chunk` on the kH grid `kH` (its ends are
+    the range; default :data:`model.SLIDING_KH`) with the growth floor `floor` (default :data:`model.DEFAULT_FLOOR`)."""
+
+    kH: tuple[float, ...] = tuple(float(x) for x in model.SLIDING_KH)
+    floor: float = model.DEFAULT_FLOOR
+
+    def identity(self) -> dict[str, Any]:
+        return {"kH": list(self.kH), "floor": self.floor}
+
+
+@dataclass(frozen=True)
 class Plan:
     """A validated sweep: the axes (name -> increasing values), the fixed parameters, the kH grid and the rest.
 
@@ -148,6 +183,8 @@ class Plan:
     chunks: dict[str, int] = field(default_factory=dict)
     #: the refinement of an adaptive sweep (atlas_engine.adaptive); None: the dense sweep
     adaptive: AdaptiveSpec | None = None
+    #: the sliding verdict over every branch; None: the Rayleigh branch only
+    sliding: SlidingSpec | None = None
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -180,6 +217,8 @@ class Plan:
             "chunks": dict(self.chunks),
             # only in adaptive plans: a dense plan's identity (and so every dense store) is what it always was
             **({"adaptive": self.adaptive.identity()} if self.adaptive is not None else {}),
+            # only where asked for: a plan without it has the identity it always had
+            **({"sliding": self.sliding.identity()} if self.sliding is not None else {}),
         }
 
     # -- chunks -------------------------------------------------------------------------------
@@ -193,6 +232,9 @@ class Plan:
 
     def count_blocks(self) -> list[tuple[tuple[int, int], ...]]:
         return _blocks([(len(self.axes[n]), self.chunks[f"count:{n}"]) for n in self.names])
+
+    def sliding_blocks(self) -> list[tuple[tuple[int, int], ...]]:
+        return _blocks([(len(self.axes[n]), self.chunks[f"sliding:{n}"]) for n in self.names])
 
 
 def _json_float(x: float) -> float | str:
@@ -269,7 +311,8 @@ def _number(name: str, text: str) -> float:
 def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[str, float] | None = None,
               kH: Sequence[float] | np.ndarray | None = None, rtol: float | None = None, growth: bool = True,
               gamma_c: bool = True, gamma_range: tuple[float, float] | None = None, count: CountSpec | None = None,
-              chunk_points: int | None = None, adaptive: AdaptiveSpec | bool | Mapping[str, Any] | None = None) -> Plan:
+              chunk_points: int | None = None, adaptive: AdaptiveSpec | bool | Mapping[str, Any] | None = None,
+              sliding: SlidingSpec | bool | None = None) -> Plan:
     """Validate a sweep and fix its chunks; SweepError (a ValueError) naming the problem otherwise.
 
     axes: parameter name -> strictly increasing finite values in the model's domain (η = ∞ only as a fixed
@@ -278,12 +321,14 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
     (default: the γ axis' range if γ is an axis, else (1e-2, 1e3)); chunk_points: grid points per growth chunk
     (default :data:`CHUNK_POINTS`, adaptive :data:`atlas_engine.adaptive.CHUNK_POINTS`); adaptive: None or False (the
     dense sweep), True or an :class:`~atlas_engine.adaptive.AdaptiveSpec` (levels, margin, guard, follow; every axis
-    must have m·2^levels + 1 points).
+    must have m·2^levels + 1 points); sliding: None or False (the Rayleigh branch only), True or a
+    :class:`SlidingSpec` (also the sliding verdict over every branch; dense sweeps only).
     """
     if not axes:
         raise SweepError("no axis given: a sweep needs at least one axis (e.g. gamma=0.1:30:64:log)")
-    if not (growth or gamma_c or count is not None):
-        raise SweepError("nothing to compute: ask for the growth, gamma_c or the all-branch count")
+    sliding = _checked_sliding(sliding)
+    if not (growth or gamma_c or count is not None or sliding is not None):
+        raise SweepError("nothing to compute: ask for the growth, gamma_c, the all-branch count or the sliding verdict")
     fixed = dict(fixed or {})
     clean_axes = {name: _checked_axis(name, values, fixed) for name, values in axes.items()}
     full_fixed = _checked_fixed(fixed, clean_axes)
@@ -295,12 +340,15 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
         raise SweepError(f"gamma_range must be 0 < lo < hi < inf; got {gamma_range}")
     count = None if count is None else _checked_count(count)
     spec = None if adaptive is None or adaptive is False else _checked_adaptive(adaptive, clean_axes, growth)
+    if spec is not None and sliding is not None:
+        raise SweepError("the sliding verdict is computed by dense sweeps only (an adaptive sweep refines the Rayleigh "
+                         "branch's verdict): drop --adaptive or --sliding")
     if chunk_points is None:
         chunk_points = CHUNK_POINTS if spec is None else _adaptive.CHUNK_POINTS
     if chunk_points < 1:
         raise SweepError(f"chunk_points must be >= 1; got {chunk_points}")
     return Plan(clean_axes, full_fixed, tuple(float(x) for x in grid), rtol, growth, gamma_c, (lo, hi), count,
-                _plan_chunks(clean_axes, chunk_points), spec)
+                _plan_chunks(clean_axes, chunk_points), spec, sliding)
 
 
 def _checked_axis(name: str, values: Sequence[float] | np.ndarray, fixed: Mapping[str, float]) -> tuple[float, ...]:
@@ -360,6 +408,21 @@ def _checked_count(count: CountSpec) -> CountSpec:
     return CountSpec(tuple(float(x) for x in ck), (re_max, im_min, im_max))
 
 
+def _checked_sliding(sliding: SlidingSpec | bool | None) -> SlidingSpec | None:
+    """The sliding spec (True: the model's defaults) with its kH grid (increasing, positive, at least 2) and floor
+    checked."""
+    if sliding is None or sliding is False:
+        return None
+    spec = SlidingSpec() if sliding is True else sliding
+    grid = np.asarray(spec.kH, dtype=float).ravel()
+    if grid.size < 2 or not np.all(np.isfinite(grid)) or np.any(grid <= 0) or np.any(np.diff(grid) <= 0):
+        raise SweepError("the sliding kH grid must be an increasing grid of at least 2 positive values")
+    floor = float(spec.floor)
+    if not (math.isfinite(floor) and floor > 0):
+        raise SweepError(f"the sliding floor must be a positive finite growth; got {spec.floor!r}")
+    return SlidingSpec(tuple(float(x) for x in grid), floor)
+
+
 def _checked_adaptive(adaptive: AdaptiveSpec | bool | Mapping[str, Any], axes: Mapping[str, tuple[float, ...]],
                       growth: bool) -> AdaptiveSpec:
     """The resolved refinement spec; every axis must have m·2^levels + 1 points."""
@@ -384,6 +447,8 @@ def _plan_chunks(axes: Mapping[str, tuple[float, ...]], chunk_points: int) -> di
     chunks.update({f"gamma_c:{n}": c for n, c in zip(gc_names, gc, strict=True)})
     cc = chunk_sizes(shape, max(1, chunk_points * COUNT_CHUNK_POINTS // CHUNK_POINTS))
     chunks.update({f"count:{n}": c for n, c in zip(axes, cc, strict=True)})
+    sc = chunk_sizes(shape, max(1, chunk_points * SLIDING_CHUNK_POINTS // CHUNK_POINTS))
+    chunks.update({f"sliding:{n}": c for n, c in zip(axes, sc, strict=True)})
     return chunks
 
 
@@ -407,6 +472,7 @@ class Task:
     rtol: float | None
     gamma_range: tuple[float, float]
     count: CountSpec | None
+    sliding: SlidingSpec | None = None
 
     @property
     def points(self) -> int:
@@ -433,6 +499,23 @@ def growth_arrays(s: np.ndarray, params: np.ndarray, rtol: float | None) -> dict
     reason = out[7].astype(np.int8)  # as model.growth_analysis (the kernel always gives a code)
     return {"growth": out[0], "kH_at_max": np.exp(out[1]), "kH_min": np.exp(out[2]), "kH_max": np.exp(out[3]),
             "n_masked": out[4].astype(np.int16), "verdict": model.verdict_class(reason), "verdict_reason": reason}
+
+
+def sliding_arrays(spec: SlidingSpec, params: np.ndarray) -> dict[str, np.ndarray]:
+    """The sliding variables (1-D, one per column of `params`) of :func:`model.sliding_chunk`: the numbers
+    :func:`model.sliding_analysis` gives at the same point."""
+    rows = dict(zip(model.SLIDING_ROWS, model.sliding_chunk(np.log(np.asarray(spec.kH)), params, spec.floor),
+                    strict=True))
+    reason = rows["verdict_reason_all"].astype(np.int8)
+    verdict = np.where(reason == model.sliding.S_STABLE, 0, np.where(
+        np.isin(reason, (model.sliding.S_UNSTABLE, model.sliding.S_UNSTABLE_UNCERTIFIED_MAX)), 1, 2)).astype(np.int8)
+    family = rows["family_all"]
+    return {"growth_all": rows["growth_all"], "kH_at_max_all": np.exp(rows["ln_kH_at_max_all"]),
+            "re_z_at_max_all": rows["re_z_at_max_all"],
+            "family_all": np.where(np.isnan(family), -1, family).astype(np.int8),
+            "verdict_all": verdict, "verdict_reason_all": reason,
+            "max_at_end_all": (rows["max_at_end_all"] == 1.0).astype(np.int8),
+            "lower_bound_all": np.isfinite(params[PARAMETERS.index("eta")]).astype(np.int8)}
 
 
 def run_task(task: Task) -> dict[str, np.ndarray]:
@@ -463,13 +546,16 @@ def run_task(task: Task) -> dict[str, np.ndarray]:
                 except (RuntimeError, ValueError):
                     counts[i, j] = -1  # the count failed (flag in the variable's attributes)
         return {"unstable_count": counts.reshape((*shape, len(task.count.kH)))}
+    if task.kind == "sliding":
+        assert task.sliding is not None
+        return {name: arr.reshape(shape) for name, arr in sliding_arrays(task.sliding, params).items()}
     raise ValueError(f"unknown task kind {task.kind!r}")
 
 
 def tasks(plan: Plan, kinds: Sequence[str] | None = None) -> dict[str, list[Task]]:
     """Every task of the plan, per kind."""
     common = dict(fixed=tuple(plan.fixed.items()), kH=plan.kH, rtol=plan.rtol, gamma_range=plan.gamma_range,
-                  count=plan.count)
+                  count=plan.count, sliding=plan.sliding)
     groups: dict[str, tuple[tuple[str, ...], list]] = {}
     if plan.growth:
         groups["growth"] = (plan.names, plan.growth_blocks())
@@ -477,6 +563,8 @@ def tasks(plan: Plan, kinds: Sequence[str] | None = None) -> dict[str, list[Task
         groups["gamma_c"] = (plan.gamma_c_names, plan.gamma_c_blocks())
     if plan.count is not None:
         groups["count"] = (plan.names, plan.count_blocks())
+    if plan.sliding is not None:
+        groups["sliding"] = (plan.names, plan.sliding_blocks())
     out: dict[str, list[Task]] = {}
     for kind, (names, blocks) in groups.items():
         if kinds is not None and kind not in kinds:
@@ -578,6 +666,12 @@ def template(plan: Plan, command: str | None = None):
                                                                       "units": "1"})
         data.update(_count_vars(plan))
         flags["count"] = len(plan.count_blocks())
+    if plan.sliding is not None:
+        coords["kH_sliding"] = ("kH_sliding", np.asarray(plan.sliding.kH),
+                                {"long_name": "the kH grid of the sliding verdict (its ends are the range)",
+                                 "units": "1"})
+        data.update(_sliding_vars(plan))
+        flags["sliding"] = len(plan.sliding_blocks())
     for kind, n in flags.items():
         data[f"done_{kind}"] = (f"{kind}_chunk", da.zeros(n, dtype=np.int8, chunks=1),
                                 {"long_name": f"1 where the {kind} chunk is written (resumable sweeps)"})
@@ -650,10 +744,26 @@ def _count_vars(plan: Plan) -> dict[str, Any]:
                                 "re_max": re_max, "im_min": im_min, "im_max": im_max, "units": "1"})}
 
 
+def _sliding_vars(plan: Plan) -> dict[str, Any]:
+    """The template's sliding variables over the grid (every branch; the floor in each one's attributes)."""
+    import dask.array as da
+
+    chunks = tuple(plan.chunks[f"sliding:{n}"] for n in plan.names)
+    meanings = {"verdict_all": model.VERDICTS, "verdict_reason_all": model.SLIDING_STATUS,
+                "family_all": {-1: "none", **model.FAMILIES}}
+    data: dict[str, Any] = {}
+    for name, (dtype, fill, long_name) in SLIDING_VARS.items():
+        attrs = {"long_name": long_name, "units": "1", "floor": plan.sliding.floor,  # type: ignore[union-attr]
+                 **(_flag_attrs(meanings[name]) if name in meanings else {})}
+        data[name] = (plan.names, da.full(plan.shape, fill, dtype=dtype, chunks=chunks), attrs)
+    return data
+
+
 #: Zarr fill values (what a chunk not written yet reads as) of the integer variables; floats: NaN
 INT_FILL = {"n_masked": -1, "gamma_c_reason": -1, "unstable_count": -2, "verdict": -1, "verdict_reason": -1,
             "gamma_c_direction": 0, "gamma_c_crossing_reason": -1, "gamma_c_n_crossings": -1, "gamma_c_complete": -1,
-            "computed": -1, "verdict_filled": -1}
+            "computed": -1, "verdict_filled": -1,
+            **{name: v[1] for name, v in SLIDING_VARS.items() if np.dtype(v[0]).kind == "i"}}
 
 
 def _adaptive_vars(spec: AdaptiveSpec) -> dict[str, tuple[Any, int, str, dict[str, Any]]]:
@@ -860,7 +970,7 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
           gamma_range: tuple[float, float] | None = None, count: CountSpec | None = None,
           chunk_points: int | None = None, workers: int | None = None, progress: Progress | None = None,
           command: str | None = None, adaptive: AdaptiveSpec | bool | Mapping[str, Any] | None = None,
-          start: Progress | None = None):
+          start: Progress | None = None, sliding: SlidingSpec | bool | None = None):
     """Sweep the Rayleigh branch's growth analysis over the grid `axes` (x the fixed values); an xarray.Dataset.
 
     axes: parameter name (gamma, f, beta, eta, Delta, xi) -> increasing values; fixed: other parameters (default:
@@ -873,13 +983,14 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
     None (every point) or True / an :class:`~atlas_engine.adaptive.AdaptiveSpec` (the growth computed only where the
     verdict can change: :mod:`atlas_engine.adaptive`; every axis must have m·2^levels + 1 points); start: called with
     (kind, points) when an adaptive level's batch of that many points starts (kind ``level L``, as in `progress`; again
-    as each of its follow rounds starts, with the points the round adds).
+    as each of its follow rounds starts, with the points the round adds); sliding: None (the Rayleigh branch only) or
+    True / a :class:`SlidingSpec` (also the sliding verdict over every branch, the ``*_all`` variables; dense sweeps).
 
     Returns the dataset: in memory without a store, else opened lazily from the store. Variables and attributes:
     see the module docstring. Bad input raises SweepError (a ValueError) naming the problem.
     """
     plan = make_plan(axes, fixed=fixed, kH=kH, rtol=rtol, growth=growth, gamma_c=gamma_c, gamma_range=gamma_range,
-                     count=count, chunk_points=chunk_points, adaptive=adaptive)
+                     count=count, chunk_points=chunk_points, adaptive=adaptive, sliding=sliding)
     return run(plan, store=store, client=client, workers=workers, progress=progress, start=start, command=command)
 
 
@@ -939,7 +1050,7 @@ def run_kinds(plan: Plan, kinds: Sequence[str], *, ds=None, path: Path | None = 
     """Run the chunks of the task kinds `kinds` not yet done: into the in-memory dataset `ds` or the store `path`
     (region writes, then the done flags)."""
     groups = tasks(plan, kinds)
-    region_dims = {"growth": plan.names, "gamma_c": plan.gamma_c_names, "count": plan.names}
+    region_dims = {"growth": plan.names, "gamma_c": plan.gamma_c_names, "count": plan.names, "sliding": plan.names}
     if path is None:
         todo = [t for group in groups.values() for t in group]
 
@@ -976,6 +1087,8 @@ def plan_points(plan: Plan) -> dict[str, int]:
         out["gamma_c"] = math.prod(len(plan.axes[n]) for n in plan.gamma_c_names)
     if plan.count is not None:
         out["count"] = plan.size
+    if plan.sliding is not None:
+        out["sliding"] = plan.size
     return out
 
 
@@ -997,7 +1110,7 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
     done = done_chunks(path)
     if done:
         yield "  chunks written: " + ", ".join(f"{kind} {int(done[kind].sum())} of {done[kind].size}"
-                                              for kind in ("growth", "gamma_c", "count") if kind in done)
+                                              for kind in ("growth", "gamma_c", "count", "sliding") if kind in done)
     if "adaptive" in ds.attrs and "computed" in ds:
         yield from adaptive_lines(ds.attrs["adaptive"], ds["computed"].values)
         filled = ds["verdict_filled"].values
@@ -1009,10 +1122,9 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
     g = ds["growth"].values if "growth" in ds else np.empty(0)
     finite = np.isfinite(g)
     if finite.any():
-        yield (f"  growth: {int(finite.sum())} of {g.size} points computed; unstable (growth > 0) at "
+        yield (f"  growth (Rayleigh branch): {int(finite.sum())} of {g.size} points computed; unstable (growth > 0) at "
                f"{100 * float((g[finite] > 0).mean()):.1f} %; range {np.nanmin(g):.4g} .. {np.nanmax(g):.4g}")
-    if "verdict" in ds:
-        yield from _verdict_lines(ds["verdict"].values, ds["verdict_reason"].values)
+    yield from _both_verdicts(ds)
     if "gamma_c" in ds:
         yield from _gamma_c_lines(ds["gamma_c"].values, ds["gamma_c_reason"].values)
     if "gamma_c_complete" in ds:
@@ -1054,21 +1166,62 @@ def adaptive_lines(attribute: str, computed: np.ndarray) -> Iterator[str]:
     yield f"  evaluated fraction: {100 * total / size:.2f} % ({total} of {size} points)"
 
 
-def _verdict_lines(verdict: np.ndarray, reason: np.ndarray) -> Iterator[str]:
-    """Coverage of the verdict: the fraction of computed cells with a certified verdict, and why the rest are not."""
+def _verdict_lines(verdict: np.ndarray, reason: np.ndarray, which: str = "Rayleigh branch",
+                   status: Mapping[int, str] | None = None) -> Iterator[str]:
+    """Coverage of a verdict (`which`: "Rayleigh branch" or "sliding (every branch)"): the fraction of computed cells
+    with a certified verdict, and why the rest are not (codes of `status`, default model.VERDICT_STATUS)."""
+    status = model.VERDICT_STATUS if status is None else status
     done = verdict >= 0
     n = int(done.sum())
     if not n:
-        yield "  verdict: no cell computed yet"
+        yield f"  {which} verdict: no cell computed yet"
         return
     cert = np.isin(verdict, (0, 1)) & done
-    yield (f"  verdict coverage: {100 * cert.sum() / n:.1f} % of {n} computed cells certified (stable "
+    yield (f"  {which} verdict coverage: {100 * cert.sum() / n:.1f} % of {n} computed cells certified (stable "
            f"{100 * (verdict == 0).sum() / n:.1f} %, unstable {100 * (verdict == 1).sum() / n:.1f} %), undetermined "
            f"{100 * (verdict == 2).sum() / n:.1f} %")
-    for code, text in model.VERDICT_STATUS.items():
+    for code, text in status.items():
         k = int(((reason == code) & (verdict == 2)).sum())
         if k:
             yield f"    undetermined, reason {code} at {k} cells: {text.removeprefix('undetermined: ')}"
+
+
+def _both_verdicts(ds) -> Iterator[str]:
+    """The Rayleigh branch's verdict and the sliding one (or that the atlas covers the Rayleigh branch only)."""
+    if "verdict" in ds:
+        yield from _verdict_lines(ds["verdict"].values, ds["verdict_reason"].values, "Rayleigh branch",
+                                  model.VERDICT_STATUS)
+    if "verdict_all" in ds:
+        yield from _sliding_lines(ds)
+    elif "verdict" in ds:
+        yield ("  sliding (every branch): not computed: this atlas covers the Rayleigh branch only (other branches can "
+               "be unstable where it is stable; asymslide sweep --sliding)")
+
+
+def _sliding_lines(ds) -> Iterator[str]:
+    """The sliding verdict (every branch): coverage, the growth, the families at the maximum, and where it differs
+    from the Rayleigh branch's."""
+    v = ds["verdict_all"].values
+    floor = ds["verdict_all"].attrs.get("floor", ds["growth_all"].attrs.get("floor"))
+    yield (f"  sliding (every branch, growth floor {floor:g}) on {ds.sizes.get('kH_sliding', 0)} kH from "
+           f"{float(ds['kH_sliding'][0]):g} to {float(ds['kH_sliding'][-1]):g}:")
+    yield from _verdict_lines(v, ds["verdict_reason_all"].values, "  sliding", model.SLIDING_STATUS)
+    g = ds["growth_all"].values
+    if np.isfinite(g).any():
+        fam = ds["family_all"].values
+        yield (f"    growth_all: range {np.nanmin(g):.4g} .. {np.nanmax(g):.4g}; fastest family at the maximum: "
+               + ", ".join(f"{name.split(' (')[0]} {int((fam == k).sum())}" for k, name in model.FAMILIES.items()
+                           if (fam == k).any()))
+    bound = int((ds["lower_bound_all"].values == 1).sum())
+    if bound:
+        yield (f"    at {bound} cells (finite eta) growth_all is a lower bound of the continuous maximum "
+               "(docs/physics.md §14.7)")
+    if "verdict" in ds:
+        r = ds["verdict"].values
+        both = (r >= 0) & (v >= 0)
+        if both.any():
+            yield (f"    Rayleigh branch stable but sliding unstable at {int(((r == 0) & (v == 1) & both).sum())} of "
+                   f"{int(((r == 0) & both).sum())} Rayleigh-stable cells")
 
 
 def _crossing_lines(ds) -> Iterator[str]:
