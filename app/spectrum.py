@@ -1,4 +1,5 @@
-"""Scene "Spectrum" (paper Sect. IV, Fig. 4a-b): the Rayleigh branch c/c_s(kH) and its stability.
+"""Scene "Spectrum" (paper Sect. IV, Fig. 4a-b): the Rayleigh branch c/c_s(kH) and its stability, beside the fastest
+root of every branch (sliding, docs/physics.md §14: computed in the background, :mod:`app.jobs`).
 
 The app computes no physics: :func:`compute_spectrum` only calls the public API of :mod:`model`
 (cached with ``pn.cache``), and the plots are HoloViews DynamicMaps over parameter-dependent
@@ -19,6 +20,7 @@ import param
 
 import model
 
+from . import jobs
 from .params import (
     PALETTE,
     SpectrumParams,
@@ -35,7 +37,7 @@ from .params import (
 KH = np.logspace(-3, 3, 400)
 
 #: heights (px) of the growth-rate, phase-velocity and G_y plots
-PLOT_HEIGHTS = (340, 300, 260)
+PLOT_HEIGHTS = (360, 300, 260)
 
 #: the dispersion relation whose Rayleigh-branch root z(kH) is plotted (rendered by KaTeX)
 EQUATION = (r"$F(z;\,kH) = \gamma\,\big(G_x + i f\,G_y\big) + i z\left[1 + \frac{\Delta - 1}{1 - i\,\xi\,z\,kH}\right]"
@@ -69,12 +71,44 @@ def styled(kind: type[hv.Element], vdim: str, label: str = "", **style: object) 
 BAND_LABEL = "unstable band"
 
 
+#: legend entries listed only while their element holds data (the band; the families of the fastest root)
+OPTIONAL_LEGEND = {BAND_LABEL, *(f"fastest root: {v.split(' (')[0]}" for v in model.FAMILIES.values()),
+                   "max growth, every branch (sliding)", "fastest root, every branch"}
+
+
 def band_legend_hook(plot, _element) -> None:
-    """HoloViews plot hook: the legend lists the unstable band only while there is one."""
+    """HoloViews plot hook: the legend lists the unstable band (and each family of the fastest root) only while
+    there is one."""
     for legend in plot.state.legend:
         for item in legend.items:
-            if getattr(item.label, "value", None) == BAND_LABEL:
+            if getattr(item.label, "value", None) in OPTIONAL_LEGEND:
                 item.visible = any(len(next(iter(r.data_source.data.values()), [])) for r in item.renderers)
+
+
+#: kH of the fastest root of every branch (the markers of the growth-rate plot): over the sliding verdict's range
+KH_ALL = np.logspace(math.log10(model.SLIDING_KH[0]), math.log10(model.SLIDING_KH[-1]), 33)
+#: colour of each family of roots (model.FAMILIES) in the growth-rate plot
+FAMILY_COLOURS = {0: "#1f4e79", 1: "#7b3294", 2: "#e08214", 3: "#1b7837"}
+#: the short name of each family (legends, readouts)
+FAMILY_NAMES = {k: v.split(" (")[0] for k, v in model.FAMILIES.items()}
+
+
+def _family_points(code: int) -> hv.Scatter:
+    return hv.Scatter(([], []), "kH", IM_LABEL, label=f"fastest root: {FAMILY_NAMES[code]}").opts(
+        color=FAMILY_COLOURS[code], size=6, marker="circle", alpha=0.85)
+
+
+#: room above the data of the growth-rate plot for its legend (fraction of the data's span): the legend has up to
+#: three rows there, and the fastest roots are often the highest points of the plot
+LEGEND_ROOM = 0.6
+
+
+def legend_room_hook(plot, _element) -> None:
+    """HoloViews plot hook (after :func:`fit_y_hook`): the y range reaches :data:`LEGEND_ROOM` higher, so that the
+    legend (top left) covers no data."""
+    y = plot.state.y_range
+    if y.start is not None and y.end is not None and y.end > y.start:
+        y.update(end=y.end + LEGEND_ROOM * (y.end - y.start))
 
 
 #: the styled templates of the plotted elements
@@ -87,6 +121,11 @@ STYLE = {
     "gy": styled(hv.Curve, GY_LABEL, "G_y(c_R, kH)", color="#1f4e79", line_width=2),
     "criterion": styled(hv.HLine, GY_LABEL, "criterion −c_R/(c_s γ f)", color="#b2182b", line_dash="dashed",
                         line_width=1.5),
+    "all line": styled(hv.Curve, IM_LABEL, "fastest root, every branch", color="#777777", line_width=1,
+                       line_dash="dotted"),
+    **{f"all {k}": _family_points(k) for k in model.FAMILIES},
+    "all max": hv.Scatter(([], []), "kH", IM_LABEL, label="max growth, every branch (sliding)").opts(
+        color="#b2182b", size=16, marker="star", line_color="black"),
 }
 
 
@@ -99,8 +138,10 @@ def styled_overlay(**options: object) -> hv.Overlay:
 
 #: the styled overlays of the three plots (growth rate, phase velocity, G_y criterion)
 OVERLAYS = {
-    "im": styled_overlay(title="Growth rate", height=PLOT_HEIGHTS[0], legend_position="top_right",
-                         ylabel=IM_LABEL, hooks=[zero_line_hook, band_legend_hook, fit_y_hook], **OVERLAY),
+    "im": styled_overlay(title="Growth rate", height=PLOT_HEIGHTS[0], legend_position="top_left", legend_cols=3,
+                         legend_opts={"background_fill_alpha": 0.6},
+                         ylabel=IM_LABEL, hooks=[zero_line_hook, band_legend_hook, fit_y_hook, legend_room_hook],
+                         **OVERLAY),
     "re": styled_overlay(title="Phase velocity", height=PLOT_HEIGHTS[1], legend_position="top_right",
                          ylabel=RE_LABEL, hooks=[fit_y_hook], **OVERLAY),
     "gy": styled_overlay(height=PLOT_HEIGHTS[2], legend_position="bottom_right",
@@ -150,6 +191,70 @@ def family_label(key: str, value: float) -> str:
     return f"{FAMILY[key][1]} = {'∞' if math.isinf(value) else f'{value:g}'}"
 
 
+#: the sliding results computed (args -> result), most recent last: a parameter set seen before is shown at once
+SLIDING_CACHE: dict[tuple, dict] = {}
+SLIDING_CACHE_SIZE = 64
+
+
+def compute_sliding(args: tuple, job: jobs.Job) -> dict:
+    """Sliding over every branch at the model arguments `args` (SpectrumParams.MODEL_ARGS), on a job's thread: the
+    maximum over kH (model.sliding_analysis, with the Rayleigh branch's beside it), then the fastest root at each kH
+    of :data:`KH_ALL` (model.fastest_mode; the job stops between two kH once cancelled)."""
+    p = dict(zip(SpectrumParams.MODEL_ARGS, args, strict=True))
+    r = model.sliding_analysis(**p)
+    job.advance("maximum")
+    growth = np.full(KH_ALL.shape, np.nan)
+    z = np.full(KH_ALL.shape, complex(np.nan, np.nan))
+    family = np.full(KH_ALL.shape, -1, np.int8)
+    status = np.full(KH_ALL.shape, -1, np.int8)
+    for i, k in enumerate(KH_ALL):
+        job.check()
+        m = model.fastest_mode(float(k), **p, count=False)
+        status[i] = int(m.status)
+        if int(m.status) == 0:
+            growth[i], z[i], family[i] = float(m.growth), complex(m.z), int(m.family)
+        job.advance("kH")
+    out = {"kH": KH_ALL, "growth": growth, "z": z, "family": family, "status": status, "floor": float(r.floor),
+           "max": float(r.growth), "kH_at_max": float(r.kH_at_max), "z_at_max": complex(r.z_at_max),
+           "family_at_max": int(r.family), "verdict": int(r.verdict), "reason": int(r.verdict_reason),
+           "at_end": bool(r.max_at_end), "lower_bound": bool(r.lower_bound), "range": r.kH_range,
+           "rayleigh_max": float(r.rayleigh.growth), "rayleigh_verdict": int(r.rayleigh.verdict)}
+    SLIDING_CACHE[args] = out
+    while len(SLIDING_CACHE) > SLIDING_CACHE_SIZE:
+        SLIDING_CACHE.pop(next(iter(SLIDING_CACHE)))
+    return out
+
+
+def sliding_lines(d: dict | None, progress: str = "") -> list[str]:
+    """The readout lines of sliding over every branch (d: compute_sliding's result; None: being computed)."""
+    if d is None:
+        return [f"**Sliding, every branch**: computing{' (' + progress + ')' if progress else ''}…"]
+    lo, hi = d["range"]
+    scope = f"every branch, Im z ≥ {d['floor']:g}, kH {lo:g} to {hi:g}"
+    if d["verdict"] == 0:
+        return [f"**Sliding stable** ({scope}): no root of any branch grows"]
+    if d["verdict"] == 2:
+        return [f"**Sliding undetermined** ({scope}): {model.SLIDING_STATUS[d['reason']]}"]
+    if not math.isfinite(d["max"]):
+        return [f"**Sliding unstable** ({scope}): {model.SLIDING_STATUS[d['reason']]}"]
+    z = d["z_at_max"]
+    sign = "≥" if d["lower_bound"] else "="
+    lines = [f"**Sliding unstable** ({scope}): max Im[c/c_s] {sign} {fmt(d['max'])} at kH = {fmt(d['kH_at_max'])}, "
+             f"z = {fmt(z.real, 6)} {'+' if z.imag >= 0 else '−'} {fmt(abs(z.imag))}i, "
+             f"{FAMILY_NAMES.get(d['family_at_max'], 'family unknown')}"]
+    ray = d["rayleigh_max"]
+    if d["family_at_max"] != 0 and math.isfinite(ray) and ray > 0:
+        lines[0] += f" ({fmt(d['max'] / ray, 3)}× the Rayleigh branch's max)"
+    if d["at_end"]:
+        lines.append("the maximum lies at an end of the kH range (it may continue beyond)")
+    if d["lower_bound"]:
+        lines.append("at finite η a root can rise higher between the kH searched: the maximum is a lower bound")
+    refused = int((d["status"] == 2).sum())
+    if refused:
+        lines.append(f"markers: the window was too wide to search at {refused} of {d['kH'].size} kH (no marker)")
+    return lines
+
+
 class SpectrumScene(pn.viewable.Viewer):
     """Widgets, plots and readout of the spectrum for one :class:`SpectrumParams`."""
 
@@ -162,6 +267,9 @@ class SpectrumScene(pn.viewable.Viewer):
     compare_values = param.List(default=[], item_type=float)
     #: the Lab-units panel (an app.lab.LabScene, shared with the Stability-map scene) shown above the plots; None: none
     lab = param.ClassSelector(class_=pn.viewable.Viewer, default=None, allow_None=True)
+    #: sliding over every branch at `inputs` (compute_sliding's result; None while it is computed)
+    sliding = param.Dict(default=None, allow_None=True)
+    sliding_progress = param.String(default="")
 
     def __init__(self, **kwargs):
         if "params" not in kwargs:
@@ -170,17 +278,75 @@ class SpectrumScene(pn.viewable.Viewer):
         self.inputs = self.params.model_args()
         self._gy_curve: tuple[tuple[float, float], hv.Curve] | None = None
         self.params.param.watch(self._update_inputs, list(self.params.param))
+        #: the background computation of sliding over every branch (app.jobs): cancelled when the inputs change
+        self.sliding_job = jobs.Follower(self._show_sliding)
+        self.ensure_sliding()
         self.im_dmap = hv.DynamicMap(self.im_plot)
         self.re_dmap = hv.DynamicMap(self.re_plot)
         self.gy_dmap = hv.DynamicMap(self.gy_plot)
 
     def _update_inputs(self, *_events) -> None:
+        """New model arguments, and with them sliding over every branch (in one update: the growth-rate plot is
+        redrawn once; if not computed before, it is computed in the background and drawn when done)."""
         args = self.params.model_args()
         if args != self.inputs:
-            self.inputs = args
+            self.sliding_job.cancel()
+            hit = SLIDING_CACHE.get(tuple(args))
+            self.param.update(inputs=args, sliding=hit, sliding_progress="")
+            if hit is None:
+                self.ensure_sliding()
 
     def data(self) -> dict:
         return compute_spectrum(*self.inputs)
+
+    def ensure_sliding(self) -> None:
+        """Show sliding over every branch at the current inputs: at once if computed before, else computed in the
+        background (the job of the previous inputs is cancelled)."""
+        args = tuple(self.inputs)
+        hit = SLIDING_CACHE.get(args)
+        if hit is not None:
+            self.sliding_job.cancel()
+            self.param.update(sliding=hit, sliding_progress="")
+            return
+        job = self.sliding_job.job
+        if job is not None and job.key == args and not job.state().finished:
+            return
+        if self.sliding is not None:
+            self.param.update(sliding=None, sliding_progress="")
+        self.sliding_job.run(partial(compute_sliding, args), name="sliding", key=args,
+                             totals={"maximum": 1, "kH": len(KH_ALL)})
+
+    def _show_sliding(self, job: jobs.Job, state: jobs.JobState) -> None:
+        """The sliding job's progress, and at its end its result (on the session's event loop)."""
+        if job.key != tuple(self.inputs):
+            return
+        if state.status == jobs.DONE:
+            self.param.update(sliding=state.result, sliding_progress="")
+        elif state.status == jobs.FAILED:
+            self.sliding_progress = f"failed: {state.error}"
+        else:
+            done = state.done.get("kH", 0)
+            self.sliding_progress = ("the maximum over kH" if not state.done.get("maximum")
+                                     else f"the fastest root at {done} of {len(KH_ALL)} kH")
+
+    def wait_sliding(self, timeout: float = 120.0) -> None:
+        """Block until sliding at the current inputs is computed and shown (tests, scripts)."""
+        self.sliding_job.wait(timeout)
+
+    def sliding_layers(self) -> list[hv.Element]:
+        """The fastest root of every branch at each kH of :data:`KH_ALL` (markers coloured by family, a dotted line
+        through them) and the sliding maximum (a star); empty while it is computed."""
+        d = self.sliding
+        if d is None:
+            return [STYLE["all line"].clone(([], [])), *(STYLE[f"all {k}"].clone(([], [])) for k in model.FAMILIES),
+                    STYLE["all max"].clone(([], []))]
+        layers = [STYLE["all line"].clone((d["kH"], d["growth"]))]
+        for k in model.FAMILIES:
+            sel = d["family"] == k
+            layers.append(STYLE[f"all {k}"].clone((d["kH"][sel], d["growth"][sel])))
+        star = ([d["kH_at_max"]], [d["max"]]) if math.isfinite(d["max"]) else ([], [])
+        layers.append(STYLE["all max"].clone(star))
+        return layers
 
     def family(self, part: str, ylabel: str) -> list[hv.Curve]:
         """The preset's family of curves (real or imaginary part), each a cached model call."""
@@ -192,13 +358,13 @@ class SpectrumScene(pn.viewable.Viewer):
                                          label=family_label(self.compare_key, value)))
         return curves
 
-    @param.depends("inputs", "compare_key", "compare_values")
+    @param.depends("inputs", "compare_key", "compare_values", "sliding")
     def im_plot(self) -> hv.Overlay:
         d = self.data()
         kH, z = d["kH"], d["z"]
         band = [(d["kH_min"], d["kH_max"])] if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]) else []
         layers = [STYLE["band"].clone(band), *self.family("imag", IM_LABEL), STYLE["im branch"].clone((kH, z.imag)),
-                  STYLE["im linear"].clone((kH, d["linear"].imag))]
+                  STYLE["im linear"].clone((kH, d["linear"].imag)), *self.sliding_layers()]
         return OVERLAYS["im"].clone(layers)
 
     @param.depends("inputs", "compare_key", "compare_values")
@@ -241,7 +407,8 @@ class SpectrumScene(pn.viewable.Viewer):
         d = self.data()
         band = (f"unstable band {d['kH_min']!r} < kH < {d['kH_max']!r}" if np.isfinite(d["kH_min"])
                 and np.isfinite(d["kH_max"]) else "no unstable band on the kH range")
-        return csv_table(self._csv_header(f"growth rate (Rayleigh branch); {band}"),
+        sliding = " ".join(line.replace("**", "") for line in sliding_lines(self.sliding, self.sliding_progress))
+        return csv_table(self._csv_header(f"growth rate (Rayleigh branch); {band}; {sliding}"),
                          {"kH": d["kH"], "Im_z": d["z"].imag, "error": d["error"], "status": d["status"],
                           "linear_Im_z": d["linear"].imag, **self._family_columns("imag", "Im_z")})
 
@@ -260,7 +427,7 @@ class SpectrumScene(pn.viewable.Viewer):
         return csv_table(self._csv_header(f"G_y at the Rayleigh speed z_R = {gy['z_R']!r}; criterion level "
                                           f"-c_R/(c_s gamma f) = {level!r}"), {"kH": gy["kH"], "G_y_at_z_R": gy["gy"]})
 
-    @param.depends("inputs")
+    @param.depends("inputs", "sliding", "sliding_progress")
     def readout(self) -> str:
         d = self.data()
         z, status, error = d["z"], d["status"], d["error"]
@@ -270,16 +437,17 @@ class SpectrumScene(pn.viewable.Viewer):
                                                     or np.isclose(d["kH_at_max"], KH[-1], rtol=1e-9))
         if at_edge:  # the largest value on the range is at its end: no maximum inside it
             side = "smaller" if np.isclose(d["kH_at_max"], KH[0], rtol=1e-9) else "larger"
-            lines = [f"**Largest growth on the range** Im[c/c_s] = {fmt(d['growth'])} at its end, kH = "
-                     f"{fmt(d['kH_at_max'])}: not a maximum (Im[c/c_s] still grows towards {side} kH)"]
+            lines = [f"**Largest growth on the range, Rayleigh branch** Im[c/c_s] = {fmt(d['growth'])} at its end, "
+                     f"kH = {fmt(d['kH_at_max'])}: not a maximum (Im[c/c_s] still grows towards {side} kH)"]
         else:
-            lines = [f"**Max growth** Im[c/c_s] = {fmt(d['growth'])} at kH = {fmt(d['kH_at_max'])}"]
+            lines = [f"**Max growth, Rayleigh branch** Im[c/c_s] = {fmt(d['growth'])} at kH = {fmt(d['kH_at_max'])}"]
         if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]):
-            lines.append(f"**Unstable band** {fmt(d['kH_min'])} < kH < {fmt(d['kH_max'])}")
+            lines.append(f"**Unstable band, Rayleigh branch** {fmt(d['kH_min'])} < kH < {fmt(d['kH_max'])}")
         elif np.isfinite(d["growth"]) and d["growth"] > 0:
-            lines.append("**Unstable band** extends beyond the plotted kH range")
+            lines.append("**Unstable band, Rayleigh branch** extends beyond the plotted kH range")
         else:
-            lines.append("**Stable** on the Rayleigh branch (no unstable band in the plotted range)")
+            lines.append("**Rayleigh branch stable** (no unstable band in the plotted range)")
+        lines.extend(sliding_lines(self.sliding, self.sliding_progress))
         lines.append(f"**Accuracy** max error/|z| = {rel:.1e} over {int(shown.sum())} points")
         masked = {model.STATUS[int(c)]: int(n) for c, n in zip(*np.unique(status[~shown], return_counts=True),
                                                                strict=True)}

@@ -353,11 +353,12 @@ def fresh_caches() -> Iterator[None]:
     """Empty the app's caches (pn.cache and the map chunks) around a test."""
     import panel as pn
 
-    from app import stability_map
+    from app import spectrum, stability_map
 
     def clear() -> None:
         pn.state.clear_caches()
         stability_map.CHUNKS.clear()
+        spectrum.SLIDING_CACHE.clear()
 
     clear()
     yield

@@ -171,8 +171,8 @@ def test_fig5a_family_curves_equal_the_model() -> None:
     eta_one = model.spectrum(sp.KH, gamma=3.0, f=0.9, beta=0.3, eta=1.0)
     assert np.nanmax(eta_one.imag) < 0  # eta = 1 is the symmetric, stable curve of Fig. 5a
     app.clear_families()
-    assert [e.label for e in app.spectrum.im_dmap[()] if isinstance(e, hv.Curve)] == ["Rayleigh branch",
-                                                                                        "linear expansion"]
+    assert [e.label for e in app.spectrum.im_dmap[()] if isinstance(e, hv.Curve)] == [
+        "Rayleigh branch", "linear expansion", "fastest root, every branch"]
 
 
 # --------------------------------------------------------------------------------------------

@@ -288,5 +288,55 @@ def test_a_maximum_at_the_end_of_the_kh_range_is_not_called_a_maximum() -> None:
     d = scene.data()
     assert d["kH_at_max"] == pytest.approx(sp.KH[0])  # stable (η = 10): Im z largest at the smallest kH computed
     text = scene.readout()
-    assert "**Largest growth on the range**" in text and "not a maximum" in text and "**Max growth**" not in text
-    assert "**Max growth**" in SpectrumScene().readout()
+    assert "**Largest growth on the range, Rayleigh branch**" in text and "not a maximum" in text
+    assert "**Max growth" not in text
+    assert "**Max growth, Rayleigh branch**" in SpectrumScene().readout()
+
+
+# --------------------------------------------------------------------------------------------
+# sliding over every branch beside the Rayleigh branch (issue 32, point 2)
+# --------------------------------------------------------------------------------------------
+
+
+def test_the_fastest_root_of_every_branch_is_drawn_and_read_out_as_the_model_gives_it() -> None:
+    scene = SpectrumScene(params=SpectrumParams(gamma=2.0))
+    scene.wait_sliding()
+    d = scene.sliding
+    r = model.sliding_analysis(gamma=2.0, f=0.9, beta=0.3)
+    assert d["max"] == float(r.growth) and d["kH_at_max"] == float(r.kH_at_max)
+    assert int(r.rayleigh.verdict) == 0 and int(r.verdict) == 1  # the Rayleigh branch stable, sliding not
+    m = model.fastest_mode(sp.KH_ALL, gamma=2.0, f=0.9, beta=0.3, count=False)
+    ok = m.status == 0
+    np.testing.assert_array_equal(d["growth"][ok], m.growth[ok])
+    np.testing.assert_array_equal(d["family"][ok], m.family[ok])
+    assert np.isnan(d["growth"][~ok]).all()
+    text = scene.readout()
+    assert "**Rayleigh branch stable**" in text and "**Sliding unstable**" in text
+    assert "intersonic guided mode" in text and f"{float(r.growth):.4g}" in text
+    overlay = scene.im_dmap[()]
+    (star,) = [e for e in overlay if e.label == "max growth, every branch (sliding)"]
+    assert star.dimension_values(1).tolist() == [float(r.growth)]
+    (points,) = [e for e in overlay if e.label == "fastest root: intersonic guided mode"]
+    assert len(points) == int(((d["family"] == 2) & ok).sum()) > 0
+    assert "Sliding unstable" in scene.csv_growth().getvalue().splitlines()[0]
+
+
+def test_new_inputs_cancel_the_sliding_job_and_a_set_seen_before_shows_at_once() -> None:
+    scene = SpectrumScene()
+    first = scene.sliding_job.job
+    scene.params.gamma = 5.0
+    assert first is not None and first.cancelled and scene.sliding is None  # never shown for gamma = 5
+    scene.wait_sliding()
+    assert scene.sliding["max"] == float(model.sliding_analysis(gamma=5.0, f=0.9, beta=0.3).growth)
+    scene.params.gamma = 3.0
+    scene.wait_sliding()
+    scene.params.gamma = 5.0  # computed before: shown at once, no job
+    assert scene.sliding is not None and scene.sliding["max"] > 0 and "computing" not in scene.readout()
+
+
+def test_a_stable_set_says_sliding_is_stable_over_every_branch() -> None:
+    scene = SpectrumScene(params=SpectrumParams(gamma=1.0))
+    scene.wait_sliding()
+    text = scene.readout()
+    assert "**Sliding stable** (every branch, Im z ≥ 1e-06, kH 0.01 to 100)" in text
+    assert "**Rayleigh branch stable**" in text

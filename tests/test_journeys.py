@@ -498,3 +498,34 @@ def test_a_click_on_an_atlas_cell_then_the_spectrum_tab_shows_its_parameters(atl
     idle(page)
     stored = xr.open_zarr(atlas_with_small / "small.zarr", consolidated=False)
     assert stored.growth.size == math.prod(len(v) for v in SMALL.values())
+
+
+def test_the_spectrum_names_both_verdicts_where_only_another_branch_is_unstable(served_app: str,
+                                                                                 browser_page) -> None:
+    """Issue 32: at gamma = 2 (f = 0.9, beta = 0.3, eta = inf) the Rayleigh branch is stable and sliding is not (a
+    backward intersonic root at kH ~ 20). The readout says both, with the family, and the growth-rate plot marks the
+    sliding maximum (a star at Im z ~ 3.6e-5) beside the Rayleigh branch; back at gamma = 3 (both unstable) the star
+    moves to the supersonic mode, 9.3 times the Rayleigh branch's maximum."""
+    page = browser_page
+    page.set_viewport_size({"width": 1280, "height": 1600})
+    open_app(page, served_app + "?gamma=2")
+    wait_for_figures(page, ["Growth rate"])
+    sliding = page.locator("p", has_text="Sliding unstable").first
+    sliding.wait_for(timeout=WAIT)
+    text = sliding.text_content()
+    assert "intersonic guided mode" in text and "kH = 19.81" in text, text
+    page.get_by_text("Rayleigh branch stable").first.wait_for(timeout=WAIT)
+
+    def star() -> list[dict]:
+        (fig,) = [f for f in figures(page) if f["title"] == "Growth rate"]
+        return [g for g in fig["glyphs"] if g["type"] == "Scatter" and g["n"] == 1]
+
+    page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=WAIT)
+    stars = star()
+    assert any(abs(g["hi"] - 3.626e-5) < 1e-7 for g in stars), stars
+    save_screenshot(page, "spectrum_sliding_gamma2.png", full_page=False)
+    page.goto(served_app + "?gamma=3", wait_until="load")
+    page.wait_for_function("() => window.Bokeh !== undefined && Bokeh.documents.length > 0", timeout=30_000)
+    page.locator("p", has_text="supersonic guided mode (9.28").first.wait_for(timeout=WAIT)
+    wait_for_figures(page, ["Growth rate"])
+    assert any(abs(g["hi"] - 0.09904) < 1e-4 for g in star())
