@@ -74,6 +74,10 @@ root is located and polished; hover over a root for z and its error estimate. Th
 root at the same kH, drawn even when it is stable (Im z < 0) or outside the window. Grey lines: Re z = ±1 (c = ±c_s)
 and ±1/β (c = ±c_d), where F has branch points. The lower plot counts the unstable roots on a log kH grid; the
 shaded bands are where the Rayleigh branch itself is unstable, the dashed curve counts the other branches.
+The star is the fastest root of every branch at this kH in the complete window (`model.fastest_mode`: no root
+with Im z above the growth floor lies outside it), drawn even when it lies outside the window you set; the orange
+curve counts every root above that floor in the complete window (refused at finite η, where that window reaches
+millions in |Re z| next to the layers' poles).
 
 Reference cases (docs/physics.md §3; f = 0.9, β = 0.3, Δ = 1, γ = 3):
 η = ∞, kH = 0.45: besides the Rayleigh root, a root z ≈ 3.5335 + 0.0759i faster than c_d.
@@ -95,6 +99,9 @@ KH_DIM = hv.Dimension("kH")
 
 ROOT_COLOR = "#1f4e79"
 RAYLEIGH_COLOR = "#b2182b"
+FASTEST_COLOR = "#e08214"
+#: the short name of each family of roots (model.FAMILIES)
+FAMILY_NAMES = {k: v.split(" (")[0] for k, v in model.FAMILIES.items()}
 
 
 def _fmt_z(z: complex, digits: int = 10) -> str:
@@ -178,6 +185,25 @@ def compute_rayleigh_curve(gamma: float, f: float, beta: float, eta: float, Delt
         unstable = r.z.imag > 0
     return {"kH": KH_FINE, "z": r.z, "status": r.status, "bands": _runs(KH_FINE, unstable),
             "masked": int(np.count_nonzero(r.status != 0))}
+
+
+@pn.cache(max_items=256)
+def compute_fastest(kH: float, gamma: float, f: float, beta: float, eta: float, Delta: float, xi: float) -> dict:
+    """The fastest root of every branch at kH in the complete window (model.fastest_mode, its default floor): z,
+    family, status, and the window at the floor."""
+    m = model.fastest_mode(kH, gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi, count=False)
+    return {"z": complex(m.z), "family": int(m.family), "status": int(m.status), "re_max": float(m.re_max),
+            "im_max": float(m.im_max), "floor": float(m.floor)}
+
+
+@pn.cache(max_items=32)
+def compute_floor_count(gamma: float, f: float, beta: float, eta: float, Delta: float, xi: float) -> dict:
+    """On :data:`KH_COUNT`: the number of roots of every branch with Im z >= the floor in the complete window (-1
+    where refused: finite eta, the window at the floor too wide) and the fastest root's Im z (model.fastest_mode)."""
+    m = model.fastest_mode(KH_COUNT, gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi, count=True)
+    count = np.where(m.count >= 0, m.count, np.nan).astype(float)
+    return {"kH": KH_COUNT, "count": count, "growth": np.where(m.status == 0, m.growth, np.nan),
+            "refused": int(np.count_nonzero(m.count < 0)), "floor": float(m.floor)}
 
 
 @pn.cache(max_items=32)
@@ -296,6 +322,14 @@ class AllBranchesScene(pn.viewable.Viewer):
         """Rayleigh branch on :data:`KH_FINE` (cached)."""
         return compute_rayleigh_curve(*self.args_key)
 
+    def fastest(self) -> dict:
+        """The fastest root of every branch at the current kH, in the complete window (cached)."""
+        return compute_fastest(self.kH_key, *self.args_key)
+
+    def floor_count(self) -> dict:
+        """Roots above the floor in the complete window on :data:`KH_COUNT` (cached)."""
+        return compute_floor_count(*self.args_key)
+
     @staticmethod
     def _rayleigh_index(roots: np.ndarray, z_r: complex) -> int | None:
         """Index of the Rayleigh-branch root among the unstable roots (both are converged roots of the same F,
@@ -311,10 +345,16 @@ class AllBranchesScene(pn.viewable.Viewer):
     @param.depends("args_key", "kH_key", "window_key")
     def zplane_plot(self) -> hv.Overlay:
         """Roots, Rayleigh-branch root, window, wave-speed guides and zero line in the z-plane."""
-        d, r = self.roots(), self.rayleigh_point()
+        d, r, fm = self.roots(), self.rayleigh_point(), self.fastest()
         re_max, im_min, im_max = self.window_key
         beta = self.args_key[2]
         z, z_r = d["z"], r["z"]
+        fast = [fm["z"]] if fm["status"] == 0 else []
+        fastest = hv.Scatter({"re": np.real(fast), "im": np.imag(fast)}, RE_DIM, [IM_DIM],
+                             label="fastest root, every branch").opts(
+            color=FASTEST_COLOR, marker="star", size=20, fill_alpha=0.35, line_color="black", tools=["hover"],
+            hover_tooltips=[("fastest root (every branch)", "@re{%.10g} + @im{%.10g}i")],
+            hover_formatters={"@re": "printf", "@im": "printf"})
         roots = hv.Scatter({"re": z.real, "im": z.imag, "error": d["error"], "residual": d["residual"]},
                            RE_DIM, [IM_DIM, ERROR_DIM, RESIDUAL_DIM], label="unstable roots").opts(
             color=ROOT_COLOR, size=8, tools=["hover"],
@@ -336,13 +376,13 @@ class AllBranchesScene(pn.viewable.Viewer):
         c_d = hv.VLines([-1.0 / beta, 1.0 / beta], label="Re z = ±1/β (c_d)").opts(
             color="#999999", line_dash="dotted", line_width=1.5)
         # view: the window's width, and in Im z the roots and the Rayleigh root (the window may be much taller)
-        ims = np.concatenate((z.imag, np.imag(shown), [0.0, im_min]))
+        ims = np.concatenate((z.imag, np.imag(shown), np.imag(fast), [0.0, im_min]))
         lo, hi = float(ims.min()), float(ims.max())
         pad = 0.1 * (hi - lo) if hi > lo else 0.05
-        xs = np.concatenate(([-re_max, re_max], np.real(shown)))
+        xs = np.concatenate(([-re_max, re_max], np.real(shown), np.real(fast)))
         xpad = 0.04 * float(xs.max() - xs.min())
         title = f"z-plane at kH = {fmt(self.kH_key)}: {z.size} unstable root(s) in the window"
-        return (window * zero * c_s * c_d * roots * rayleigh).opts(
+        return (window * zero * c_s * c_d * roots * rayleigh * fastest).opts(
             hv.opts.Overlay(responsive=True, height=380, title=title, legend_position="right", framewise=True,
                             xlabel=RE_DIM.label, ylabel=IM_DIM.label,
                             xlim=(float(xs.min()) - xpad, float(xs.max()) + xpad), ylim=(lo - pad, hi + pad)))
@@ -350,8 +390,11 @@ class AllBranchesScene(pn.viewable.Viewer):
     @param.depends("args_key", "kH_key", "window_key")
     def count_plot(self) -> hv.Overlay:
         """Certified count vs kH (steps), count of the other branches, Rayleigh-unstable bands, current kH."""
-        c, rc, d = self.count_curve(), self.rayleigh_curve(), self.roots()
+        c, rc, d, fc = self.count_curve(), self.rayleigh_curve(), self.roots(), self.floor_count()
         bands = hv.VSpans(rc["bands"], label="Rayleigh branch unstable").opts(color="#f4a582", alpha=0.35)
+        above = hv.Curve((fc["kH"], fc["count"]), KH_DIM, COUNT_DIM,
+                         label=f"every root with Im z ≥ {fc['floor']:g} (complete window)").opts(
+            interpolation="steps-mid", color=FASTEST_COLOR, line_width=2)
         total = hv.Curve((c["kH"], c["count"]), KH_DIM, COUNT_DIM, label="all roots in window").opts(
             interpolation="steps-mid", color=ROOT_COLOR, line_width=2)
         other = hv.Curve((c["kH"], c["other"]), KH_DIM, COUNT_DIM, label="other branches (all − Rayleigh)").opts(
@@ -364,7 +407,9 @@ class AllBranchesScene(pn.viewable.Viewer):
         title = "Unstable roots vs kH" + (f" ({failed} grid point(s) failed: gaps)" if failed else "")
         if rc["masked"]:
             title += f" (Rayleigh branch masked at {rc['masked']} of {KH_FINE.size} kH)"
-        return (bands * total * other * current * marker).opts(
+        if fc["refused"]:
+            title += f"; above the floor: refused at {fc['refused']} of {KH_COUNT.size} kH (window too wide)"
+        return (bands * total * other * above * current * marker).opts(
             hv.opts.Overlay(logx=True, responsive=True, height=300, title=title, legend_position="top_left",
                             framewise=True, xlabel="kH", ylabel=COUNT_DIM.label))
 
@@ -400,7 +445,24 @@ class AllBranchesScene(pn.viewable.Viewer):
                 lines.append(f"**Rayleigh-branch root** {where}: stable (Im z ≤ 0), drawn below the window")
             else:
                 lines.append(f"**Rayleigh-branch root** {where}: unstable but outside the window")
+        lines.append(self._fastest_line(z))
         return "\n\n".join(lines)
+
+    def _fastest_line(self, roots: np.ndarray) -> str:
+        """Where the fastest root of every branch at this kH is (complete window, model.fastest_mode): one of the
+        roots listed, or outside the window set (reported with its z), or none above the floor, or refused."""
+        fm = self.fastest()
+        head = f"**Fastest root, every branch** (complete window |Re z| ≤ {fm['re_max']:.4g}, Im z ≥ {fm['floor']:g})"
+        if fm["status"] != 0:
+            return f"{head}: {model.MODE_STATUS[fm['status']]}"
+        z = fm["z"]
+        text = f"{head}: z = {_fmt_z(z, 8)}, {FAMILY_NAMES.get(fm['family'], 'family unknown')}"
+        idx = self._rayleigh_index(roots, z)  # the same root within 1e-8 relative
+        if idx is not None:
+            return f"{text}: root #{idx + 1} above"
+        if _in_window(np.array([z]), self.window_key)[0]:
+            return f"{text}: in the window"
+        return f"{text}: **the fastest mode lies outside the window** (drawn as a star; widen the window to list it)"
 
     # -- CSV -----------------------------------------------------------------------------------
 
@@ -425,6 +487,9 @@ class AllBranchesScene(pn.viewable.Viewer):
         z_r = r["z"]
         lines.append(",".join(["rayleigh_branch", _num(self.kH_key), _num(z_r.real), _num(z_r.imag), _num(r["error"]),
                                _num(r["residual"]), "1"]))
+        fm = self.fastest()  # the fastest root of every branch in the complete window (model.fastest_mode)
+        lines.append(",".join(["fastest_root_every_branch", _num(self.kH_key), _num(fm["z"].real), _num(fm["z"].imag),
+                               "", "", str(int(self._rayleigh_index(np.array([z_r]), fm["z"]) is not None))]))
         return io.StringIO("\n".join(lines) + "\n")
 
     def count_csv(self) -> io.StringIO:
@@ -435,14 +500,19 @@ class AllBranchesScene(pn.viewable.Viewer):
         lines = [*self._header(), f"# Rayleigh branch unstable (Im z > 0) for kH in: {bands}",
                  f"# current kH={self.kH_key!r} count={d['z'].size if not d['message'] else 'failed'}"]
         lines.extend(f"# {n} grid point(s) failed: {msg}" for msg, n in c["failures"].items())
-        lines.append("kH,count,other_branches,rayleigh_re_z,rayleigh_im_z,rayleigh_in_window")
+        fc = self.floor_count()
+        lines.append(f"# count_above_floor: every root with Im z >= {fc['floor']!r} in the complete window "
+                     "(model.fastest_mode; empty where refused); fastest_im_z: the fastest root's Im z")
+        lines.append("kH,count,other_branches,rayleigh_re_z,rayleigh_im_z,rayleigh_in_window,count_above_floor,"
+                     "fastest_im_z")
 
         for i, kh in enumerate(c["kH"]):
             count = "" if not np.isfinite(c["count"][i]) else str(int(c["count"][i]))
             other = "" if not np.isfinite(c["other"][i]) else str(int(c["other"][i]))
             z_r = c["z_rayleigh"][i]
+            above = "" if not np.isfinite(fc["count"][i]) else str(int(fc["count"][i]))
             lines.append(",".join([_num(kh), count, other, _num(z_r.real), _num(z_r.imag),
-                                   str(int(c["rayleigh_in_window"][i]))]))
+                                   str(int(c["rayleigh_in_window"][i])), above, _num(fc["growth"][i])]))
         return io.StringIO("\n".join(lines) + "\n")
 
     # -- layout --------------------------------------------------------------------------------

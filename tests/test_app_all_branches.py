@@ -278,7 +278,7 @@ def test_dynamic_maps_update_in_place_in_a_bokeh_document() -> None:
     (roots_cds,) = [s for s in _sources(zroot) if "residual" in s.data]
     np.testing.assert_array_equal(roots_cds.data["re"], model.unstable_modes(0.45, **PAPER).real)
     curves = [s for s in _sources(croot) if len(s.data.get("count", ())) > 1]
-    assert len(curves) == 2  # all roots, other branches (as steps)
+    assert len(curves) == 3  # all roots, other branches, every root above the floor (as steps)
     before = [np.array(s.data["count"]) for s in curves]
     n = calls["unstable_count"]
     scene.log10_kH = math.log10(0.77)
@@ -461,3 +461,29 @@ def test_all_branches_tab_shows_the_model_roots(served_app: str, browser_page) -
     got = page.evaluate(_SOURCE_JS, "residual")
     np.testing.assert_allclose(np.array(got["re"]) + 1j * np.array(got["im"]), expected, rtol=1e-14)
     assert page.console_errors == []
+
+
+def test_the_fastest_root_outside_the_window_is_drawn_and_reported() -> None:
+    """Issue 32, point 3: at eta = 3, kH = 0.45 the fastest root of every branch, z = 17.98 + 0.098i (model.fastest_mode
+    in the complete window), lies outside the default window |Re z| <= 5: the z-plane plot draws it (a star, inside
+    the view) and the readout says it lies outside; at eta = inf it is root #1 of the window's list. The count plot
+    counts every root above the floor in the complete window (refused at finite eta)."""
+    scene = _scene(0.45)
+    text = scene.readout()
+    assert "**Fastest root, every branch**" in text and "supersonic guided mode: root #1 above" in text
+    fc = scene.floor_count()
+    m = model.fastest_mode(ab.KH_COUNT, **PAPER, count=True)
+    np.testing.assert_array_equal(fc["count"], m.count.astype(float))
+    scene.params.param.update(eta_infinite=False, log10_eta=math.log10(3.0))
+    fm = model.fastest_mode(0.45, **{**PAPER, "eta": 3.0}, count=False)
+    z = complex(fm.z)
+    assert z.real > 5 and int(fm.status) == 0
+    text = scene.readout()
+    assert "the fastest mode lies outside the window" in text and f"{z.real:.8g}" in text
+    overlay = scene.zplane_dmap[()]
+    (star,) = [e for e in overlay if e.label == "fastest root, every branch"]
+    assert star.dimension_values(0).tolist() == [z.real] and star.dimension_values(1).tolist() == [z.imag]
+    xlim = overlay.opts.get().kwargs["xlim"]
+    assert xlim[0] < z.real < xlim[1]
+    assert "fastest_root_every_branch" in scene.roots_csv().getvalue()
+    assert scene.floor_count()["refused"] == ab.KH_COUNT.size  # the window at the floor is too wide at finite eta

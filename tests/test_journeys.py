@@ -529,3 +529,14 @@ def test_the_spectrum_names_both_verdicts_where_only_another_branch_is_unstable(
     page.locator("p", has_text="supersonic guided mode (9.28").first.wait_for(timeout=WAIT)
     wait_for_figures(page, ["Growth rate"])
     assert any(abs(g["hi"] - 0.09904) < 1e-4 for g in star())
+    # the All-branches tab at gamma = 2, kH = 19.81: the fastest root (Im z = 3.6e-5) lies below the default window
+    # (Im z >= 1e-4): drawn as a star and reported, with its family
+    page.goto(served_app + "?gamma=2&tab=branches&kH=19.81", wait_until="load")
+    fastest = page.locator("p", has_text="Fastest root, every branch").first
+    fastest.wait_for(timeout=WAIT)
+    text = fastest.text_content()
+    assert "intersonic guided mode" in text and "lies outside the window" in text, text
+    wait_for_figures(page, ["z-plane at kH"])
+    (zplane,) = [f for f in figures(page) if f["title"].startswith("z-plane at kH")]
+    assert any(g["type"] == "Scatter" and g["n"] == 1 and abs(g["hi"] - 3.6e-5) < 1e-6 for g in zplane["glyphs"])
+    save_screenshot(page, "all_branches_fastest_outside_window.png", full_page=False)
