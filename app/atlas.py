@@ -484,7 +484,8 @@ def verdict_coverage(verdict: np.ndarray, reason: np.ndarray) -> str:
     why = ", ".join(f"{short_reason(code, model.VERDICT_STATUS)} {int(((v == UNDETERMINED) & (r == code)).sum())}"
                     for code in np.unique(r[v == UNDETERMINED]))
     share = f"{100 * certified / max(int(computed.sum()), 1):.1f} %"
-    return (f"**Verdict** certified (stable or unstable) at {certified} of {int(computed.sum())} points ({share})"
+    return (f"**Verdict of the Rayleigh branch** certified (stable or unstable) at {certified} of "
+            f"{int(computed.sum())} points ({share})"
             + (f"; undetermined (hatched): {why}" if why else ""))
 
 
@@ -1032,10 +1033,12 @@ class AtlasScene(pn.viewable.Viewer):
         verdict = self.slice2d("verdict")
         if verdict is None:
             unstable = int((g[finite] > MARGINAL).sum())
-            return (f"**This slice** {unstable} of {int(finite.sum())} points unstable (growth > {MARGINAL:g}); "
+            return (f"**This slice** (Rayleigh branch) {unstable} of {int(finite.sum())} points unstable (growth > "
+                    f"{MARGINAL:g}); "
                     f"largest growth {largest}; not computable (dark grey) {n_nan}")
         v = verdict[2]
-        return (f"**This slice** ({v.size} points) unstable {int((v == 1).sum())}, stable {int((v == 0).sum())}, "
+        return (f"**This slice** ({v.size} points, Rayleigh branch) unstable {int((v == 1).sum())}, stable "
+                f"{int((v == 0).sum())}, "
                 f"undetermined (hatched) {int((v == UNDETERMINED).sum())}; largest growth {largest}; not computable "
                 f"(dark grey) {n_nan}")
 
@@ -1046,7 +1049,8 @@ class AtlasScene(pn.viewable.Viewer):
         if computed is None or filled is None:
             return "**This slice**: the adaptive atlas's computed mask cannot be read"
         c, v = computed[2] >= 0, filled[2]
-        return (f"**This slice** ({v.size} points) unstable {int((v == 1).sum())}, stable {int((v == 0).sum())}, "
+        return (f"**This slice** ({v.size} points, Rayleigh branch) unstable {int((v == 1).sum())}, stable "
+                f"{int((v == 0).sum())}, "
                 f"undetermined {int((v == UNDETERMINED).sum())}; computed {int(c.sum())} "
                 f"({100 * c.sum() / max(v.size, 1):.0f} %), the others filled from their cell (pale, dotted); "
                 f"largest computed growth {largest}; not computable (dark grey) {int((c & ~np.isfinite(g)).sum())}")

@@ -28,7 +28,9 @@ NAN_COLOR = "#636363"
 
 #: the heat maps' legend
 COLOUR_LEGEND = ("Red: unstable (max growth > 0), blue: stable, white: nearly neutral; dark grey: not computable; "
-                 "black line: neutral curve (max growth = 0)")
+                 "black line: neutral curve (max growth = 0). Rayleigh branch only: other branches can be unstable "
+                 "where it is stable (sliding over every branch: the Spectrum and All-branches tabs, asymslide sweep "
+                 "--sliding)")
 
 #: tick labels of an axis (or slider) holding log10 of a value: the value
 LOG_TICKS = "return Math.pow(10, tick).toPrecision(3)"

@@ -342,7 +342,8 @@ class LabScene(pn.viewable.Viewer):
         lines = []
         if np.isfinite(pk["growth_rate"]) and pk["growth_rate"] > 0:
             lines += [
-                f"**Fastest-growing mode** (largest k Im c, at kH = {fmt(d['kH_star'])}): wavelength "
+                f"**Fastest-growing mode of the Rayleigh branch** (largest k Im c, at kH = {fmt(d['kH_star'])}): "
+                f"wavelength "
                 f"λ = {fmt(pk['wavelength'] * 1e3)} mm",
                 f"**Growth rate** {fmt(pk['growth_rate'])} 1/s, "
                 f"**e-folding time** {fmt(pk['e_folding_time'] * 1e3)} ms",

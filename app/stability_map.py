@@ -379,8 +379,8 @@ class StabilityMapScene(pn.viewable.Viewer):
             tap = hv.streams.Tap(source=heat, x=None, y=None)  # the source must give single elements
             tap.add_subscriber(partial(self._on_tap, plane))
             overlay = (heat * neutral * marker).opts(hv.opts.Overlay(
-                title=f"Max growth rate over the {plane} plane", responsive=True, height=460, logx=ax.log,
-                logy=ay.log, show_legend=False, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi)))
+                title=f"Max growth rate of the Rayleigh branch over the {plane} plane", responsive=True, height=460,
+                logx=ax.log, logy=ay.log, show_legend=False, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi)))
             self._views[plane], self.tap_streams[plane] = overlay, tap
         return self._views[plane]
 
@@ -525,8 +525,8 @@ class StabilityMapScene(pn.viewable.Viewer):
             partial_mask = int((finite & (res.n_masked > 0)).sum())
             frac = unstable / finite.sum() if finite.any() else float("nan")
             largest = float(np.max(g[finite])) if finite.any() else float("nan")
-            lines.append(f"**Unstable** {100 * frac:.1f} % of the {int(finite.sum())} computed points "
-                         f"(max Im[c/c_s] > {MARGINAL:g}); largest growth {fmt(largest)}")
+            lines.append(f"**Unstable (Rayleigh branch)** {100 * frac:.1f} % of the {int(finite.sum())} computed "
+                         f"points (max Im[c/c_s] > {MARGINAL:g}); largest growth {fmt(largest)}")
             if marginal:
                 lines.append(f"**Marginal** {marginal} point(s) with |max Im| ≤ {MARGINAL:g}, drawn neutral")
             everywhere = int((~finite & (res.n_masked >= KH.size)).sum())

@@ -116,7 +116,7 @@ def test_map_equals_model_max_growth(plane: str, p: dict) -> None:
     finite = np.isfinite(growth)
     text = scene.readout()
     frac = np.sum(growth[finite] > sm.MARGINAL) / finite.sum()
-    assert f"**Unstable** {100 * frac:.1f} %" in text
+    assert f"**Unstable (Rayleigh branch)** {100 * frac:.1f} %" in text
     # the not computable points, by reason (item 9 of issue 23: NaN rows had n_masked_kH = 0 under a legend saying
     # the branch was masked at every kH)
     args = dict(zip(("gamma", "f", "beta", "eta", "Delta", "xi"), params.model_args(), strict=True))

@@ -311,13 +311,14 @@ def test_every_preset_on_a_fresh_page_shows_its_tab_with_data(served_app: str, b
     page.wait_for_function(f"() => Array.from(document.querySelectorAll('*')).some(e => e.shadowRoot && "
                            f"Array.from(e.shadowRoot.querySelectorAll('.bk-tab.bk-active')).some(t => "
                            f"t.textContent === {tab_title!r}))", timeout=WAIT)
-    expected = {"spectrum": ["Growth rate", "Phase velocity"], "map": ["Max growth rate over", "Fig. 4c"],
+    expected = {"spectrum": ["Growth rate", "Phase velocity"],
+                "map": ["Max growth rate of the Rayleigh branch over", "Fig. 4c"],
                 "thin": ["(a) Effective shear modulus", "(b) G_y", "(c) Normal-stress change"],
                 "rupture": ["(a) Slip velocity", "(b) Peak slip velocity", "(c) Δσ_yy/σ₀"]}[preset.tab]
     wait_for_figures(page, expected, timeout=LONG)
     if preset.tab == "map":  # the map itself: computed (its readout counts the unstable points), not a blank
-        page.get_by_text(re.compile(r"Unstable \d+(\.\d)? % of the \d+ computed points")).first.wait_for(
-            timeout=LONG)
+        unstable = re.compile(r"Unstable \(Rayleigh branch\) \d+(\.\d)? % of the \d+ computed points")
+        page.get_by_text(unstable).first.wait_for(timeout=LONG)
     if preset.compare_values:
         idle(page)
         assert curves_outside_their_range(page) == []
@@ -372,11 +373,11 @@ def test_a_shared_url_restores_the_map_plane_atlas_slices_and_window(atlas_with_
     page.get_by_role("button", name="coarse", exact=True).first.click()
     page.wait_for_function("() => window.location.search.includes('map=f-gamma') && "
                            "window.location.search.includes('map_res=coarse')", timeout=WAIT)
-    wait_for_figures(page, ["Max growth rate over the f-γ plane"], timeout=LONG)
+    wait_for_figures(page, ["Max growth rate of the Rayleigh branch over the f-γ plane"], timeout=LONG)
     shared = page.evaluate("() => window.location.search")
     again = browser_context(viewport={"width": 1280, "height": 1400})
     open_app(again, served_app + shared)
-    wait_for_figures(again, ["Max growth rate over the f-γ plane"], timeout=LONG)
+    wait_for_figures(again, ["Max growth rate of the Rayleigh branch over the f-γ plane"], timeout=LONG)
     assert again.evaluate("() => window.location.search") == shared
 
     show_tab(page, "Atlas")
