@@ -61,8 +61,9 @@ this feedback can make small perturbations grow.
 
 <div class="tab-list">
 
-**Spectrum**: the Rayleigh branch c(kH) of the linear stability spectrum (Sect. IV, Figs. 4a-b, 5).
-**Stability map**: where sliding is unstable in a parameter plane, and the threshold χ_c(β) (Fig. 4c).
+**Spectrum**: the Rayleigh branch c(kH) of the linear stability spectrum (Sect. IV, Figs. 4a-b, 5), beside the
+fastest root of every branch: the Rayleigh branch can be stable where sliding is not.
+**Stability map**: where the Rayleigh branch is unstable in a parameter plane, and the threshold χ_c(β) (Fig. 4c).
 **Thin-on-thick**: effective moduli, effective bimaterial coupling G_y and the slip-induced
 normal-stress change of a thin block on a thick one (Sect. III, Fig. 3).
 **Rupture fronts**: the slip velocity behind a steady rupture front with a cohesive zone, its peak v_m, and the

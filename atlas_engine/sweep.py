@@ -318,11 +318,11 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
     axes: parameter name -> strictly increasing finite values in the model's domain (η = ∞ only as a fixed
     value); fixed: values of other parameters (the rest take :data:`DEFAULT_FIXED`); kH: the grid on which the
     growth is bracketed (increasing, > 0; default :data:`DEFAULT_KH`); gamma_range: where γ_c is searched
-    (default: the γ axis' range if γ is an axis, else (1e-2, 1e3)); chunk_points: grid points per growth chunk
-    (default :data:`CHUNK_POINTS`, adaptive :data:`atlas_engine.adaptive.CHUNK_POINTS`); adaptive: None or False (the
-    dense sweep), True or an :class:`~atlas_engine.adaptive.AdaptiveSpec` (levels, margin, guard, follow; every axis
-    must have m·2^levels + 1 points); sliding: None or False (the Rayleigh branch only), True or a
-    :class:`SlidingSpec` (also the sliding verdict over every branch; dense sweeps only).
+    (default: the γ axis' range if γ is an axis of more than one value, else (1e-2, 1e3)); chunk_points: grid
+    points per growth chunk (default :data:`CHUNK_POINTS`, adaptive :data:`atlas_engine.adaptive.CHUNK_POINTS`);
+    adaptive: None or False (the dense sweep), True or an :class:`~atlas_engine.adaptive.AdaptiveSpec` (levels,
+    margin, guard, follow; every axis must have m·2^levels + 1 points); sliding: None or False (the Rayleigh
+    branch only), True or a :class:`SlidingSpec` (also the sliding verdict over every branch; dense sweeps only).
     """
     if not axes:
         raise SweepError("no axis given: a sweep needs at least one axis (e.g. gamma=0.1:30:64:log)")
@@ -334,7 +334,8 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
     full_fixed = _checked_fixed(fixed, clean_axes)
     grid = _checked_kh(kH, rtol)
     if gamma_range is None:
-        gamma_range = (clean_axes["gamma"][0], clean_axes["gamma"][-1]) if "gamma" in clean_axes else (1e-2, 1e3)
+        gamma_range = ((clean_axes["gamma"][0], clean_axes["gamma"][-1]) if len(clean_axes.get("gamma", ())) > 1
+                       else (1e-2, 1e3))  # a gamma axis of one value has no range to search
     lo, hi = (float(x) for x in gamma_range)
     if not (0 < lo < hi < math.inf):
         raise SweepError(f"gamma_range must be 0 < lo < hi < inf; got {gamma_range}")

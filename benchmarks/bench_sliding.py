@@ -200,10 +200,37 @@ def oracle_errors(n: int = 8) -> str:
             f"({roots} cases with a root).\n")
 
 
+def atlas_cost(n: int = 12) -> str:
+    """An atlas with both verdicts against the Rayleigh branch alone: a dense n x n sweep over gamma in [0.3, 30] (log)
+    and beta in [0.1, 0.65] at eta = inf (f = 0.9), in memory on this machine's threads, with and without
+    ``sliding=True`` (asymslide sweep --sliding), the shortest of two runs each; and how often the verdicts differ."""
+    from atlas_engine import sweep as S
+
+    axes = {"gamma": np.geomspace(0.3, 30, n), "beta": np.linspace(0.1, 0.65, n)}
+    S.sweep({"gamma": [3.0]}, gamma_c=False, sliding=True)  # warm: kernels and Dask
+    times = {}
+    ds = None
+    for sliding in (False, True):
+        best = math.inf
+        for _ in range(2):
+            t0 = time.perf_counter()
+            ds = S.sweep(axes, fixed={"f": 0.9}, gamma_c=False, sliding=sliding)
+            best = min(best, time.perf_counter() - t0)
+        times[sliding] = best
+    r, v = ds["verdict"].values, ds["verdict_all"].values
+    return (f"\nAn atlas of both verdicts (`asymslide sweep --sliding`; dense {n} x {n} over gamma 0.3..30 (log) x "
+            f"beta 0.1..0.65, f = 0.9, eta = inf, in memory, the shortest of 2 runs): Rayleigh branch alone "
+            f"{times[False]:.2f} s ({1e3 * times[False] / n**2:.1f} ms a point), with the sliding verdict "
+            f"{times[True]:.2f} s ({1e3 * times[True] / n**2:.1f} ms a point, {times[True] / times[False]:.1f}x); "
+            f"Rayleigh-stable cells sliding-unstable: {int(((r == 0) & (v == 1)).sum())} of {int((r == 0).sum())}; "
+            f"sliding undetermined: {int((v == 2).sum())}.\n")
+
+
 def main() -> None:
     results = run()
     dense = dense_results(results)
-    text = markdown(results) + denser_grid(results, dense) + track_fraction(results, dense) + oracle_errors()
+    text = (markdown(results) + denser_grid(results, dense) + track_fraction(results, dense) + oracle_errors()
+            + atlas_cost())
     print(text)
 
 

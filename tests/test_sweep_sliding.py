@@ -130,3 +130,12 @@ def test_cli_sweep_sliding_and_info(tmp_path: Path) -> None:
                str(tmp_path / "bad.zarr"))
     assert bad.returncode != 0 and "--floor" in bad.stderr and "not a number" in bad.stderr
     assert not (tmp_path / "bad.zarr").exists()
+
+
+def test_a_gamma_axis_of_one_value_without_gamma_c_is_a_valid_sweep() -> None:
+    """A one-value gamma axis gave gamma_range (v, v) and a refusal even without gamma_c; it now searches the default
+    range (1e-2, 1e3) when gamma_c is asked for."""
+    plan = S.make_plan({"gamma": [3.0]}, kH=KH, gamma_c=False, sliding=True)
+    assert plan.gamma_range == (1e-2, 1e3)
+    ds = S.sweep({"gamma": [3.0]}, kH=KH, gamma_c=False, sliding=True)
+    assert float(ds["growth_all"].values[0]) == float(model.sliding_analysis(gamma=3.0, f=0.9, beta=0.3).growth)
