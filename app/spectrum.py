@@ -136,12 +136,14 @@ def styled_overlay(**options: object) -> hv.Overlay:
     return hv.Overlay([]).opts(hv.opts.Overlay(**options))
 
 
+#: the growth-rate plot's options (set on its DynamicMap: it overlays two, see SpectrumScene)
+IM_OVERLAY = dict(title="Growth rate", height=PLOT_HEIGHTS[0], legend_position="top_left", legend_cols=3,
+                  legend_opts={"background_fill_alpha": 0.6}, ylabel=IM_LABEL,
+                  hooks=[zero_line_hook, band_legend_hook, fit_y_hook, legend_room_hook], **OVERLAY)
+
 #: the styled overlays of the three plots (growth rate, phase velocity, G_y criterion)
 OVERLAYS = {
-    "im": styled_overlay(title="Growth rate", height=PLOT_HEIGHTS[0], legend_position="top_left", legend_cols=3,
-                         legend_opts={"background_fill_alpha": 0.6},
-                         ylabel=IM_LABEL, hooks=[zero_line_hook, band_legend_hook, fit_y_hook, legend_room_hook],
-                         **OVERLAY),
+    "im": styled_overlay(**IM_OVERLAY),
     "re": styled_overlay(title="Phase velocity", height=PLOT_HEIGHTS[1], legend_position="top_right",
                          ylabel=RE_LABEL, hooks=[fit_y_hook], **OVERLAY),
     "gy": styled_overlay(height=PLOT_HEIGHTS[2], legend_position="bottom_right",
@@ -281,7 +283,11 @@ class SpectrumScene(pn.viewable.Viewer):
         #: the background computation of sliding over every branch (app.jobs): cancelled when the inputs change
         self.sliding_job = jobs.Follower(self._show_sliding)
         self.ensure_sliding()
-        self.im_dmap = hv.DynamicMap(self.im_plot)
+        # the fastest roots of every branch in a DynamicMap of their own: their arrival (a background job) re-sends
+        # their few points, not the Rayleigh branch's curves; the overlay's options are set on the product (the
+        # product of two overlays keeps neither's)
+        self.im_dmap = (hv.DynamicMap(self.im_plot) * hv.DynamicMap(self.sliding_plot)).opts(
+            hv.opts.Overlay(**IM_OVERLAY))
         self.re_dmap = hv.DynamicMap(self.re_plot)
         self.gy_dmap = hv.DynamicMap(self.gy_plot)
 
@@ -358,13 +364,18 @@ class SpectrumScene(pn.viewable.Viewer):
                                          label=family_label(self.compare_key, value)))
         return curves
 
-    @param.depends("inputs", "compare_key", "compare_values", "sliding")
+    @param.depends("sliding")
+    def sliding_plot(self) -> hv.Overlay:
+        """The fastest root of every branch and the sliding maximum (empty while they are computed)."""
+        return hv.Overlay(self.sliding_layers())
+
+    @param.depends("inputs", "compare_key", "compare_values")
     def im_plot(self) -> hv.Overlay:
         d = self.data()
         kH, z = d["kH"], d["z"]
         band = [(d["kH_min"], d["kH_max"])] if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]) else []
         layers = [STYLE["band"].clone(band), *self.family("imag", IM_LABEL), STYLE["im branch"].clone((kH, z.imag)),
-                  STYLE["im linear"].clone((kH, d["linear"].imag)), *self.sliding_layers()]
+                  STYLE["im linear"].clone((kH, d["linear"].imag))]
         return OVERLAYS["im"].clone(layers)
 
     @param.depends("inputs", "compare_key", "compare_values")
