@@ -254,3 +254,36 @@ def test_the_physics_reference_is_the_repositorys_own() -> None:
                  if external in p.read_text(errors="replace")]
     assert (ROOT / "docs" / "physics.md").is_file()
     assert offenders == []
+
+
+def test_the_served_apps_log_reader_drops_only_a_clients_disconnect() -> None:
+    """A traceback that ends in WebSocketClosedError (the server writing to a page that has closed: the Spectrum's
+    background result arriving after a short-lived session left) is not the app's error, as for in-process servers
+    (conftest.ServerLog.DISCONNECTS); any other traceback, and an ERROR line, still is."""
+    import io
+
+    from tests.support.served_app import ServedApp
+
+    log = """2026-11-27 16:35:01,900 WebSocket connection closed
+Traceback (most recent call last):
+  File "tornado/websocket.py", line 1140, in wrapper
+    await fut
+tornado.iostream.StreamClosedError: Stream is closed
+
+During handling of the above exception, another exception occurred:
+
+Traceback (most recent call last):
+  File "tornado/websocket.py", line 1142, in wrapper
+    raise WebSocketClosedError()
+tornado.websocket.WebSocketClosedError
+2026-11-27 16:35:02,333 WebSocket connection opened
+Traceback (most recent call last):
+  File "app/spectrum.py", line 1, in f
+ZeroDivisionError: division by zero
+2026-11-27 16:35:03,000 ERROR: something failed
+2026-11-27 16:35:04,000 ServerConnection created
+"""
+    app = ServedApp()
+    app._read(io.StringIO(log))
+    assert app.error_lines == ["Traceback (most recent call last):", '  File "app/spectrum.py", line 1, in f',
+                               "ZeroDivisionError: division by zero", "2026-11-27 16:35:03,000 ERROR: something failed"]

@@ -25,6 +25,18 @@ ROOT = Path(__file__).resolve().parents[2]
 
 #: server lines that count as errors
 ERROR_LINE = re.compile(r"\bERROR\b|Traceback|Exception in callback|Uncaught exception")
+#: a log line of its own (a timestamp first): the end of the traceback before it
+LOG_LINE = re.compile(r"^\d{4}-\d\d-\d\d[ T]\d\d:\d\d")
+#: exceptions of a connection the client closed while the server still wrote to it (a page closed, or a load-test
+#: session replaced): not the app's errors (as tests/conftest.py's ServerLog.DISCONNECTS for in-process servers)
+DISCONNECTS = ("WebSocketClosedError", "StreamClosedError", "CancelledError")
+
+
+def is_disconnect(block: list[str]) -> bool:
+    """Whether a traceback block (its lines) ends in a disconnect: every exception it names (the unindented lines
+    after a 'Traceback' header, e.g. 'tornado.websocket.WebSocketClosedError') is one of :data:`DISCONNECTS`."""
+    raised = [ln for ln in block if ln and not ln[0].isspace() and not ln.startswith(("Traceback", "During handling"))]
+    return bool(raised) and all(any(d in ln for d in DISCONNECTS) for ln in raised)
 
 
 def serve_args(port: int, num_procs: int) -> list[str]:
@@ -81,17 +93,27 @@ class ServedApp:
         self.stop()
 
     def _read(self, stream) -> None:
-        in_traceback = False
+        """Collect the log; error lines, and each traceback as a block (up to the next log line of its own), into
+        error_lines, except a traceback that ends in a client's disconnect (:func:`is_disconnect`)."""
+        block: list[str] = []  # the traceback being read
+
+        def end_block() -> None:
+            if block and not is_disconnect(block):
+                self.error_lines.extend(block)
+            block.clear()
+
         for line in stream:
             line = line.rstrip("\n")
             with self._log_lock:  # stdout's and stderr's readers: each line with its own time, in arrival order
                 self.log_times.append(time.monotonic())
                 self.log.append(line)
-            if ERROR_LINE.search(line):
+            if block and (LOG_LINE.match(line) or line.startswith("Traceback")):
+                end_block()
+            if line.startswith("Traceback") or block:
+                block.append(line)
+            elif ERROR_LINE.search(line):
                 self.error_lines.append(line)
-                in_traceback = line.startswith("Traceback")
-            elif in_traceback:
-                self.error_lines.append(line)
+        end_block()
 
     def _wait_until_up(self, timeout: float = 120.0) -> None:
         """Wait for a static file (requesting the app page would open a session, which on a clean
