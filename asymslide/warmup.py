@@ -41,6 +41,11 @@ def _calls() -> list[tuple[str, Callable[[], object]]]:
         ("thresholds (neutral modes), eta", lambda: model.critical_etas(gamma=3.0, f=0.9, beta=0.3,
                                                                          eta_range=(2.0, 20.0), workers=1)),
         ("all branches", lambda: model.unstable_modes(1.0, **base, eta=10.0)),
+        # the Spectrum tab's sliding over every branch (its first page runs these in the background)
+        ("fastest root of every branch, eta = inf", lambda: model.fastest_mode(kh, **base)),
+        ("fastest root of every branch, finite eta", lambda: model.fastest_mode(kh, **base, eta=10.0, count=False)),
+        ("sliding over every branch, eta = inf", lambda: model.sliding_analysis(**base)),
+        ("sliding over every branch, finite eta", lambda: model.sliding_analysis(**base, eta=10.0)),
     ]
 
 
