@@ -25,6 +25,7 @@ import param
 
 import model
 
+from .common import FAMILY_NAMES
 from .docs import reference_card
 from .params import (
     Physical,
@@ -100,8 +101,6 @@ KH_DIM = hv.Dimension("kH")
 ROOT_COLOR = "#1f4e79"
 RAYLEIGH_COLOR = "#b2182b"
 FASTEST_COLOR = "#e08214"
-#: the short name of each family of roots (model.FAMILIES)
-FAMILY_NAMES = {k: v.split(" (")[0] for k, v in model.FAMILIES.items()}
 
 
 def _fmt_z(z: complex, digits: int = 10) -> str:

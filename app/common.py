@@ -10,6 +10,8 @@ import contourpy
 import numpy as np
 from bokeh.palettes import RdBu11
 
+import model
+
 #: |max growth| at or below this is drawn as neutral: not counted unstable and not a neutral-curve crossing (where
 #: the branch only tends to Im z = 0 at the end of the kH grid the maximum is 0 up to round-off)
 MARGINAL = 1e-6
@@ -25,6 +27,9 @@ GROWTH_CMAP = "RdBu_r"
 #: where the growth is not computable (NaN): a dark grey, far in lightness from the palette's white centre (growth
 #: ~ 0), so that "nearly neutral" and "not computable" never look alike
 NAN_COLOR = "#636363"
+
+#: the short name of each family of roots (model.FAMILIES), for legends and readouts
+FAMILY_NAMES = {k: v.split(" (")[0] for k, v in model.FAMILIES.items()}
 
 #: the heat maps' legend
 COLOUR_LEGEND = ("Red: unstable (max growth > 0), blue: stable, white: nearly neutral; dark grey: not computable; "

@@ -21,6 +21,7 @@ import param
 import model
 
 from . import jobs
+from .common import FAMILY_NAMES
 from .params import (
     PALETTE,
     SpectrumParams,
@@ -89,8 +90,6 @@ def band_legend_hook(plot, _element) -> None:
 KH_ALL = np.logspace(math.log10(model.SLIDING_KH[0]), math.log10(model.SLIDING_KH[-1]), 33)
 #: colour of each family of roots (model.FAMILIES) in the growth-rate plot
 FAMILY_COLOURS = {0: "#1f4e79", 1: "#7b3294", 2: "#e08214", 3: "#1b7837"}
-#: the short name of each family (legends, readouts)
-FAMILY_NAMES = {k: v.split(" (")[0] for k, v in model.FAMILIES.items()}
 
 
 def _family_points(code: int) -> hv.Scatter:

@@ -508,13 +508,9 @@ def sliding_arrays(spec: SlidingSpec, params: np.ndarray) -> dict[str, np.ndarra
     rows = dict(zip(model.SLIDING_ROWS, model.sliding_chunk(np.log(np.asarray(spec.kH)), params, spec.floor),
                     strict=True))
     reason = rows["verdict_reason_all"].astype(np.int8)
-    verdict = np.where(reason == model.sliding.S_STABLE, 0, np.where(
-        np.isin(reason, (model.sliding.S_UNSTABLE, model.sliding.S_UNSTABLE_UNCERTIFIED_MAX)), 1, 2)).astype(np.int8)
-    family = rows["family_all"]
     return {"growth_all": rows["growth_all"], "kH_at_max_all": np.exp(rows["ln_kH_at_max_all"]),
-            "re_z_at_max_all": rows["re_z_at_max_all"],
-            "family_all": np.where(np.isnan(family), -1, family).astype(np.int8),
-            "verdict_all": verdict, "verdict_reason_all": reason,
+            "re_z_at_max_all": rows["re_z_at_max_all"], "family_all": model.family_codes(rows["family_all"]),
+            "verdict_all": model.sliding_verdict(reason), "verdict_reason_all": reason,
             "max_at_end_all": (rows["max_at_end_all"] == 1.0).astype(np.int8),
             "lower_bound_all": np.isfinite(params[PARAMETERS.index("eta")]).astype(np.int8)}
 

@@ -38,7 +38,8 @@ The whole spectrum: is steady sliding stable? (§14)
     floor, :class:`FastestMode`, :data:`MODE_STATUS`), :func:`sliding_analysis` (over a kH range: the maximum of
     that growth and of the temporal rate, and the sliding verdict beside the Rayleigh branch's,
     :class:`SlidingResult`, :data:`SLIDING_STATUS`), :func:`sliding_chunk` (a chunk for sweeps, rows
-    :data:`SLIDING_ROWS`); :data:`DEFAULT_FLOOR`, :data:`SLIDING_KH`.
+    :data:`SLIDING_ROWS`; its reason codes as verdict classes :func:`sliding_verdict`, its family row as codes
+    :func:`family_codes`); :data:`DEFAULT_FLOOR`, :data:`SLIDING_KH`.
 
 Thin-on-thick (§6)
     :func:`bessel_integral_B`, :func:`one_minus_bessel_integral_B`, :func:`bessel_term_C` (Eq. B(q)C(q)),
@@ -146,10 +147,12 @@ from .sliding import (
     SLIDING_STATUS,
     FastestMode,
     SlidingResult,
+    family_codes,
     fastest_mode,
     root_window,
     sliding_analysis,
     sliding_chunk,
+    sliding_verdict,
 )
 from .spectrum import STATUS, SpectrumResult, linear_expansion, rayleigh_branch, spectrum
 from .stability import (
@@ -208,6 +211,8 @@ __all__ = [
     "root_window",
     "sliding_analysis",
     "sliding_chunk",
+    "sliding_verdict",
+    "family_codes",
     "PARAMETERS",
     "Parameter",
     "check_parameter",

@@ -48,6 +48,8 @@ __all__ = [
     "root_window",
     "sliding_analysis",
     "sliding_chunk",
+    "sliding_verdict",
+    "family_codes",
 ]
 
 DEFAULT_FLOOR = 1e-6  # roots with Im z below this are not searched (their e-folding time is > 1e6 H/(c_s kH))
@@ -964,6 +966,20 @@ def sliding_chunk(s_grid: np.ndarray, params: np.ndarray, floor: float = DEFAULT
     return out
 
 
+def sliding_verdict(reason: np.ndarray) -> np.ndarray:
+    """The sliding verdict class (int8: 0 stable, 1 unstable, 2 undetermined; :data:`model.VERDICTS`) of reason codes
+    (:data:`SLIDING_STATUS`, e.g. :func:`sliding_chunk`'s ``verdict_reason_all`` row)."""
+    reason = np.asarray(reason)
+    unstable = np.isin(reason, (S_UNSTABLE, S_UNSTABLE_UNCERTIFIED_MAX))
+    return np.where(reason == S_STABLE, 0, np.where(unstable, 1, 2)).astype(np.int8)
+
+
+def family_codes(row: np.ndarray) -> np.ndarray:
+    """A family row of :func:`sliding_chunk` (NaN: none) as int8 codes of :data:`FAMILIES` (-1: none)."""
+    row = np.asarray(row)
+    return np.where(np.isnan(row), -1, row).astype(np.int8)
+
+
 @dataclass(frozen=True)
 class SlidingResult:
     """The stability of steady sliding over every branch and a kH range (:func:`sliding_analysis`).
@@ -1034,11 +1050,8 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     rows = sliding_chunk(s_grid, params, fl, ray, rate)
     r = dict(zip(SLIDING_ROWS, (row.reshape(shape) for row in rows), strict=True))
     reason = r["verdict_reason_all"]
-    verdict = np.where(reason == S_STABLE, 0, np.where(np.isin(reason, (S_UNSTABLE, S_UNSTABLE_UNCERTIFIED_MAX)),
-                                                       1, 2)).astype(np.int8)
-
-    def fam(row: np.ndarray) -> np.ndarray:
-        return np.where(np.isnan(row), -1, row).astype(np.int8)
+    verdict = sliding_verdict(reason)
+    fam = family_codes
 
     z_rate = r["re_z_at_max_rate_all"] + 1j * r["im_z_at_max_rate_all"]
     return SlidingResult(r["growth_all"], np.exp(r["ln_kH_at_max_all"]),
