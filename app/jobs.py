@@ -3,7 +3,8 @@
 Two pieces, one for each side of the thread boundary:
 
 - :class:`Job` -- one computation, ``work(job)``, on its own daemon thread. The work reports its progress per
-  phase (:meth:`Job.set_totals`, :meth:`Job.advance`, :meth:`Job.set_done`) and calls :meth:`Job.check` between
+  phase (:meth:`Job.set_totals`, :meth:`Job.advance`, :meth:`Job.set_done`), may publish a preview of its result
+  (:meth:`Job.publish`), and calls :meth:`Job.check` between
   chunks: once the job is cancelled, ``check`` raises :class:`Cancelled`, so a stale computation stops after its
   current chunk. An exception ends the job "failed" with its message (logged with its traceback; a :class:`Failed`
   raised by the work is a failure it explains itself: its message is shown as it is, without a traceback). A job
@@ -65,6 +66,8 @@ class JobState:
     totals: Mapping[str, int] = field(default_factory=dict)
     result: Any = None
     error: str = ""
+    #: the latest partial result the work published (:meth:`Job.publish`: a preview shown before the end)
+    partial: Any = None
 
     @property
     def finished(self) -> bool:
@@ -153,6 +156,12 @@ class Job:
         """The units done of each phase named in `done` (e.g. read back from a store another process writes)."""
         with self._lock:
             self._state = replace(self._state, done=MappingProxyType({**self._state.done, **done}))
+        self._notify()
+
+    def publish(self, partial: Any) -> None:
+        """A partial result (a coarse preview of the result): followers show it before the job ends."""
+        with self._lock:
+            self._state = replace(self._state, partial=partial)
         self._notify()
 
     def _end(self, **outcome: Any) -> None:

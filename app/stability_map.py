@@ -37,7 +37,8 @@ import param
 import model
 
 from . import jobs
-from .common import COLOUR_LEGEND, GROWTH_CMAP, GROWTH_LABEL, MARGINAL, NAN_COLOR, neutral_lines
+from . import sliding_map as sm
+from .common import COLOUR_LEGEND, FAMILY_NAMES, GROWTH_CMAP, GROWTH_LABEL, MARGINAL, NAN_COLOR, neutral_lines
 from .params import Choice, SpectrumParams, controls_column, csv_download, csv_table, fmt, scene_layout
 from .workarounds import frozen_document
 
@@ -268,10 +269,19 @@ class StabilityMapScene(pn.viewable.Viewer):
     params = param.ClassSelector(class_=SpectrumParams)
     plane = Choice("η-γ", objects=list(PLANES), label="Plane (x-y)", url="map", words=PLANE_WORDS)
     resolution = Choice("medium", objects=list(RESOLUTIONS), label="Resolution", url="map_res")
+    verdict = Choice(sm.SLIDING, objects=[sm.SLIDING, sm.RAYLEIGH], label="Colour by", url="map_verdict",
+                     words=sm.VERDICT_WORDS)
+    floor = Choice(sm.AUTO, objects=list(sm.FLOORS), label="Growth floor (sliding)", url="map_floor")
     #: what the map depends on (see :func:`key_for`); changes only when the map must be recomputed
     map_key = param.Tuple(default=None, length=3, allow_None=True, precedence=-1)
     #: the last finished map (possibly for an older key)
     result = param.ClassSelector(class_=MapResult, allow_None=True, precedence=-1)
+    #: what the sliding map depends on: the map's key and the floor
+    sliding_key = param.Tuple(default=None, length=4, allow_None=True, precedence=-1)
+    #: the last sliding map shown (a preview while its job runs; possibly for an older key)
+    sliding = param.ClassSelector(class_=sm.SlidingMap, allow_None=True, precedence=-1)
+    #: the sliding job: "idle", "computing", "done", "error: ..."
+    sliding_status = param.String("idle", precedence=-1)
     #: "idle", "computing", "done", "error: ..."
     status = param.String("idle", precedence=-1)
     #: the Lab-units panel (an app.lab.LabScene, shared with the Spectrum scene) shown above the map; None: none
@@ -286,15 +296,20 @@ class StabilityMapScene(pn.viewable.Viewer):
         super().__init__(**kwargs)
         #: the background computation of the map (app.jobs): cancelled when the map's inputs change
         self.computation = jobs.Follower(self._show_job)
-        self._views: dict[str, hv.DynamicMap] = {}
-        self.tap_streams: dict[str, hv.streams.Tap] = {}
+        #: the background computation of the sliding verdict (coarse to fine): cancelled when its inputs change
+        self.sliding_computation = jobs.Follower(self._show_sliding_job)
+        self._views: dict[tuple[str, str], hv.DynamicMap] = {}  # by (plane, verdict)
+        self.tap_streams: dict[tuple[str, str], hv.streams.Tap] = {}  # by (plane, verdict)
         self.progress = pn.indicators.Progress(value=0, max=1, bar_color="primary", sizing_mode="stretch_width",
                                                height=18)
         self.progress_label = pn.pane.Markdown("", sizing_mode="stretch_width", margin=(0, 10))
         self.map_key = key_for(self.plane, self.resolution, self.params.model_args())
+        self.sliding_key = self._sliding_key_for(self.map_key)
         self.params.param.watch(self._update_key, list(self.params.param))
-        self.param.watch(self._update_key, ["plane", "resolution"])
+        self.param.watch(self._update_key, ["plane", "resolution", "floor"])
         self.param.watch(self._key_changed, "map_key")
+        self.param.watch(self._sliding_key_changed, "sliding_key")
+        self.param.watch(self._verdict_changed, "verdict")
         self.fig4c_dmap = (hv.DynamicMap(self._fig4c_curves, streams=[hv.streams.Params(self.params, ["f"])])
                            * hv.DynamicMap(self._fig4c_marker, streams=[hv.streams.Params(
                                self.params, ["beta", "gamma", "f", "eta_infinite", "Delta"])])).opts(
@@ -312,6 +327,9 @@ class StabilityMapScene(pn.viewable.Viewer):
         key = key_for(self.plane, self.resolution, self.params.model_args())
         if key != self.map_key:
             self.map_key = key
+        skey = self._sliding_key_for(key)
+        if skey != self.sliding_key:
+            self.sliding_key = skey
 
     def _key_changed(self, event: param.parameterized.Event) -> None:
         """Inputs changed: cancel a running computation (it stops after its chunk and is never shown); if one was
@@ -319,12 +337,89 @@ class StabilityMapScene(pn.viewable.Viewer):
         job = self.computation.job
         running = job is not None and not job.state().finished
         self.computation.cancel()
-        self.map_download.disabled = not self._current()
+        self._update_download()
         if running:
             self.ensure_map()
 
     def _current(self) -> bool:
         return self.result is not None and self.result.key == self.map_key
+
+    def _sliding_key_for(self, key: tuple) -> tuple:
+        """What the sliding map depends on: the map's key and the growth floor (for "auto", whether the map has
+        finite η: its x axis, or the η fixed off the plane)."""
+        plane, _, fixed = key
+        finite_eta = PLANES[plane][0].name == "eta" or any(k == "eta" and math.isfinite(v) for k, v in fixed)
+        return (*key, sm.floor_value(self.floor, finite_eta))
+
+    def colours_sliding(self) -> bool:
+        """Whether the map is coloured by the sliding verdict (every branch), not the Rayleigh branch's growth."""
+        return self.verdict == sm.SLIDING
+
+    def _sliding_current(self) -> bool:
+        """The sliding map of the current inputs is complete."""
+        return self.sliding is not None and self.sliding.key == self.sliding_key and self.sliding.complete
+
+    def _sliding_key_changed(self, _event: param.parameterized.Event) -> None:
+        """The sliding map's inputs changed: cancel its job; restart at once if one was running."""
+        job = self.sliding_computation.job
+        running = job is not None and not job.state().finished
+        self.sliding_computation.cancel()
+        self.sliding_status = "idle"
+        if running:
+            self.ensure_sliding()
+
+    def _verdict_changed(self, _event: param.parameterized.Event) -> None:
+        """Back to the Rayleigh branch: stop the sliding job (it is computed only while its map is shown)."""
+        if not self.colours_sliding():
+            self.sliding_computation.cancel()
+            self.sliding_status = "idle"
+        self._update_download()
+
+    def ensure_sliding(self) -> None:
+        """Start computing the sliding map of the current inputs unless it is shown complete or being computed."""
+        key = self.sliding_key
+        job = self.sliding_computation.job
+        if self._sliding_current() or (job is not None and job.key == key
+                                       and job.state().status in (jobs.RUNNING, jobs.DONE)):
+            return
+        plane, n = key[0], key[1]
+        x, y = plane_axes(plane, n)
+        names = (PLANES[plane][0].name, PLANES[plane][1].name)
+        self.sliding_computation.run(partial(sm.compute_sliding_map, key, x, y, names, CHUNKS.get, CHUNKS.put),
+                                     name="sliding map", key=key, totals={"points": n * n})
+        self.sliding_status = "computing"
+
+    def _show_sliding_job(self, job: jobs.Job, state: jobs.JobState) -> None:
+        """Show the sliding job's progress, its latest preview and, at its end, the map or the failure."""
+        plane, n = job.key[0], job.key[1]
+        total, done = state.totals.get("points", 0), state.done.get("points", 0)
+        if self.colours_sliding():
+            if self.progress.max != total:
+                self.progress.value = 0
+                self.progress.max = total
+            self.progress.value = done
+            preview = state.partial
+            self.progress_label.object = (
+                f"Computing the sliding verdict over the {plane} map ({n} × {n} points): {done} of {total} points"
+                + (f"; shown: one point in {preview.stride} along each axis, each cell the value of its block's "
+                   "lower-left point"
+                   if preview is not None and state.status == jobs.RUNNING else "")
+                if done < total else f"The sliding verdict over the {plane} map ({n} × {n} points)")
+        if state.status == jobs.RUNNING:
+            self.sliding_status = "computing"
+            if state.partial is not None and state.partial is not self.sliding:
+                with frozen_document():
+                    self.sliding = state.partial
+        elif state.status == jobs.FAILED:
+            self.sliding_status = f"error: {state.error}"
+        elif state.status == jobs.DONE:
+            with frozen_document():
+                self.param.update(sliding=state.result, sliding_status="done")
+            self._update_download()
+
+    def _update_download(self) -> None:
+        ready = self._current() and (not self.colours_sliding() or self._sliding_current())
+        self.map_download.disabled = not ready
 
     def ensure_map(self) -> None:
         """Start computing the map of the current key unless it is shown or already being computed (called where the
@@ -359,30 +454,41 @@ class StabilityMapScene(pn.viewable.Viewer):
             with frozen_document():
                 self.param.update(result=state.result, status="done")
             ax, ay = PLANES[plane]
-            self.map_download.param.update(disabled=not self._current(),
-                                           filename=f"stability_map_{ax.name}_{ay.name}.csv")
+            self.map_download.filename = f"stability_map_{ax.name}_{ay.name}.csv"
+            self._update_download()
+            if self.colours_sliding() and self._current():
+                self.ensure_sliding()
 
     # ----------------------------------------------------------------------------------------
     # the map plot (one DynamicMap per plane: the axes' scales differ)
     # ----------------------------------------------------------------------------------------
 
-    def view(self, plane: str | None = None) -> hv.DynamicMap:
-        """The map of `plane` (default: the current one): heat map * neutral curve * marker; a click on the heat map
-        (its Tap stream, :attr:`tap_streams`) sets the sliders."""
-        plane = plane or self.plane
-        if plane not in self._views:
+    def view(self, plane: str | None = None, verdict: str | None = None) -> hv.DynamicMap:
+        """The map of `plane` coloured by `verdict` (defaults: the current ones): heat map * Rayleigh neutral curve *
+        marker; a click on the heat map (its Tap stream, :attr:`tap_streams`) sets the sliders."""
+        plane, verdict = plane or self.plane, verdict or self.verdict
+        if (plane, verdict) not in self._views:
             ax, ay = PLANES[plane]
-            heat = hv.DynamicMap(partial(self._heat, plane), streams=[hv.streams.Params(self, ["result", "map_key"])])
+            if verdict == sm.SLIDING:
+                streams = [hv.streams.Params(self, ["sliding", "sliding_key", "result", "map_key"])]
+                under = hv.DynamicMap(partial(self._sliding_classes, plane), streams=streams)
+                heat = hv.DynamicMap(partial(self._sliding_heat, plane), streams=streams)
+                title = f"Sliding verdict (every branch) over the {plane} plane"
+            else:
+                heat = hv.DynamicMap(partial(self._heat, plane),
+                                     streams=[hv.streams.Params(self, ["result", "map_key"])])
+                title = f"Max growth rate of the Rayleigh branch over the {plane} plane"
             neutral = hv.DynamicMap(partial(self._neutral, plane), streams=[hv.streams.Params(self, ["result"])])
             names = [p for a in (ax, ay) for p in (("log10_eta", "eta_infinite") if a.name == "eta" else (a.name,))]
             marker = hv.DynamicMap(partial(self._marker, plane), streams=[hv.streams.Params(self.params, names)])
             tap = hv.streams.Tap(source=heat, x=None, y=None)  # the source must give single elements
             tap.add_subscriber(partial(self._on_tap, plane))
-            overlay = (heat * neutral * marker).opts(hv.opts.Overlay(
-                title=f"Max growth rate of the Rayleigh branch over the {plane} plane", responsive=True, height=460,
-                logx=ax.log, logy=ay.log, show_legend=False, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi)))
-            self._views[plane], self.tap_streams[plane] = overlay, tap
-        return self._views[plane]
+            layers = (under * heat) if verdict == sm.SLIDING else heat
+            overlay = (layers * neutral * marker).opts(hv.opts.Overlay(
+                title=title, responsive=True, height=460, logx=ax.log, logy=ay.log, show_legend=False,
+                xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi)))
+            self._views[plane, verdict], self.tap_streams[plane, verdict] = overlay, tap
+        return self._views[plane, verdict]
 
     def _dims(self, plane: str) -> tuple[hv.Dimension, hv.Dimension]:
         ax, ay = PLANES[plane]
@@ -418,11 +524,71 @@ class StabilityMapScene(pn.viewable.Viewer):
             hover_tooltips=[(ax.label, "$x"), (ay.label, "$y"), (GROWTH_LABEL, "@growth")],
             responsive=True, height=460, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi))
 
+    def _shown_sliding(self, plane: str) -> tuple[sm.SlidingMap | None, bool]:
+        """The sliding map the plane's plot shows (None: none for this plane yet) and whether it is of the current
+        inputs (complete or a preview). Rendering it is what starts the computation."""
+        if plane == self.plane and self.colours_sliding():
+            if not self._current():
+                self.ensure_map()
+            elif not self._sliding_current():
+                self.ensure_sliding()
+        sl = self.sliding
+        if sl is None or sl.key[0] != plane:
+            return None, False
+        return sl, sl.key == self.sliding_key
+
+    def _sliding_classes(self, plane: str, **_stream_values) -> hv.QuadMesh:
+        """The sliding verdict's classes (stable, unstable, undetermined) under its growth; faded when stale."""
+        ax, ay = PLANES[plane]
+        sl, current = self._shown_sliding(plane)
+        n = self.map_key[1] if sl is None else sl.x.size
+        x, y = plane_axes(plane, n) if sl is None else (sl.x, sl.y)
+        verdict = np.full((y.size, x.size), np.nan) if sl is None else sl.shown()["verdict"].astype(float)
+        verdict[verdict < 0] = np.nan
+        xd, yd = self._dims(plane)
+        return hv.QuadMesh((ax.edges(x.size), ay.edges(y.size), verdict), kdims=[xd, yd], vdims=["verdict_class"]).opts(
+            cmap=list(sm.VERDICT_COLOURS), clim=(-0.5, 2.5), colorbar=False, alpha=1.0 if current else 0.45,
+            clipping_colors={"NaN": "rgba(0,0,0,0)"}, line_alpha=0, logx=ax.log, logy=ay.log, tools=[],
+            responsive=True, height=460, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi))
+
+    def _sliding_heat(self, plane: str, **_stream_values) -> hv.QuadMesh:
+        """The growth of every branch where sliding is unstable (NaN elsewhere: the classes show through), with the
+        hover's fields: the verdict in words, the family, kH and z of the fastest mode, and whether the cell is a
+        preview."""
+        ax, ay = PLANES[plane]
+        sl, current = self._shown_sliding(plane)
+        n = self.map_key[1] if sl is None else sl.x.size
+        x, y = plane_axes(plane, n) if sl is None else (sl.x, sl.y)
+        shape = (y.size, x.size)
+        if sl is None:
+            growth, kh, rez = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
+            words, shown = np.full(shape, "not computed yet", dtype=object), np.full(shape, "", dtype=object)
+        else:
+            d = sl.shown()
+            growth = np.where(d["verdict"] == 1, d["growth"], np.nan)
+            kh, rez = d["kH_at_max"], d["re_z"]
+            words = sm.hover_text(d["verdict"], d["reason"], d["family"], sl.floor)
+            shown = np.where(sl.exact(), "this point", "preview: its block's lower-left point").astype(object)
+        floor = self.sliding_key[-1] if sl is None else sl.floor
+        finite = growth[np.isfinite(growth)]
+        top = max(float(finite.max()) if finite.size else 0.0, 10 * floor)
+        xd, yd = self._dims(plane)
+        return hv.QuadMesh((ax.edges(x.size), ay.edges(y.size), growth, words, kh, rez, shown), kdims=[xd, yd],
+                           vdims=[hv.Dimension("growth_all", label=sm.GROWTH_ALL_LABEL), "sliding", "kH_at_max",
+                                  "re_z", "value_of"]).opts(
+            cmap=sm.GROWTH_ALL_CMAP, clim=(floor, top), logz=True, colorbar=True, clabel=sm.GROWTH_ALL_LABEL,
+            framewise=True, alpha=1.0 if current else 0.45, clipping_colors={"NaN": "rgba(0,0,0,0)"}, line_alpha=0,
+            logx=ax.log, logy=ay.log, tools=["hover"],
+            hover_tooltips=[(ax.label, "$x"), (ay.label, "$y"), ("sliding", "@sliding"),
+                            (sm.GROWTH_ALL_LABEL, "@growth_all"), ("kH at max", "@kH_at_max"),
+                            ("Re z at max", "@re_z"), ("value of", "@value_of")],
+            responsive=True, height=460, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi))
+
     def _neutral(self, plane: str, **_stream_values) -> hv.Path:
         x, y, growth, _ = self._shown(plane)
         ax, ay = PLANES[plane]
         lines = [] if growth is None else neutral_lines(x, y, growth, log_x=ax.log, log_y=ay.log)
-        return hv.Path(lines, kdims=list(self._dims(plane)), label="neutral curve (max Im = 0)").opts(
+        return hv.Path(lines, kdims=list(self._dims(plane)), label="Rayleigh branch neutral curve (max Im = 0)").opts(
             color="black", line_width=2)
 
     def marker_position(self, plane: str | None = None) -> tuple[float, float, list[str]]:
@@ -503,7 +669,8 @@ class StabilityMapScene(pn.viewable.Viewer):
     # readout and export
     # ----------------------------------------------------------------------------------------
 
-    @param.depends("result", "map_key", "status", "params.gamma", "params.log10_eta", "params.eta_infinite",
+    @param.depends("result", "map_key", "status", "sliding", "sliding_key", "sliding_status", "verdict",
+                   "params.gamma", "params.log10_eta", "params.eta_infinite",
                    "params.f", "params.beta", "params.Delta", "params.xi")
     def readout(self) -> str:
         plane, n, fixed = self.map_key
@@ -545,10 +712,101 @@ class StabilityMapScene(pn.viewable.Viewer):
             cached = res.chunks_total - res.chunks_computed
             lines.append(f"**Time** {res.seconds:.2f} s ({res.chunks_total} chunks"
                          + (f", {cached} from the cache)" if cached else ")"))
+        lines += self.sliding_lines()
+        lines += self.star_cell_lines()
         _, _, notes = self.marker_position(plane)
         if notes:
             lines.append("**Marker** " + "; ".join(notes))
         return "\n\n".join(lines)
+
+    @param.depends("verdict")
+    def legend(self) -> str:
+        """The map's colour legend, for the verdict it is coloured by."""
+        text = sm.SLIDING_LEGEND if self.colours_sliding() else COLOUR_LEGEND
+        return f"Click the map to move the sliders there. {text}; star: current parameters."
+
+    def sliding_lines(self) -> list[str]:
+        """The readout's lines on the sliding verdict (every branch) of the current map."""
+        if not self.colours_sliding():
+            return ["**Sliding (every branch)** not computed: colour by the sliding verdict to compute it (the "
+                    "numbers above are the Rayleigh branch's alone)"]
+        sl = self.sliding
+        lines = []
+        if self.sliding_status.startswith("error"):
+            lines.append(f"**Sliding failed** {self.sliding_status[len('error: '):]}")
+        if sl is None or sl.key != self.sliding_key:
+            lines.append("**Sliding (every branch)** computing…" if self._current() else
+                         "**Sliding (every branch)** computed after the Rayleigh branch's map")
+            return lines
+        v = sl.fields["verdict"]
+        done = v >= 0
+        n_done = int(done.sum())
+        lo, hi = sl.kH_range
+        scope = f"Im z ≥ {sl.floor:g}, kH {lo:g} to {hi:g}"
+        head = ("**Sliding (every branch)**" if sl.complete
+                else f"**Sliding (every branch), preview** of {n_done} points:")
+        unstable = int((v == 1).sum())
+        lines.append(f"{head} unstable at {unstable} of {n_done} points ({100 * unstable / max(n_done, 1):.1f} %), "
+                     f"stable at {int((v == 0).sum())}, undetermined at {int((v == 2).sum())} ({scope})")
+        fam = sl.fields["family"]
+        by_family = ", ".join(f"{name} {int(((v == 1) & (fam == code)).sum())}"
+                              for code, name in FAMILY_NAMES.items() if ((v == 1) & (fam == code)).any())
+        if by_family:
+            lines.append(f"**Fastest mode's family** (unstable points) {by_family}")
+        res = self.result
+        if res is not None and res.key == self.map_key:
+            hidden = int((done & (v == 1) & ~(res.growth > MARGINAL)).sum())
+            lines.append(f"**Rayleigh-branch stable, sliding unstable** {hidden} point(s): another branch grows there")
+            below = int((done & (v == 0) & (res.growth > MARGINAL)).sum())
+            if below:
+                lines.append(f"**Below the floor** {below} point(s) drawn sliding stable where the Rayleigh "
+                             f"branch grows slower than Im z = {sl.floor:g} (or only outside kH {lo:g} to {hi:g}): "
+                             "lower the floor to resolve them")
+        if (v == 2).any():
+            lines.append("**Undetermined** (dark grey): no root above the floor was found, but the search was "
+                         "refused at some kH (at finite η the window at a low floor is too wide: raise the floor)")
+        if sl.fields["lower_bound"][done].any():
+            lines.append("**Finite η**: the verdict holds at the kH searched (a narrow hump between them can be "
+                         "missed; docs/physics.md §14.7)")
+        lines.append(f"**Time (sliding)** {sl.seconds:.1f} s, {sl.computed} points")
+        return lines
+
+    def star_cell(self) -> tuple[int, int] | None:
+        """(row, column) of the map's cell under the star (None: the star lies off the plane's range)."""
+        x, y, notes = self.marker_position()
+        if notes:
+            return None
+        ax, ay = PLANES[self.plane]
+        n = self.map_key[1]
+        ix = int(np.clip(np.searchsorted(ax.edges(n), x) - 1, 0, n - 1))
+        iy = int(np.clip(np.searchsorted(ay.edges(n), y) - 1, 0, n - 1))
+        return iy, ix
+
+    def star_cell_lines(self) -> list[str]:
+        """The readout of the map's cell under the star: both verdicts there, the fastest mode's family, kH and z."""
+        cell = self.star_cell()
+        res = self.result
+        if cell is None or res is None or res.key != self.map_key:
+            return []
+        iy, ix = cell
+        ax, ay = PLANES[self.plane]
+        where = f"{ax.label} = {fmt(res.x[ix])}, {ay.label} = {fmt(res.y[iy])}"
+        g = float(res.growth[iy, ix])
+        ray = ("not computable" if not np.isfinite(g) else
+               f"unstable, max Im[c/c_s] = {fmt(g)} at kH = {fmt(float(res.kH_at_max[iy, ix]))}" if g > MARGINAL
+               else f"stable, max Im[c/c_s] = {fmt(g)}")
+        lines = [f"**The star's cell** ({where}): Rayleigh branch {ray}"]
+        sl = self.sliding
+        shown = self.colours_sliding() and sl is not None and sl.key == self.sliding_key
+        if shown and sl.fields["verdict"][iy, ix] >= 0:
+            f = {k: v[iy, ix] for k, v in sl.fields.items()}
+            text = sm.hover_text(np.array([f["verdict"]]), np.array([f["reason"]]), np.array([f["family"]]),
+                                 sl.floor)[0]
+            if f["verdict"] == 1 and np.isfinite(f["growth"]):
+                text += (f", max Im[c/c_s] {'≥' if f['lower_bound'] else '='} {fmt(float(f['growth']))} at kH = "
+                         f"{fmt(float(f['kH_at_max']))}, z = {fmt(float(f['re_z']), 6)} + {fmt(float(f['growth']))}i")
+            lines.append(f"**The star's cell, sliding (every branch)** {text}")
+        return lines
 
     def map_csv(self) -> io.StringIO:
         """What the map shows: both plane parameters, max growth, kH at the maximum, masked kH points per point."""
@@ -563,9 +821,20 @@ class StabilityMapScene(pn.viewable.Viewer):
             return csv_table(header + " (not computed yet)",
                              {ax.name: [], ay.name: [], "max_growth": [], "kH_at_max": [], "n_masked_kH": []})
         nx, ny = res.x.size, res.y.size
-        return csv_table(header, {ax.name: np.tile(res.x, ny), ay.name: np.repeat(res.y, nx),
-                                  "max_growth": res.growth.ravel(), "kH_at_max": res.kH_at_max.ravel(),
-                                  "n_masked_kH": res.n_masked.ravel()})
+        columns = {ax.name: np.tile(res.x, ny), ay.name: np.repeat(res.y, nx), "max_growth": res.growth.ravel(),
+                   "kH_at_max": res.kH_at_max.ravel(), "n_masked_kH": res.n_masked.ravel()}
+        sl = self.sliding
+        if self.colours_sliding() and self._sliding_current() and sl is not None:
+            lo, hi = sl.kH_range
+            header += (f". Sliding over every branch (model.sliding_analysis, kH {lo!r} to {hi!r}, floor "
+                       f"{sl.floor!r}): verdict_all 0 stable, 1 unstable, 2 undetermined; verdict_reason_all "
+                       "model.SLIDING_STATUS; "
+                       "family_all model.FAMILIES (-1: none); max_growth_all NaN unless unstable and certified")
+            f = sl.fields
+            columns.update({"max_growth_all": f["growth"].ravel(), "kH_at_max_all": f["kH_at_max"].ravel(),
+                            "re_z_at_max_all": f["re_z"].ravel(), "family_all": f["family"].ravel(),
+                            "verdict_all": f["verdict"].ravel(), "verdict_reason_all": f["reason"].ravel()})
+        return csv_table(header, columns)
 
     def fig4c_csv(self) -> io.StringIO:
         """What Fig. 4c shows: β, the criterion's χ_c, and the exact threshold χ_c at the current f (computed at
@@ -585,15 +854,19 @@ class StabilityMapScene(pn.viewable.Viewer):
         controls = controls_column(self.params.make_widgets(), self.readout)
         plane = pn.widgets.RadioButtonGroup.from_param(self.param.plane, color="primary", variant="outline")
         resolution = pn.widgets.RadioButtonGroup.from_param(self.param.resolution, color="light")
+        verdict = pn.widgets.RadioButtonGroup.from_param(self.param.verdict, color="light")
+        floor = pn.widgets.Select.from_param(self.param.floor, width=170,
+                                             disabled=self.param.verdict.rx() != sm.SLIDING)
         map_pane = pn.pane.HoloViews(self.view(), sizing_mode="stretch_width")
-        self.param.watch(lambda e: setattr(map_pane, "object", self.view(e.new)), "plane")
+        self.param.watch(lambda _e: setattr(map_pane, "object", self.view()), ["plane", "verdict"])
         plots = pn.Column(
             *([self.lab.panel(with_plot=False)] if self.lab is not None else []),
             pn.FlexBox(plane, resolution, flex_wrap="wrap", sizing_mode="stretch_width"),
+            pn.FlexBox(pn.pane.Markdown("**Colour by**", margin=(12, 5, 0, 10)), verdict, floor, flex_wrap="wrap",
+                       sizing_mode="stretch_width"),
             self.progress_label,
             self.progress,
-            pn.pane.Markdown(f"Click the map to move the sliders there. {COLOUR_LEGEND}; star: current parameters.",
-                             sizing_mode="stretch_width"),
+            pn.pane.Markdown(self.legend, sizing_mode="stretch_width"),
             map_pane,
             self.map_download,
             pn.pane.HoloViews(self.fig4c_dmap, sizing_mode="stretch_width"),

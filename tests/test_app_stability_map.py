@@ -16,6 +16,7 @@ import model
 from app import jobs
 from app import stability_map as sm
 from app.params import SpectrumParams
+from app.sliding_map import RAYLEIGH
 from app.stability_map import KH, PLANES, StabilityMapScene
 from tests.conftest import open_app
 from tests.support.headless import build_app
@@ -34,6 +35,13 @@ calls = Calls()
 def _spies(fresh_caches: None, monkeypatch: pytest.MonkeyPatch) -> None:
     calls.clear()
     spy_calls(monkeypatch, sm, calls)
+
+
+@pytest.fixture(autouse=True)
+def _rayleigh_colouring(monkeypatch: pytest.MonkeyPatch) -> None:
+    """These tests are of the Rayleigh branch's map (the paper's): its scenes are coloured by it (the sliding verdict,
+    the default colouring, is tested in tests/test_app_sliding_map.py)."""
+    monkeypatch.setattr(StabilityMapScene.param.verdict, "default", RAYLEIGH)
 
 
 @pytest.fixture
@@ -307,10 +315,10 @@ def test_tap_sets_the_shared_parameters(small) -> None:
     scene = StabilityMapScene(params=params)
     key = scene.map_key
     scene.view()
-    scene.tap_streams["η-γ"].event(x=100.0, y=5.123)
+    scene.tap_streams["η-γ", RAYLEIGH].event(x=100.0, y=5.123)
     assert (params.eta_infinite, params.log10_eta, params.gamma) == (False, 2.0, 5.12)
     assert scene.map_key == key  # the plane's own parameters: the map stays
-    scene.tap_streams["η-γ"].event(x=1e20, y=1e9)  # clamped to the parameters' bounds
+    scene.tap_streams["η-γ", RAYLEIGH].event(x=1e20, y=1e9)  # clamped to the parameters' bounds
     assert (params.log10_eta, params.gamma) == (params.param.log10_eta.bounds[1], params.param.gamma.bounds[1])
     for plane, (x, y), expected in [
         ("β-γ", (0.9, 0.001), {"beta": 0.7071, "gamma": 0.01}),
@@ -320,7 +328,7 @@ def test_tap_sets_the_shared_parameters(small) -> None:
     ]:
         scene.plane = plane
         scene.view()
-        scene.tap_streams[plane].event(x=x, y=y)
+        scene.tap_streams[plane, RAYLEIGH].event(x=x, y=y)
         assert {k: getattr(params, k) for k in expected} == pytest.approx(expected, rel=1e-12)
     assert calls["compute_chunk"] == 0  # clicking computes nothing by itself
 
@@ -426,7 +434,7 @@ def test_bokeh_map_has_log_axes_symbols_colorbar_and_tap(small) -> None:
     assert bar.title == "max Im[c/c_s]"
     assert bar.color_mapper.low == -bar.color_mapper.high
     taps = [cb for sub in plot.subplots.values() for cb in sub.callbacks if type(cb).__name__ == "TapCallback"]
-    assert len(taps) == 1 and scene.tap_streams["η-γ"] in taps[0].streams  # clicks reach the Tap stream
+    assert len(taps) == 1 and scene.tap_streams["η-γ", RAYLEIGH] in taps[0].streams  # clicks reach the Tap stream
     scene.plane = "f-γ"
     fig = hv.render(scene.view(), backend="bokeh")
     assert type(fig.x_scale).__name__ == "LinearScale" and fig.xaxis[0].axis_label == "f"

@@ -1,0 +1,321 @@
+"""The Stability map coloured by the sliding verdict over every branch (issue 32): the default colouring. The map
+equals model.sliding_analysis over the plane; it is computed coarse to fine (every point once, previews published);
+the readout and hover name both verdicts and the fastest mode's family; switching to the Rayleigh branch gives the
+paper's map; new inputs cancel the job; the CSV holds both; and a browser journey at a point where only another
+branch is unstable."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import threading
+
+import holoviews as hv
+import numpy as np
+import pytest
+
+import model
+from app import jobs
+from app import sliding_map as slm
+from app import stability_map as sm
+from app.params import SpectrumParams
+from app.stability_map import PLANES, StabilityMapScene
+from tests.conftest import open_app
+
+pytestmark = pytest.mark.usefixtures("fresh_caches")
+
+
+@pytest.fixture
+def small(monkeypatch: pytest.MonkeyPatch) -> None:
+    """12 x 12 maps at the default resolution: passes of strides 8, 4, 2, 1 (4, 5, 27 and 108 points)."""
+    monkeypatch.setitem(sm.RESOLUTIONS, StabilityMapScene.param.resolution.default, 12)
+
+
+def _sliding(scene: StabilityMapScene, timeout: float = 300.0) -> slm.SlidingMap:
+    """Render (the Rayleigh map first), wait for both jobs, render again; the finished sliding map."""
+    scene.view()[()]
+    scene.wait()
+    scene.view()[()]
+    scene.sliding_computation.wait(timeout)
+    scene.view()[()]
+    sl = scene.sliding
+    assert sl is not None and sl.key == scene.sliding_key and sl.complete, (scene.status, scene.sliding_status)
+    return sl
+
+
+def _expected(plane: str, n: int, p: SpectrumParams, floor: float) -> model.SlidingResult:
+    """model.sliding_analysis over the whole plane in one call (independent of the passes and chunks)."""
+    ax, ay = PLANES[plane]
+    x, y = sm.plane_axes(plane, n)
+    args = dict(zip(SpectrumParams.MODEL_ARGS, p.model_args(), strict=True))
+    args[ax.name], args[ay.name] = x[None, :], y[:, None]
+    return model.sliding_analysis(**args, floor=floor)
+
+
+def _layers(overlay: hv.Overlay) -> list[hv.QuadMesh]:
+    return [el for el in overlay if isinstance(el, hv.QuadMesh)]
+
+
+# --------------------------------------------------------------------------------------------
+# the passes
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("n", [1, 5, 12, 24, 40, 64])
+def test_the_passes_compute_every_point_once_coarsest_first(n: int) -> None:
+    parts = slm.passes(n)
+    every = np.concatenate(parts)
+    assert np.array_equal(np.sort(every), np.arange(n * n))
+    iy, ix = np.divmod(parts[0], n)
+    assert set(iy) == set(range(0, n, slm.STRIDES[0])) and set(ix) == set(range(0, n, slm.STRIDES[0]))
+    chunks = slm.chunks(n)
+    assert np.array_equal(np.concatenate([c for _, c in chunks]), every)
+    assert max(c.size for _, c in chunks) <= slm.CHUNK_POINTS
+
+
+def test_a_preview_cell_shows_its_blocks_lower_left_point() -> None:
+    for stride in slm.STRIDES:
+        idx = slm.preview_index(12, stride)
+        assert np.all(idx % stride == 0) and np.all((idx <= np.arange(12)) & (np.arange(12) - idx < stride))
+
+
+def test_the_auto_floor_is_the_models_at_eta_infinity_and_higher_at_finite_eta() -> None:
+    assert slm.floor_value(slm.AUTO, finite_eta=False) == model.DEFAULT_FLOOR
+    assert slm.floor_value(slm.AUTO, finite_eta=True) == slm.FINITE_ETA_FLOOR
+    assert slm.floor_value("1e-4", finite_eta=True) == 1e-4
+    assert StabilityMapScene(plane="β-γ").sliding_key[-1] == model.DEFAULT_FLOOR
+    assert StabilityMapScene(plane="η-γ").sliding_key[-1] == slm.FINITE_ETA_FLOOR  # η is the x axis
+    finite = SpectrumParams(eta_infinite=False, log10_eta=1.0)
+    assert StabilityMapScene(plane="β-γ", params=finite).sliding_key[-1] == slm.FINITE_ETA_FLOOR
+
+
+# --------------------------------------------------------------------------------------------
+# the map is the model's
+# --------------------------------------------------------------------------------------------
+
+
+def test_the_default_map_is_coloured_by_the_sliding_verdict_and_equals_the_model(small) -> None:
+    params = SpectrumParams(f=0.9, beta=0.3)
+    scene = StabilityMapScene(params=params, plane="β-γ")
+    assert scene.verdict == slm.SLIDING
+    sl = _sliding(scene)
+    r = _expected("β-γ", 12, params, model.DEFAULT_FLOOR)
+    np.testing.assert_array_equal(sl.fields["verdict"], r.verdict)
+    np.testing.assert_array_equal(sl.fields["reason"], r.verdict_reason)
+    np.testing.assert_array_equal(sl.fields["growth"], r.growth)
+    np.testing.assert_array_equal(sl.fields["kH_at_max"], r.kH_at_max)
+    np.testing.assert_array_equal(sl.fields["family"], r.family)
+    assert sl.computed == 144 and sl.floor == model.DEFAULT_FLOOR
+
+    classes, heat = _layers(scene.view()[()])
+    np.testing.assert_array_equal(classes.dimension_values(2, flat=False), r.verdict.astype(float))
+    growth = heat.dimension_values("growth_all", flat=False)
+    np.testing.assert_array_equal(growth, np.where(r.verdict == 1, r.growth, np.nan))
+    words = heat.dimension_values("sliding", flat=False)
+    for (iy, ix), v in np.ndenumerate(r.verdict):
+        fam = int(r.family[iy, ix])
+        if v == 1 and fam >= 0:
+            assert words[iy, ix] == f"unstable: {slm.FAMILY_NAMES[fam]}"
+        elif v == 0:
+            assert words[iy, ix].startswith("stable: no root of any branch with Im z ≥ 1e-06")
+    assert set(heat.dimension_values("value_of")) == {"this point"}
+
+    text = scene.readout()
+    unstable, stable = int((r.verdict == 1).sum()), int((r.verdict == 0).sum())
+    assert f"**Sliding (every branch)** unstable at {unstable} of 144 points" in text
+    assert f"stable at {stable}, undetermined at {int((r.verdict == 2).sum())} (Im z ≥ 1e-06, kH 0.01 to 100)" in text
+    hidden = int(((r.verdict == 1) & ~(scene.result.growth > sm.MARGINAL)).sum())
+    assert hidden > 0  # f = 0.9, beta = 0.3: some cells are stable on the Rayleigh branch only
+    assert f"**Rayleigh-branch stable, sliding unstable** {hidden} point(s)" in text
+    assert "**Unstable (Rayleigh branch)**" in text
+
+
+def test_previews_are_published_pass_by_pass_and_never_recompute_a_point(small, monkeypatch) -> None:
+    seen: list[np.ndarray] = []
+    real = slm.compute_chunk
+
+    def spy(x, y, names, fixed, floor, idx):
+        seen.append(idx)
+        return real(x, y, names, fixed, floor, idx)
+
+    monkeypatch.setattr(slm, "compute_chunk", spy)
+    published: list[int] = []
+    real_publish = jobs.Job.publish
+
+    def publish(self, partial):
+        published.append(partial.stride)
+        assert partial.computed == sum(p.size for p in slm.passes(12)[:slm.STRIDES.index(partial.stride) + 1])
+        shown = partial.shown()["verdict"]
+        assert np.all(shown >= 0)  # every cell shows a computed point
+        real_publish(self, partial)
+
+    monkeypatch.setattr(jobs.Job, "publish", publish)
+    scene = StabilityMapScene(plane="Δ-ξ")
+    _sliding(scene)
+    assert published == [8, 4, 2]
+    idx = np.concatenate(seen)
+    assert np.array_equal(np.sort(idx), np.arange(144))
+    # again: every chunk from the cache
+    seen.clear()
+    scene.params.gamma = 4.0
+    scene.params.gamma = 3.0
+    _sliding(scene)
+    assert seen == []
+
+
+def test_a_preview_is_drawn_with_its_hover_saying_so(small, monkeypatch) -> None:
+    held, go_on = threading.Event(), threading.Event()
+    real = slm.compute_chunk
+
+    def held_after_the_first_pass(x, y, names, fixed, floor, idx):
+        if idx[0] not in slm.passes(12)[0]:
+            held.set()
+            assert go_on.wait(60)
+        return real(x, y, names, fixed, floor, idx)
+
+    monkeypatch.setattr(slm, "compute_chunk", held_after_the_first_pass)
+    scene = StabilityMapScene(plane="β-γ")
+    scene.view()[()]
+    scene.wait()
+    scene.view()[()]
+    assert held.wait(60)
+    scene.sliding_computation.update()  # headless: show the job's state now
+    try:
+        assert scene.sliding is not None and scene.sliding.stride == 8
+        _, heat = _layers(scene.view()[()])
+        values = set(heat.dimension_values("value_of"))
+        assert values == {"this point", "preview: its block's lower-left point"}
+        assert "preview** of 4 points" in scene.readout()
+        assert scene.map_download.disabled  # the CSV waits for the whole map
+    finally:
+        go_on.set()
+    scene.sliding_computation.wait(120)
+    assert scene.sliding.complete and not scene.map_download.disabled
+
+
+# --------------------------------------------------------------------------------------------
+# the switch, cancellation, export
+# --------------------------------------------------------------------------------------------
+
+
+def test_colouring_by_the_rayleigh_branch_is_the_papers_map_and_stops_the_sliding_job(small, monkeypatch) -> None:
+    go_on = threading.Event()
+    real = slm.compute_chunk
+
+    def slow(*args):
+        assert go_on.wait(60)
+        return real(*args)
+
+    monkeypatch.setattr(slm, "compute_chunk", slow)
+    scene = StabilityMapScene(plane="f-γ")
+    scene.view()[()]
+    scene.wait()
+    scene.view()[()]
+    job = scene.sliding_computation.job
+    assert job is not None and not job.state().finished
+    scene.verdict = slm.RAYLEIGH
+    go_on.set()
+    assert job.wait(60).status == jobs.CANCELLED
+    overlay = scene.view()[()]
+    (mesh,) = _layers(overlay)
+    np.testing.assert_array_equal(mesh.dimension_values("growth", flat=False), scene.result.growth)
+    assert "Rayleigh branch" in overlay.opts.get("plot").kwargs["title"]
+    assert "colour by the sliding verdict to compute it" in scene.readout()
+    assert not scene.map_download.disabled
+
+
+def test_new_inputs_cancel_the_sliding_job_and_start_the_new_one(small, monkeypatch) -> None:
+    go_on = threading.Event()
+    real = slm.compute_chunk
+    floors: list[float] = []
+
+    def slow(x, y, names, fixed, floor, idx):
+        floors.append(floor)
+        assert go_on.wait(60)
+        return real(x, y, names, fixed, floor, idx)
+
+    monkeypatch.setattr(slm, "compute_chunk", slow)
+    scene = StabilityMapScene(plane="β-γ")
+    scene.view()[()]
+    scene.wait()
+    scene.view()[()]
+    first = scene.sliding_computation.job
+    scene.floor = "1e-2"
+    second = scene.sliding_computation.job
+    assert second is not first and second.key[-1] == 1e-2
+    go_on.set()
+    assert first.wait(60).status == jobs.CANCELLED
+    sl = _sliding(scene)
+    assert sl.floor == 1e-2 and floors[0] == model.DEFAULT_FLOOR and set(floors[1:]) <= {model.DEFAULT_FLOOR, 1e-2}
+
+
+def test_the_csv_holds_both_verdicts(small) -> None:
+    params = SpectrumParams(f=0.9, beta=0.3)
+    scene = StabilityMapScene(params=params, plane="β-γ")
+    _sliding(scene)
+    text = scene.map_csv().getvalue()
+    header, body = text.split("\n", 1)
+    assert "Sliding over every branch (model.sliding_analysis, kH 0.01 to 100.0, floor 1e-06)" in header
+    rows = list(csv.DictReader(io.StringIO(body)))
+    r = _expected("β-γ", 12, params, model.DEFAULT_FLOOR)
+    assert len(rows) == 144
+    assert [int(row["verdict_all"]) for row in rows] == r.verdict.ravel().tolist()
+    assert [int(row["family_all"]) for row in rows] == r.family.ravel().tolist()
+    got = np.array([float(row["max_growth_all"]) for row in rows])
+    np.testing.assert_array_equal(got, r.growth.ravel())
+
+
+def test_the_star_cell_readout_names_both_verdicts_and_the_family(small) -> None:
+    """beta = 0.46, gamma = 2.5 (f = 0.9, eta = inf): the Rayleigh branch is stable, an intersonic mode grows."""
+    params = SpectrumParams(f=0.9, beta=0.46, gamma=2.5)
+    scene = StabilityMapScene(params=params, plane="β-γ")
+    _sliding(scene)
+    iy, ix = scene.star_cell()
+    x, y = sm.plane_axes("β-γ", 12)
+    r = model.sliding_analysis(gamma=y[iy], f=0.9, beta=x[ix])
+    assert r.verdict == 1 and r.rayleigh.verdict == 0, (x[ix], y[iy])
+    text = scene.readout()
+    assert "**The star's cell**" in text and "Rayleigh branch stable" in text
+    line = next(s for s in text.split("\n\n") if s.startswith("**The star's cell, sliding"))
+    assert f"unstable: {slm.FAMILY_NAMES[int(r.family)]}" in line
+    assert f"z = {float(r.z_at_max.real):.6g}"[:10] in line
+
+
+# --------------------------------------------------------------------------------------------
+# in the browser
+# --------------------------------------------------------------------------------------------
+
+_HEAT_JS = """() => {
+  const r = Array.from(Bokeh.documents[0].all_models).find(m => m.type === 'GlyphRenderer' && m.data_source
+      && m.data_source.data.sliding !== undefined);
+  if (!r) return null;
+  return {sliding: Array.from(r.data_source.data.sliding), value_of: Array.from(r.data_source.data.value_of)};
+}"""
+
+
+def test_the_map_says_where_only_another_branch_is_unstable(served_app: str, browser_page) -> None:
+    """A user opens the β-γ map at β = 0.46, γ = 2.5 (coarse): the map is coloured by the sliding verdict, the star's
+    cell reads Rayleigh branch stable and sliding unstable (intersonic guided mode), the hover fields name the families;
+    switching to the Rayleigh branch shows the paper's map, and back."""
+    page = browser_page
+    page.set_viewport_size({"width": 1280, "height": 1600})
+    open_app(page, served_app + "?tab=map&map=beta-gamma&map_res=coarse&beta=0.46&gamma=2.5")
+    cell = page.locator("p", has_text="The star's cell, sliding").first
+    cell.wait_for(timeout=180_000)
+    text = cell.text_content()
+    assert "unstable: intersonic guided mode" in text, text
+    assert "Rayleigh branch stable" in page.locator("p", has_text="The star's cell (").first.text_content()
+    page.wait_for_function(f"() => {{ const d = ({_HEAT_JS})(); return d && d.value_of.every(v => v === "
+                           "'this point'); }", timeout=60_000)
+    d = page.evaluate(_HEAT_JS)
+    assert any(s.startswith("unstable: intersonic") for s in d["sliding"])
+    assert any(s.startswith("stable: no root") for s in d["sliding"])
+    page.get_by_role("button", name=slm.RAYLEIGH).click()
+    page.locator("p", has_text="colour by the sliding verdict to compute it").first.wait_for(timeout=60_000)
+    page.wait_for_function(f"() => ({_HEAT_JS})() === null", timeout=60_000)
+    page.get_by_role("button", name=slm.SLIDING).click()
+    page.wait_for_function(f"() => ({_HEAT_JS})() !== null", timeout=60_000)
+    page.locator("p", has_text="The star's cell, sliding").first.wait_for(timeout=60_000)
+    assert math.isfinite(len(d["sliding"])) and len(d["sliding"]) == 24 * 24
+    assert page.console_errors == []
