@@ -418,8 +418,8 @@ class StabilityMapScene(pn.viewable.Viewer):
             self._update_download()
 
     def _update_download(self) -> None:
-        ready = self._current() and (not self.colours_sliding() or self._sliding_current())
-        self.map_download.disabled = not ready
+        """The CSV is offered once the Rayleigh map is current (the sliding columns are added once that map is)."""
+        self.map_download.disabled = not self._current()
 
     def ensure_map(self) -> None:
         """Start computing the map of the current key unless it is shown or already being computed (called where the
@@ -824,6 +824,9 @@ class StabilityMapScene(pn.viewable.Viewer):
         columns = {ax.name: np.tile(res.x, ny), ay.name: np.repeat(res.y, nx), "max_growth": res.growth.ravel(),
                    "kH_at_max": res.kH_at_max.ravel(), "n_masked_kH": res.n_masked.ravel()}
         sl = self.sliding
+        if self.colours_sliding() and not self._sliding_current():
+            header += ". Sliding over every branch: not in this file (its map is being computed: download it again "
+            header += "when it is complete)"
         if self.colours_sliding() and self._sliding_current() and sl is not None:
             lo, hi = sl.kH_range
             header += (f". Sliding over every branch (model.sliding_analysis, kH {lo!r} to {hi!r}, floor "

@@ -187,11 +187,12 @@ def test_a_preview_is_drawn_with_its_hover_saying_so(small, monkeypatch) -> None
         values = set(heat.dimension_values("value_of"))
         assert values == {"this point", "preview: its block's lower-left point"}
         assert "preview** of 4 points" in scene.readout()
-        assert scene.map_download.disabled  # the CSV waits for the whole map
+        assert not scene.map_download.disabled  # the Rayleigh map is complete: the CSV says sliding is not
+        assert "Sliding over every branch: not in this file" in scene.map_csv().getvalue()
     finally:
         go_on.set()
     scene.sliding_computation.wait(120)
-    assert scene.sliding.complete and not scene.map_download.disabled
+    assert scene.sliding.complete and "max_growth_all" in scene.map_csv().getvalue()
 
 
 # --------------------------------------------------------------------------------------------
