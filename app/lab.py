@@ -32,6 +32,7 @@ from bokeh.models import CustomJSTickFormatter, LinearAxis
 import model
 
 from . import spectrum as sp
+from .common import FAMILY_NAMES
 from .docs import reference_card
 from .params import (
     LabParams,
@@ -103,6 +104,52 @@ def compute_lab_spectrum(gamma: float, f: float, beta: float, eta: float, Delta:
         band = tuple(float(w) for w in model.wavelength(kH=np.array([d["kH_max"], d["kH_min"]]), H1=H1))
     return {"kH": d["kH"], "z": d["z"], "status": d["status"], **lab, "kH_star": float(k_star), "z_star": z_star,
             "peak": peak, "band": band, "growth": d["growth"], "kH_min": d["kH_min"], "kH_max": d["kH_max"]}
+
+
+@pn.cache(max_items=64)
+def compute_lab_sliding(gamma: float, f: float, beta: float, eta: float, Delta: float, xi: float, H1: float,
+                        c_s: float) -> dict:
+    """The fastest-growing mode of every branch (the largest temporal rate k Im c over the kH range of
+    :func:`model.sliding_analysis` with ``rate=True``, its default floor) in lab units, with its family and verdict."""
+    r = model.sliding_analysis(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi, rate=True)
+    out = {"verdict": int(r.verdict), "reason": int(r.verdict_reason), "family": int(r.family_rate),
+           "kH": float(r.kH_at_max_rate), "at_end": bool(r.rate_at_end), "lower_bound": bool(r.lower_bound),
+           "floor": float(r.floor), "range": r.kH_range}
+    if math.isfinite(float(r.rate)):
+        lab = model.spectrum_in_lab_units(kH=float(r.kH_at_max_rate), z=complex(r.z_at_max_rate), H1=H1, c_s=c_s)
+        out["peak"] = {k: float(v) for k, v in lab.items()}
+    elif math.isfinite(float(r.growth)):  # the rate's maximum is not certified: the mode of the largest Im c bounds it
+        lab = model.spectrum_in_lab_units(kH=float(r.kH_at_max), z=complex(r.z_at_max), H1=H1, c_s=c_s)
+        out.update(bound={k: float(v) for k, v in lab.items()}, bound_kH=float(r.kH_at_max),
+                   bound_family=int(r.family))
+    return out
+
+
+def sliding_lab_lines(d: dict) -> list[str]:
+    """The readout of :func:`compute_lab_sliding`: the fastest-growing mode of every branch in lab units."""
+    lo, hi = d["range"]
+    scope = f"every branch, Im c/c_s ≥ {d['floor']:g}, kH {lo:g} to {hi:g}"
+    if d["verdict"] == 0:
+        return [f"**Sliding stable** ({scope}): no mode of any branch grows"]
+    if "bound" in d:
+        b = d["bound"]
+        return [f"**Sliding unstable** ({scope}): the largest growth rate k Im c of every branch is not certified (a "
+                "search was refused above it at some kH: the window too wide); the mode of the largest Im c "
+                f"({FAMILY_NAMES.get(d['bound_family'], 'family unknown')}, at kH = {fmt(d['bound_kH'])}) grows at "
+                f"{fmt(b['growth_rate'])} 1/s (λ = {fmt(b['wavelength'] * 1e3)} mm, e-folding time "
+                f"{fmt(b['e_folding_time'] * 1e3)} ms): the fastest grows at least as fast"]
+    if d["verdict"] == 2 or "peak" not in d:
+        what = "undetermined" if d["verdict"] == 2 else "unstable"
+        return [f"**Sliding {what}** ({scope}): {model.SLIDING_STATUS[d['reason']]}"]
+    pk = d["peak"]
+    sign = "≥ " if d["lower_bound"] else ""
+    line = (f"**Fastest-growing mode of every branch** ({FAMILY_NAMES.get(d['family'], 'family unknown')}, at kH = "
+            f"{fmt(d['kH'])}; {scope}): λ = {fmt(pk['wavelength'] * 1e3)} mm, growth rate {sign}"
+            f"{fmt(pk['growth_rate'])} 1/s, e-folding time {fmt(pk['e_folding_time'] * 1e3)} ms, phase speed "
+            f"{fmt(pk['phase_speed'])} m/s")
+    if d["at_end"]:
+        line += " (at an end of the kH range: the rate may keep growing beyond it)"
+    return [line]
 
 
 @pn.cache(max_items=256)
@@ -359,6 +406,9 @@ class LabScene(pn.viewable.Viewer):
             lines.append("**Unstable band** extends beyond the computed kH range")
         masked = int(np.count_nonzero(~np.isfinite(d["z"])))
         lines.append(f"**Masked** {masked} of {KH.size} kH points (gaps in the plot)" if masked else "**Masked** none")
+        args = self.lab_args()
+        if args is not None:
+            lines += sliding_lab_lines(compute_lab_sliding(*args, self.key[5], self.key[1]))
         return "\n\n".join(lines)
 
     @param.depends("key", "spectrum.gamma", "spectrum.f", "spectrum.beta", "spectrum.log10_eta",
@@ -381,6 +431,8 @@ class LabScene(pn.viewable.Viewer):
                          f"speed {fmt(pk['phase_speed'])} m/s.")
         else:
             lines.append("no growing mode on the Rayleigh branch.")
+        lines += [line.replace("**", "") + "." for line in
+                  sliding_lab_lines(compute_lab_sliding(gamma, f, beta, eta, Delta, xi, H1, c_s))]
         r = compute_rate_state(gamma, Delta, xi, eta, rho, c_s, sigma0, H1, v)
         if "error" not in r:
             h2 = "∞" if math.isinf(r["H2"]) else f"{fmt(r['H2'] * 1e3)} mm"

@@ -141,7 +141,7 @@ class App:
         self.thin_params.param.watch(self.write_url, list(self.thin_params.param))
         self.lab_params.param.watch(self.write_url, list(self.lab_params.param))
         self.rupture_params.param.watch(self.write_url, list(self.rupture_params.param))
-        self.map.param.watch(self.write_url, ["plane", "resolution"])
+        self.map.param.watch(self.write_url, ["plane", "resolution", "verdict", "floor"])
         self.branches.param.watch(self.write_url, ["log10_kH", "re_max", "im_min", "im_max"])
         self.tabs.param.watch(self.write_url, "active")
         self.atlas.param.watch(self.write_url, ["atlas", "data", "x_axis", "y_axis", "indices", "surface_axes"])
@@ -218,6 +218,8 @@ class App:
             rupture = {**{n: p.default for n, p in self.rupture_params.param.objects().items() if n != "name"},
                        **rupture}
         self.rupture_params.param.update(**rupture)
+        if preset.tab == "map":  # the map's own settings start from their defaults (Fig. 4c: the Rayleigh branch's)
+            self.map.param.update(**{**{n: self.map.param[n].default for n in ("verdict", "floor")}, **updates["map"]})
         if preset.compare_key == "kW":
             self.thin.compare_kW = list(preset.compare_values)
             self.spectrum.param.update(compare_key="", compare_values=[])

@@ -226,11 +226,56 @@ def atlas_cost(n: int = 12) -> str:
             f"sliding undetermined: {int((v == 2).sum())}.\n")
 
 
+def map_cost(plane: str = "β-γ", resolution: str = "medium") -> str:
+    """The Stability map of both verdicts as the app computes it (issue 32 point 6): the Rayleigh branch's map
+    (app.stability_map.compute_map), then the sliding verdict in coarse-to-fine passes (app.sliding_map), on one
+    job thread with empty caches; against the model's own cost, model.sliding_analysis over the same grid in one
+    call. Reported: the time to the first coarse view (the Rayleigh map + the first pass) and to the whole map, and
+    the app's overhead over the model."""
+    from app import jobs
+    from app import sliding_map as slm
+    from app import stability_map as sm
+    from app.params import SpectrumParams
+
+    scene = sm.StabilityMapScene(plane=plane, resolution=resolution, params=SpectrumParams())
+    key, skey = scene.map_key, scene.sliding_key
+    n = key[1]
+    x, y = sm.plane_axes(plane, n)
+    names = (sm.PLANES[plane][0].name, sm.PLANES[plane][1].name)
+    args = dict(zip(SpectrumParams.MODEL_ARGS, SpectrumParams().model_args(), strict=True))
+    args[names[0]], args[names[1]] = x[None, :], y[:, None]
+    model.sliding_analysis(**{**args, names[0]: x[None, :2], names[1]: y[:2, None]})  # warm
+    t0 = time.perf_counter()
+    model.sliding_analysis(**args, floor=skey[-1])
+    t_model = time.perf_counter() - t0
+    sm.CHUNKS.clear()
+    t0 = time.perf_counter()
+    jobs.Job(lambda job: sm.compute_map(key, job), name="map").start().wait(None)
+    t_rayleigh = time.perf_counter() - t0
+    first: list[float] = []
+    job = jobs.Job(lambda job: slm.compute_sliding_map(skey, x, y, names, sm.CHUNKS.get, sm.CHUNKS.put, job),
+                   name="sliding map")
+    job.subscribe(lambda: first.append(time.perf_counter()) if job.state().partial is not None and not first else None)
+    t0 = time.perf_counter()
+    job.start().wait(None)
+    t_sliding = time.perf_counter() - t0
+    t_first = first[0] - t0
+    budget = t_rayleigh + t_model
+    return (f"\nThe Stability map of both verdicts as the app computes it ({plane}, {resolution} {n} x {n}, paper "
+            f"defaults, floor {skey[-1]:g}, empty caches): the Rayleigh branch's map {t_rayleigh:.2f} s; the sliding "
+            f"verdict's first coarse view (every {slm.STRIDES[0]}th point) {t_first:.2f} s after it, the whole map "
+            f"{t_sliding:.2f} s after it ({1e3 * t_sliding / n**2:.1f} ms a point). The model alone over the same "
+            f"grid in one call: {t_model:.2f} s ({1e3 * t_model / n**2:.1f} ms a point). Target (issue 32): the "
+            f"whole map within the Rayleigh map + the model's cost = {budget:.2f} s; measured "
+            f"{t_rayleigh + t_sliding:.2f} s ({(t_rayleigh + t_sliding) / budget:.2f} of it); the first coarse view "
+            f"at {t_rayleigh + t_first:.2f} s.\n")
+
+
 def main() -> None:
     results = run()
     dense = dense_results(results)
     text = (markdown(results) + denser_grid(results, dense) + track_fraction(results, dense) + oracle_errors()
-            + atlas_cost())
+            + atlas_cost() + map_cost())
     print(text)
 
 

@@ -276,6 +276,40 @@ def test_readout_and_plot_equal_the_model(lab: dict) -> None:
     np.testing.assert_array_equal(data[:, names.index("phase_speed_m_per_s")], lab_units["phase_speed"])
 
 
+@pytest.mark.parametrize("lab", [{}, {"H1_mm": 50.0, "H2_infinite": False, "H2_mm": 100.0, "b": 0.005,
+                                      "D_c_um": 2.0, "v": 0.2}])
+def test_the_fastest_mode_of_every_branch_in_lab_units(lab: dict) -> None:
+    """Issue 32: the panel reads back the fastest-growing mode of every branch (largest k Im c over every branch,
+    model.sliding_analysis(rate=True)) in lab units, with its family, beside the Rayleigh branch's. At PMMA's defaults
+    an intersonic guided mode grows ~5 times faster than the Rayleigh branch."""
+    scene = LabScene(params=LabParams(**lab))
+    p = _expected(scene.params)
+    args = {k: p[k] for k in SpectrumParams.MODEL_ARGS}
+    H1, c_s = scene.params.H1_mm * 1e-3, scene.params.c_s
+    r = model.sliding_analysis(**args, rate=True)
+    text = scene.readout()
+    assert "**Fastest-growing mode of the Rayleigh branch**" in text or "**No growing mode**" in text
+    if r.verdict != 1:
+        assert f"**Sliding {model.VERDICTS[int(r.verdict)]}**" in text
+        return
+    if not np.isfinite(r.rate):  # not certified (lab1: finite eta): the mode of the largest Im c bounds it
+        b = model.spectrum_in_lab_units(kH=r.kH_at_max, z=r.z_at_max, H1=H1, c_s=c_s)
+        assert "the largest growth rate k Im c of every branch is not certified" in text
+        assert f"grows at {float(b['growth_rate']):.4g} 1/s (λ = {float(b['wavelength']) * 1e3:.4g} mm" in text
+        assert lab
+        return
+    peak = model.spectrum_in_lab_units(kH=r.kH_at_max_rate, z=r.z_at_max_rate, H1=H1, c_s=c_s)
+    line = next(s for s in text.split("\n\n") if s.startswith("**Fastest-growing mode of every branch**"))
+    assert f"({lb.FAMILY_NAMES[int(r.family_rate)]}, at kH = {float(r.kH_at_max_rate):.4g};" in line
+    assert f"λ = {float(peak['wavelength']) * 1e3:.4g} mm" in line
+    sign = "≥ " if bool(r.lower_bound) else ""
+    assert f"growth rate {sign}{float(peak['growth_rate']):.4g} 1/s" in line
+    assert f"e-folding time {float(peak['e_folding_time']) * 1e3:.4g} ms" in line
+    assert f"phase speed {float(peak['phase_speed']):.4g} m/s" in line
+    if not lab:
+        assert int(r.family_rate) == 2 and "intersonic guided mode" in line
+
+
 def test_the_sliders_point_in_lab_units() -> None:
     """Where the sliders differ from the lab values (a slider moved, a click on the stability map), the panel also
     reads the sliders' point in lab units: with the lab's H₁ and c_s, and the a, b, D_c, H₂ that

@@ -142,8 +142,9 @@ def test_preset_sets_values_family_and_tab(preset) -> None:
         q = BY_KEY[key]
         if key == "eta":
             assert app.spectrum_params.eta == (math.inf if raw == "inf" else pytest.approx(float(raw)))
-        elif q.kind == "choice":
-            assert getattr(objects[q.target], q.attribute) == raw
+        elif q.kind == "choice":  # the URL word of the choice set
+            value = getattr(objects[q.target], q.attribute)
+            assert (q.words or q.choices)[q.choices.index(value)] == raw
         else:
             value = getattr(objects[q.target], q.attribute)
             assert (10.0**value if q.log10 else value) == pytest.approx(float(raw), rel=1e-12)
@@ -156,6 +157,17 @@ def test_preset_sets_values_family_and_tab(preset) -> None:
     else:
         assert app.spectrum.compare_values == list(preset.compare_values)
     assert preset.label in app.preset_info.object
+    if preset.tab == "map":  # Fig. 4c keeps the paper's look: the map coloured by the Rayleigh branch (issue 32)
+        assert app.map.verdict == "Rayleigh branch"
+
+
+def test_a_map_preset_resets_the_maps_colouring() -> None:
+    app = build_app({"map_verdict": ["sliding"], "map_floor": ["1e-2"]})
+    assert (app.map.verdict, app.map.floor) == ("sliding (every branch)", "1e-2")
+    (fig4c,) = [p for p in load_presets() if p.id == "fig4c"]
+    app.apply_preset(fig4c)
+    assert (app.map.verdict, app.map.floor) == ("Rayleigh branch", "auto")
+    assert "map_verdict=rayleigh" in query_string(app.param_objects(), "map")
 
 
 def test_fig5a_family_curves_equal_the_model() -> None:
