@@ -63,7 +63,9 @@ test: venv  ## ruff, then every test (browser tests need /usr/bin/chromium)
 screenshots: venv  ## refresh the README's screenshots in docs/ (make test writes them to build/screenshots/)
 	ASYMSLIDE_UPDATE_SCREENSHOTS=1 $(PY) -m pytest -m ui tests/test_ui_smoke.py tests/test_app_atlas.py \
 	  tests/test_app_lab.py tests/test_app_rupture.py tests/test_journeys.py::test_phone_layout_reflows_at_390_px \
-	  tests/test_journeys.py::test_the_spectrum_names_both_verdicts_where_only_another_branch_is_unstable
+	  tests/test_journeys.py::test_the_spectrum_names_both_verdicts_where_only_another_branch_is_unstable \
+	  tests/test_app_sliding_map.py::test_the_map_says_where_only_another_branch_is_unstable \
+	  tests/test_app_atlas_sliding.py::test_the_atlas_cell_says_where_only_another_branch_is_unstable
 
 # every process a benchmark starts carries this id in its environment; the last step fails if one is left
 bench: export ASYMSLIDE_RUN_ID := bench-$(shell date +%s%N)

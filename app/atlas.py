@@ -38,8 +38,10 @@ from atlas_engine import sweep as engine
 from atlas_engine.adaptive import refinement_text
 
 from . import jobs
+from . import sliding_map as slm
 from .common import (
     COLOUR_LEGEND,
+    FAMILY_NAMES,
     GROWTH_LABEL,
     GROWTH_PALETTE,
     LOG_TICKS,
@@ -345,9 +347,7 @@ class HeatMap:
         fig.add_tools(HoverTool(renderers=[heat], tooltips=[*axes_tips, (GROWTH_LABEL, field)],
                                 formatters={"$x": grid_hover(xr, atlas.axes[x_axis]),
                                             **({"$y": grid_hover(yr, atlas.axes[y_axis])} if y_axis else {})}))
-        xc, yc = np.meshgrid((xr[:-1] + xr[1:]) / 2, (yr[:-1] + yr[1:]) / 2)
-        w, h = np.meshgrid(np.diff(xr), np.diff(yr))
-        self._cell_geometry = {"x": xc.ravel(), "y": yc.ravel(), "w": w.ravel(), "h": h.ravel()}
+        self._cell_geometry = self._geometry(xr, yr)
         self.filled, self.computed_points = self._adaptive_layers(fig) if atlas.adaptive else (None, None)
         self.undetermined = ColumnDataSource({"x": [], "y": [], "w": [], "h": [], "why": []})
         hatched = fig.rect(x="x", y="y", width="w", height="h", source=self.undetermined, fill_alpha=0, line_alpha=0,
@@ -356,7 +356,7 @@ class HeatMap:
         fig.add_tools(HoverTool(renderers=[hatched], tooltips=[("verdict", "undetermined: @why")]))
         self.contour = ColumnDataSource({"xs": [], "ys": []})
         fig.multi_line(xs="xs", ys="ys", source=self.contour, line_color="black", line_width=2,
-                       legend_label="neutral curve (growth = 0)")
+                       legend_label="Rayleigh branch neutral curve (growth = 0)")
         self.thresholds = {}
         for direction, label in ((1, "γ_c: unstable above (certified)"), (-1, "γ_c: stable above (certified)"),
                                  (0, "γ_c (an older atlas: the first threshold, direction not stored)")):
@@ -367,12 +367,89 @@ class HeatMap:
         crosses = fig.scatter(x="x", y="y", source=self.refused, marker="x", size=9, line_width=2,
                               line_color=REFUSED_COLOR, legend_label="sign change, not a threshold")
         fig.add_tools(HoverTool(renderers=[crosses], tooltips=[("not a threshold", "@why")]))
+        self._legend_style(fig)
+        self.colorbar = ColorBar(color_mapper=self.mapper, title=GROWTH_LABEL)
+        fig.add_layout(self.colorbar, "right")
+        self.heat_renderer, self.title_rayleigh = heat, title
+        self.sliding_classes = self.sliding_growth = self.sliding_colorbar = None
+        if atlas.has_sliding:
+            self._sliding_layers(fig, atlas, axes_tips, {"$x": grid_hover(xr, atlas.axes[x_axis]),
+                                                          **({"$y": grid_hover(yr, atlas.axes[y_axis])} if y_axis
+                                                             else {})})
+        fig.on_event(Tap, lambda event: on_tap(x=event.x, y=event.y))
+        self.figure = fig
+
+    @staticmethod
+    def _geometry(xr: np.ndarray, yr: np.ndarray) -> dict[str, np.ndarray]:
+        """The cells' centres and sizes (flat, row-major) from their edges."""
+        xc, yc = np.meshgrid((xr[:-1] + xr[1:]) / 2, (yr[:-1] + yr[1:]) / 2)
+        w, h = np.meshgrid(np.diff(xr), np.diff(yr))
+        return {"x": xc.ravel(), "y": yc.ravel(), "w": w.ravel(), "h": h.ravel()}
+
+    @staticmethod
+    def _legend_style(fig) -> None:
         fig.legend.location = "top_left"
         fig.legend.background_fill_alpha = 0.8
         fig.legend.click_policy = "hide"
-        fig.add_layout(ColorBar(color_mapper=self.mapper, title=GROWTH_LABEL), "right")
-        fig.on_event(Tap, lambda event: on_tap(x=event.x, y=event.y))
-        self.figure = fig
+
+    def _sliding_layers(self, fig, atlas: Atlas, axes_tips: list, formatters: dict) -> None:
+        """The layers of the sliding verdict over every branch (an atlas swept with --sliding): the verdict classes
+        (stable blue, undetermined dark grey, unstable red where its maximum is not certified) under the growth of
+        every branch where unstable (log colour scale from the floor), with the verdict, family, kH and z on hover;
+        empty (and the Rayleigh branch's image shown) while the map is coloured by the Rayleigh branch."""
+        from bokeh.models import ColorBar, ColumnDataSource, HoverTool, LogColorMapper
+
+        self.sliding_classes = ColumnDataSource({"x": [], "y": [], "w": [], "h": [], "color": [], "legend": []})
+        fig.rect(x="x", y="y", width="w", height="h", source=self.sliding_classes, fill_color="color", line_alpha=0,
+                 legend_field="legend")
+        floor = atlas.sliding_floor if math.isfinite(atlas.sliding_floor) else float(model.DEFAULT_FLOOR)
+        top = atlas.sliding_top if math.isfinite(atlas.sliding_top) and atlas.sliding_top > floor else 10 * floor
+        self.sliding_mapper = LogColorMapper(palette=slm.GROWTH_ALL_CMAP, low=floor, high=top,
+                                             nan_color="rgba(0,0,0,0)")
+        self.sliding_growth = ColumnDataSource({"x": [], "y": [], "w": [], "h": [], "growth_all": [], "sliding": [],
+                                                "kH": [], "re_z": []})
+        top_layer = fig.rect(x="x", y="y", width="w", height="h", source=self.sliding_growth, line_alpha=0,
+                             fill_color={"field": "growth_all", "transform": self.sliding_mapper})
+        fig.add_tools(HoverTool(renderers=[top_layer], formatters=formatters, tooltips=[
+            *axes_tips, ("sliding", "@sliding"), (slm.GROWTH_ALL_LABEL, "@growth_all"), ("kH at max", "@kH"),
+            ("Re z at max", "@re_z")]))
+        self.sliding_colorbar = ColorBar(color_mapper=self.sliding_mapper, title=slm.GROWTH_ALL_LABEL, visible=False)
+        fig.add_layout(self.sliding_colorbar, "right")
+        # drawn right above the Rayleigh branch's image: the neutral curve, thresholds and marks stay on top
+        new = fig.renderers[-2:]
+        rest = [r for r in fig.renderers[:-2] if r is not self.heat_renderer]
+        fig.renderers = [self.heat_renderer, *new, *rest]
+
+    def update_sliding(self, fields: dict[str, np.ndarray] | None, floor: float, plane: str) -> None:
+        """Colour the slice by the sliding verdict (`fields`: the slice's sliding variables, of the slice's shape)
+        or, with None, by the Rayleigh branch's growth (the image)."""
+        if self.sliding_classes is None:
+            return
+        sliding = fields is not None
+        self.heat_renderer.visible = not sliding
+        self.colorbar.visible = not sliding
+        self.sliding_colorbar.visible = sliding
+        self.figure.title.text = (f"{self.atlas.name}: sliding verdict (every branch, Im z ≥ {floor:g}) over {plane}"
+                                  if sliding else self.title_rayleigh)
+        if not sliding:
+            self.sliding_classes.data = {k: [] for k in self.sliding_classes.data}
+            self.sliding_growth.data = {k: [] for k in self.sliding_growth.data}
+            return
+        v = np.asarray(fields["verdict_all"]).ravel().astype(int)
+        fam = np.asarray(fields["family_all"]).ravel().astype(int)
+        reason = np.asarray(fields["verdict_reason_all"]).ravel().astype(int)
+        g = np.asarray(fields["growth_all"], dtype=float).ravel()
+        done = np.flatnonzero(v >= 0)
+        words = {0: "sliding stable", 1: "sliding unstable", 2: "sliding undetermined"}
+        colours = np.array(slm.VERDICT_COLOURS, dtype=object)
+        self.sliding_classes.data = {**{k: val[done] for k, val in self._cell_geometry.items()},
+                                     "color": colours[v[done]], "legend": np.array([words[int(c)] for c in v[done]],
+                                                                                  dtype=object)}
+        text = slm.hover_text(v, reason, fam, floor)
+        self.sliding_growth.data = {**{k: val[done] for k, val in self._cell_geometry.items()},
+                                    "growth_all": np.where(v == 1, g, np.nan)[done], "sliding": text[done],
+                                    "kH": np.asarray(fields["kH_at_max_all"], dtype=float).ravel()[done],
+                                    "re_z": np.asarray(fields["re_z_at_max_all"], dtype=float).ravel()[done]}
 
     def _adaptive_layers(self, fig):
         """The layers of an adaptive atlas: the not computed cells in the pale colour of their filled verdict class,
@@ -530,6 +607,7 @@ class AtlasRequest:
     y: str | None = None
     at: dict[str, float] = field(default_factory=dict)
     surface: tuple[str, ...] = ()
+    verdict: str | None = None  # what the heat map is coloured by (app.sliding_map.SLIDING or RAYLEIGH)
 
 
 class AtlasScene(pn.viewable.Viewer):
@@ -553,6 +631,8 @@ class AtlasScene(pn.viewable.Viewer):
     message = param.String(default="", precedence=-1)
     #: True while the 3-D view is shown (it is computed only then)
     surface_shown = param.Boolean(default=False, precedence=-1)
+    #: what the heat map is coloured by, in an atlas swept with --sliding (app.sliding_map's SLIDING, RAYLEIGH)
+    verdict = param.Selector(default=slm.SLIDING, objects=[slm.SLIDING, slm.RAYLEIGH], label="Colour by")
 
     def __init__(self, **kwargs):
         requested = kwargs.pop("requested", None)
@@ -586,7 +666,10 @@ class AtlasScene(pn.viewable.Viewer):
         self._figures: dict[tuple, HeatMap] = {}
         self.image_pane = pn.pane.Bokeh(None, sizing_mode="stretch_width", height=HEIGHT)
         self.param.watch(self._show_heat_map, ["data", "x_axis", "y_axis"])
-        self.param.watch(self._slice_changed, "indices")
+        self.param.watch(self._slice_changed, ["indices", "verdict"])
+        self.verdict_select = pn.widgets.RadioButtonGroup.from_param(self.param.verdict, color="light", visible=False)
+        self.param.watch(lambda e: setattr(self.verdict_select, "visible", bool(e.new is not None
+                                                                                and e.new.has_sliding)), "data")
         self.surface_pane = pn.pane.Plotly(None, sizing_mode="stretch_width", height=460)
         self.param.watch(self._atlas_changed, "atlas")
         self.param.watch(self._axes_changed, ["x_axis", "y_axis"])
@@ -600,9 +683,11 @@ class AtlasScene(pn.viewable.Viewer):
         d = self.data
         if d is None:
             r = self._requested
-            return {"name": r.name, "x": r.x, "y": r.y, "at": dict(r.at), "surface": r.surface}
+            return {"name": r.name, "x": r.x, "y": r.y, "at": dict(r.at), "surface": r.surface,
+                    "verdict": r.verdict}
         at = {n: float(d.axes[n][self.indices.get(n, 0)]) for n in d.names if n not in (self.x_axis, self.y_axis)}
-        return {"name": d.name, "x": self.x_axis, "y": self.y_axis, "at": at, "surface": tuple(self.surface_axes)}
+        return {"name": d.name, "x": self.x_axis, "y": self.y_axis, "at": at, "surface": tuple(self.surface_axes),
+                "verdict": self.verdict if d.has_sliding else None}
 
     # -- which atlas --------------------------------------------------------------------------
 
@@ -692,8 +777,9 @@ class AtlasScene(pn.viewable.Viewer):
             if request.surface:
                 notes.append(f"the 3-D view needs three axes of atlas {data.name}")
             surface = names[:3] if len(names) >= 3 else []
+        verdict = request.verdict or self.verdict
         with param.parameterized.batch_call_watchers(self):
-            self.param.update(data=data, x_axis=x, y_axis=y, surface_axes=surface, indices=indices)
+            self.param.update(data=data, x_axis=x, y_axis=y, surface_axes=surface, indices=indices, verdict=verdict)
         self._rebuild_sliders()
         if notes:
             self.message = "From the URL: " + "; ".join(notes) + " (left as they were)."
@@ -780,7 +866,7 @@ class AtlasScene(pn.viewable.Viewer):
         names = d.names
         index = tuple(slice(None) if n in (self.x_axis, self.y_axis) else self.indices.get(n, 0) for n in names)
         held = {None: d.growth, "verdict": d.verdict, "verdict_reason": d.verdict_reason, "computed": d.computed,
-                "verdict_filled": d.verdict_filled, "filled_level": d.filled_level}
+                "verdict_filled": d.verdict_filled, "filled_level": d.filled_level, **d.sliding}
         if held.get(variable) is not None:
             cube = held[variable][index]
         elif variable is None:
@@ -867,9 +953,28 @@ class AtlasScene(pn.viewable.Viewer):
         if self.image_pane.object is not heat.figure:
             self.image_pane.object = heat.figure
 
+    def colours_sliding(self) -> bool:
+        """Whether the heat map shows the sliding verdict over every branch (the atlas has it, and it is chosen)."""
+        return self.data is not None and self.data.has_sliding and self.verdict == slm.SLIDING
+
+    def sliding_slice(self) -> dict[str, np.ndarray] | None:
+        """The current slice's sliding variables (None: the atlas has none)."""
+        if self.data is None or not self.data.has_sliding:
+            return None
+        out = {}
+        for name in self.data.sliding:
+            got = self.slice2d(name)
+            if got is None:
+                return None
+            out[name] = got[2]
+        return out
+
     def _draw(self, heat: HeatMap) -> None:
         x, y, g = self.slice2d()
-        heat.update(x, y, g, self.undetermined_reasons(), self.boundary())
+        sliding = self.colours_sliding()
+        heat.update(x, y, g, None if sliding else self.undetermined_reasons(), self.boundary())
+        plane = f"{self.data.label(self.x_axis)}-{self.data.label(self.y_axis) if self.y_axis else ''}"
+        heat.update_sliding(self.sliding_slice() if sliding else None, self.data.sliding_floor, plane)
         if self.data.adaptive:
             self._draw_adaptive(heat)
 
@@ -930,7 +1035,34 @@ class AtlasScene(pn.viewable.Viewer):
             self.params.param.update(**updates)
         text = ", ".join(f"{SpectrumParams.symbol(k)} = {'∞' if math.isinf(v) else f'{v:.4g}'}"
                          for k, v in values.items())
-        self.message = f"Parameters set from the atlas cell: {text}." + (" " + "; ".join(notes) if notes else "")
+        self.message = (f"Parameters set from the atlas cell: {text}." + self._cell_verdicts(x, y)
+                        + (" " + "; ".join(notes) if notes else ""))
+
+    def _cell_verdicts(self, x: float, y: float | None) -> str:
+        """Both verdicts at the clicked cell, with the fastest mode's family, kH and z (an atlas with sliding)."""
+        d = self.data
+        if d is None or d.verdict is None:
+            return ""
+        xs = d.display(self.x_axis)
+        ix = int(np.argmin(np.abs(xs - x)))
+        iy = int(np.argmin(np.abs(d.display(self.y_axis) - y))) if self.y_axis and y is not None else 0
+        v = self.slice2d("verdict")
+        if v is None:
+            return ""
+        words = {0: "stable", 1: "unstable", 2: "undetermined"}
+        out = f" Rayleigh branch: {words.get(int(v[2][iy, ix]), 'not computed')}."
+        f = self.sliding_slice()
+        if f is not None:
+            c = {k: val[iy, ix] for k, val in f.items()}
+            codes = [np.array([int(c[k])]) for k in ("verdict_all", "verdict_reason_all", "family_all")]
+            out += f" Sliding (every branch): {slm.hover_text(*codes, d.sliding_floor)[0]}"
+            if int(c["verdict_all"]) == 1 and np.isfinite(c["growth_all"]):
+                sign = "≥" if c.get("lower_bound_all", False) else "="
+                out += (f", max Im[c/c_s] {sign} {fmt(float(c['growth_all']))}"
+                        f" at kH = {fmt(float(c['kH_at_max_all']))}, z = {fmt(float(c['re_z_at_max_all']), 6)} + "
+                        f"{fmt(float(c['growth_all']))}i")
+            out += "."
+        return out
 
     def _show(self, text: str) -> None:
         self.alert.object = text
@@ -1037,10 +1169,27 @@ class AtlasScene(pn.viewable.Viewer):
                     f"{MARGINAL:g}); "
                     f"largest growth {largest}; not computable (dark grey) {n_nan}")
         v = verdict[2]
-        return (f"**This slice** ({v.size} points, Rayleigh branch) unstable {int((v == 1).sum())}, stable "
+        text = (f"**This slice** ({v.size} points, Rayleigh branch) unstable {int((v == 1).sum())}, stable "
                 f"{int((v == 0).sum())}, "
-                f"undetermined (hatched) {int((v == UNDETERMINED).sum())}; largest growth {largest}; not computable "
-                f"(dark grey) {n_nan}")
+                f"undetermined{'' if self.colours_sliding() else ' (hatched)'} {int((v == UNDETERMINED).sum())}; "
+                f"largest growth {largest}; not computable{'' if self.colours_sliding() else ' (dark grey)'} {n_nan}")
+        return text + self._sliding_slice_readout(v)
+
+    def _sliding_slice_readout(self, rayleigh: np.ndarray) -> str:
+        """The slice's sliding verdict over every branch (an atlas swept with --sliding), or that it has none."""
+        if self.data is None or not self.data.has_sliding:
+            return "\n\nThe atlas holds the Rayleigh branch only (sweep with `--sliding` for every branch)"
+        f = self.sliding_slice()
+        if f is None:
+            return ""
+        s = f["verdict_all"]
+        fam = f["family_all"]
+        families = ", ".join(f"{name} {int(((s == 1) & (fam == k)).sum())}" for k, name in FAMILY_NAMES.items()
+                             if ((s == 1) & (fam == k)).any())
+        return (f"\n\n**This slice, sliding (every branch)** unstable {int((s == 1).sum())}, stable "
+                f"{int((s == 0).sum())}, undetermined {int((s == UNDETERMINED).sum())}, not computed "
+                f"{int((s < 0).sum())}; Rayleigh-branch stable but sliding unstable "
+                f"{int(((rayleigh == 0) & (s == 1)).sum())}" + (f" (fastest: {families})" if families else ""))
 
     def _adaptive_slice_readout(self, g: np.ndarray, largest: str) -> str:
         """The slice of an adaptive atlas: the verdict classes (filled where not computed), how many points were
@@ -1077,12 +1226,30 @@ class AtlasScene(pn.viewable.Viewer):
                          if masked else "**Not computable** none")
         if isinstance(d.verdict, np.ndarray):
             lines.append(verdict_coverage(d.verdict, d.verdict_reason))
+        if d.has_sliding:
+            lo, hi = d.sliding_kH
+            s = np.asarray(d.sliding["verdict_all"])
+            lines.append(f"**Sliding (every branch)** Im z ≥ {d.sliding_floor:g}, kH {lo:g} to {hi:g}: unstable "
+                         f"{int((s == 1).sum())}, stable {int((s == 0).sum())}, undetermined {int((s == 2).sum())}, "
+                         f"not computed {int((s < 0).sum())} of {s.size} points")
+        else:
+            lines.append("**Rayleigh branch only**: this atlas has no sliding verdict over every branch")
         if d.crossings:
             lines.append(crossing_coverage(d.crossings["gamma_c_crossing_reason"]))
         elif d.gamma_c_reason is not None:
             r = np.asarray(d.gamma_c_reason)
             lines.append(f"**γ_c** found at {int((r == 0).sum())} of {r.size} points of the other axes")
         return "\n\n".join(lines)
+
+    @param.depends("data", "verdict")
+    def help_text(self) -> str:
+        """The heat map's legend, for what it is coloured by."""
+        colours = (slm.SLIDING_LEGEND.replace('switch "Colour by"', 'switch "sliding / Rayleigh branch" (left)')
+                   + "; where γ is an axis, the certified thresholds γ_c of the Rayleigh branch (green: unstable "
+                   "above, orange: stable above)." if self.colours_sliding() else COLOURS)
+        return (f"{colours} Sliders snap to the atlas grid; click a cell to set the other tabs' parameters (and read "
+                f"its verdicts). Atlases are read from `{atlas_dir()}`; make your own with "
+                "`asymslide sweep ... --out DIR/NAME.zarr` (`--sliding`: also the sliding verdict over every branch).")
 
     def slice_description(self) -> str:
         """The current slice in words: the atlas, the two axes, the other axes' values and the fixed ones."""
@@ -1106,7 +1273,8 @@ class AtlasScene(pn.viewable.Viewer):
         columns = {self.x_axis: np.tile(xs, ys.size), str(self.y_axis): np.repeat(ys, xs.size), "max_growth": g.ravel()}
         for name, column in (("kH_at_max", "kH_at_max"), ("n_masked", "n_masked_kH"), ("verdict", "verdict"),
                              ("verdict_reason", "verdict_reason"), ("computed", "computed_level"),
-                             ("verdict_filled", "verdict_filled")):
+                             ("verdict_filled", "verdict_filled"),
+                             *((n, n) for n in (d.sliding if d.has_sliding else ()))):
             extra = self.slice2d(variable=name)
             if extra is not None:
                 columns[column] = extra[2].ravel()
@@ -1129,16 +1297,13 @@ class AtlasScene(pn.viewable.Viewer):
         # the readouts that change with a slider have a fixed size: a div that grows would make the browser lay
         # out the page again (and resize the 3-D plot), which cost more than the heat map's own update
         choose = pn.Column(
-            self.atlas_select, self.x_select, self.y_select,
+            self.atlas_select, self.x_select, self.y_select, self.verdict_select,
             heading("Other axes"), self.sliders,
-            pn.pane.Markdown(self.slice_readout, sizing_mode="stretch_width", height=90),
+            pn.pane.Markdown(self.slice_readout, sizing_mode="stretch_width", height=150),
             pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
             width=340,
         )
-        help_text = pn.pane.Markdown(
-            f"{COLOURS} Sliders snap to the atlas grid; click a "
-            f"cell to set the other tabs' parameters. Atlases are read from `{atlas_dir()}`; make your own with "
-            "`asymslide sweep ... --out DIR/NAME.zarr`.", sizing_mode="stretch_width")
+        help_text = pn.pane.Markdown(self.help_text, sizing_mode="stretch_width")
         self._show_heat_map()
         heat = pn.Column(self.image_pane,
                          pn.widgets.FileDownload(callback=self.csv, filename="atlas_slice.csv",

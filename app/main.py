@@ -144,7 +144,8 @@ class App:
         self.map.param.watch(self.write_url, ["plane", "resolution", "verdict", "floor"])
         self.branches.param.watch(self.write_url, ["log10_kH", "re_max", "im_min", "im_max"])
         self.tabs.param.watch(self.write_url, "active")
-        self.atlas.param.watch(self.write_url, ["atlas", "data", "x_axis", "y_axis", "indices", "surface_axes"])
+        self.atlas.param.watch(self.write_url, ["atlas", "data", "x_axis", "y_axis", "indices", "surface_axes",
+                                                "verdict"])
         # the address bar shows what the page uses: values the banner reports as clamped or ignored are replaced
         if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:
             pn.state.onload(self.write_url)

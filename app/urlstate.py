@@ -15,6 +15,7 @@ import math
 import urllib.parse
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from functools import partial
 
 import param
 
@@ -50,7 +51,9 @@ ALIASES = {"c_s": "lab_cs", "rho": "lab_rho", "sigma0": "lab_sigma0", "rup_cs": 
 
 #: the Atlas tab's keys: the atlas (a name listed in the atlas directory), the heat map's axes, the 3-D view's axes
 #: (comma-separated) and, per other axis, its value ("at_" + the axis: snapped to the atlas's grid)
-ATLAS_KEYS = {"atlas": "name", "ax": "x", "ay": "y", "surface": "surface"}
+ATLAS_KEYS = {"atlas": "name", "ax": "x", "ay": "y", "surface": "surface", "atlas_verdict": "verdict"}
+#: the Atlas heat map's colourings (an atlas swept with --sliding) by their URL words (app.sliding_map)
+ATLAS_VERDICTS = {"sliding": "sliding (every branch)", "rayleigh": "Rayleigh branch"}
 ATLAS_AT = "at_"
 ATLAS_AXES = SpectrumParams.MODEL_ARGS
 
@@ -182,7 +185,8 @@ def parse_query(args: Mapping[str, Iterable[bytes | str]]) -> tuple[Updates, str
                 messages.append(f"tab = '{_quote(raw)}' is not one of {', '.join(TABS)}: ignored.")
             continue
         if key in ATLAS_KEYS or key.startswith(ATLAS_AT):
-            _parse_atlas(key, raw, updates["atlas"], messages)
+            parse = _parse_atlas_verdict if key == "atlas_verdict" else partial(_parse_atlas, key)
+            parse(raw, updates["atlas"], messages)
             continue
         q = BY_KEY.get(ALIASES.get(key, key))
         if q is None:
@@ -190,6 +194,14 @@ def parse_query(args: Mapping[str, Iterable[bytes | str]]) -> tuple[Updates, str
             continue
         _parse_value(q, raw, updates, messages)
     return updates, tab, messages
+
+
+def _parse_atlas_verdict(raw: str, atlas: dict[str, object], messages: list[str]) -> None:
+    """The Atlas heat map's colouring (``atlas_verdict``: one of :data:`ATLAS_VERDICTS`' words), or a message."""
+    if raw in ATLAS_VERDICTS:
+        atlas["verdict"] = ATLAS_VERDICTS[raw]
+    else:
+        messages.append(f"atlas_verdict = '{_quote(raw)}' is not one of {', '.join(ATLAS_VERDICTS)}: ignored.")
 
 
 def _parse_atlas(key: str, raw: str, atlas: dict[str, object], messages: list[str]) -> None:
@@ -242,6 +254,9 @@ def atlas_query(state: Mapping[str, object]) -> dict[str, str]:
         out[ATLAS_AT + axis] = f"{value:.6g}"
     if state.get("surface"):
         out["surface"] = ",".join(state["surface"])
+    words = {v: k for k, v in ATLAS_VERDICTS.items()}
+    if state.get("verdict") in words and words[state["verdict"]] != "sliding":  # the default is not written
+        out["atlas_verdict"] = words[state["verdict"]]
     return out
 
 

@@ -144,6 +144,19 @@ class Atlas:
     #: the level of the cell a not computed point's class was filled from (atlas_engine.adaptive.fill_levels; -1 at
     #: computed points); None for a dense atlas or one read lazily from a large store
     filled_level: object | None = None
+    #: the sliding verdict over every branch (asymslide sweep --sliding; docs/physics.md §14): the variables of
+    #: :data:`SLIDING_FIELDS` that the store holds (as the growth: numpy, or lazy), and the growth floor and kH range
+    #: of their search; {} in an atlas of the Rayleigh branch only
+    sliding: dict = field(default_factory=dict)
+    sliding_floor: float = math.nan
+    sliding_kH: tuple[float, float] = (math.nan, math.nan)
+    #: the largest growth over every branch in the atlas (the sliding colour range's top; NaN: none)
+    sliding_top: float = math.nan
+
+    @property
+    def has_sliding(self) -> bool:
+        """Whether the atlas holds the sliding verdict over every branch (else: "Rayleigh branch only")."""
+        return "verdict_all" in self.sliding
 
     @property
     def finished(self) -> bool:
@@ -180,6 +193,25 @@ def _is_log(values: np.ndarray, attrs: dict) -> bool:
     return engine.axis_scale(values) == "log"
 
 
+#: the sliding variables the app reads (atlas_engine.sweep.SLIDING_VARS)
+SLIDING_FIELDS = ("growth_all", "kH_at_max_all", "re_z_at_max_all", "family_all", "verdict_all", "verdict_reason_all",
+                  "lower_bound_all")
+
+
+def _sliding(ds, small: bool) -> dict:
+    """The sliding fields of an atlas (Atlas.sliding, sliding_floor, sliding_kH, sliding_top); none in an atlas of
+    the Rayleigh branch only."""
+    if "verdict_all" not in ds:
+        return {}
+    fields = {v: (ds[v].values if small else ds[v]) for v in SLIDING_FIELDS if v in ds}
+    g = ds["growth_all"].values if small else np.asarray(ds["growth_all"].max().values)
+    finite = g[np.isfinite(g)]
+    kh = ds["kH_sliding"].values if "kH_sliding" in ds else np.array([math.nan])
+    return {"sliding": fields, "sliding_floor": float(ds["verdict_all"].attrs.get("floor", math.nan)),
+            "sliding_kH": (float(kh[0]), float(kh[-1])),
+            "sliding_top": float(finite.max()) if finite.size else math.nan}
+
+
 @functools.lru_cache(maxsize=4)
 def read_atlas(name: str, path: Path, stamp: str) -> Atlas:
     """Read the atlas at `path` (cached by its name, path and `stamp`, the state of its done flags:
@@ -210,7 +242,7 @@ def read_atlas(name: str, path: Path, stamp: str) -> Atlas:
         filled_level = fill_levels(verdicts["verdict"], verdicts["computed"], int(adaptive["levels"]))
     return Atlas(name, path, axes, log_axes, fixed, g, gc, reason, dict(ds.attrs), max(clim, 1e-12),
                  crossings=crossings if len(crossings) == len(CROSSING_VARIABLES) else {}, adaptive=adaptive,
-                 filled_level=filled_level, **verdicts)
+                 filled_level=filled_level, **verdicts, **_sliding(ds, small))
 
 
 def open_atlas(name: str, path: Path) -> Atlas:

@@ -21,7 +21,7 @@ from app import sliding_map as slm
 from app import stability_map as sm
 from app.params import SpectrumParams
 from app.stability_map import PLANES, StabilityMapScene
-from tests.conftest import open_app
+from tests.conftest import open_app, save_screenshot
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
 
@@ -295,6 +295,7 @@ _HEAT_JS = """() => {
 }"""
 
 
+@pytest.mark.ui
 def test_the_map_says_where_only_another_branch_is_unstable(served_app: str, browser_page) -> None:
     """A user opens the β-γ map at β = 0.46, γ = 2.5 (coarse): the map is coloured by the sliding verdict, the star's
     cell reads Rayleigh branch stable and sliding unstable (intersonic guided mode), the hover fields name the families;
@@ -312,6 +313,7 @@ def test_the_map_says_where_only_another_branch_is_unstable(served_app: str, bro
     d = page.evaluate(_HEAT_JS)
     assert any(s.startswith("unstable: intersonic") for s in d["sliding"])
     assert any(s.startswith("stable: no root") for s in d["sliding"])
+    save_screenshot(page, "map_sliding_beta_gamma.png", full_page=False)
     page.get_by_role("button", name=slm.RAYLEIGH).click()
     page.locator("p", has_text="colour by the sliding verdict to compute it").first.wait_for(timeout=60_000)
     page.wait_for_function(f"() => ({_HEAT_JS})() === null", timeout=60_000)

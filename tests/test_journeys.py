@@ -373,11 +373,11 @@ def test_a_shared_url_restores_the_map_plane_atlas_slices_and_window(atlas_with_
     page.get_by_role("button", name="coarse", exact=True).first.click()
     page.wait_for_function("() => window.location.search.includes('map=f-gamma') && "
                            "window.location.search.includes('map_res=coarse')", timeout=WAIT)
-    wait_for_figures(page, ["Max growth rate of the Rayleigh branch over the f-γ plane"], timeout=LONG)
+    wait_for_figures(page, ["Sliding verdict (every branch) over the f-γ plane"], timeout=LONG)
     shared = page.evaluate("() => window.location.search")
     again = browser_context(viewport={"width": 1280, "height": 1400})
     open_app(again, served_app + shared)
-    wait_for_figures(again, ["Max growth rate of the Rayleigh branch over the f-γ plane"], timeout=LONG)
+    wait_for_figures(again, ["Sliding verdict (every branch) over the f-γ plane"], timeout=LONG)
     assert again.evaluate("() => window.location.search") == shared
 
     show_tab(page, "Atlas")
