@@ -296,6 +296,11 @@ def grid_hover(edges: np.ndarray, values: np.ndarray):
                               "return texts[i];")
 
 
+#: a heat map's cells keep their colour when a click selects one (Bokeh dims the others to alpha 0.1 by default)
+UNDIMMED = {"nonselection_fill_alpha": 1.0, "selection_fill_alpha": 1.0, "nonselection_line_alpha": 0.0,
+            "selection_line_alpha": 0.0}
+
+
 class HeatMap:
     """The heat map of one atlas and pair of axes: the slice's growth (an image glyph, or one rectangle per cell
     on irregular axes), the neutral curve and the γ_c slice, a colour bar over the whole atlas's range, hover and
@@ -341,7 +346,7 @@ class HeatMap:
             self.cells = ColumnDataSource({"x": xc.ravel(), "y": yc.ravel(), "w": w.ravel(), "h": h.ravel(),
                                            "growth": np.zeros(xc.size)})
             heat = fig.rect(x="x", y="y", width="w", height="h", source=self.cells, line_alpha=0,
-                            fill_color={"field": "growth", "transform": self.mapper})
+                            fill_color={"field": "growth", "transform": self.mapper}, **UNDIMMED)
             field = "@growth"
         axes_tips = [(atlas.label(x_axis), "$x{grid}")] + ([(atlas.label(y_axis), "$y{grid}")] if y_axis else [])
         fig.add_tools(HoverTool(renderers=[heat], tooltips=[*axes_tips, (GROWTH_LABEL, field)],
@@ -401,7 +406,7 @@ class HeatMap:
 
         self.sliding_classes = ColumnDataSource({"x": [], "y": [], "w": [], "h": [], "color": [], "legend": []})
         fig.rect(x="x", y="y", width="w", height="h", source=self.sliding_classes, fill_color="color", line_alpha=0,
-                 legend_field="legend")
+                 legend_field="legend", **UNDIMMED)
         floor = atlas.sliding_floor if math.isfinite(atlas.sliding_floor) else float(model.DEFAULT_FLOOR)
         top = atlas.sliding_top if math.isfinite(atlas.sliding_top) and atlas.sliding_top > floor else 10 * floor
         self.sliding_mapper = LogColorMapper(palette=slm.GROWTH_ALL_CMAP, low=floor, high=top,
@@ -409,7 +414,7 @@ class HeatMap:
         self.sliding_growth = ColumnDataSource({"x": [], "y": [], "w": [], "h": [], "growth_all": [], "sliding": [],
                                                 "kH": [], "re_z": []})
         top_layer = fig.rect(x="x", y="y", width="w", height="h", source=self.sliding_growth, line_alpha=0,
-                             fill_color={"field": "growth_all", "transform": self.sliding_mapper})
+                             fill_color={"field": "growth_all", "transform": self.sliding_mapper}, **UNDIMMED)
         fig.add_tools(HoverTool(renderers=[top_layer], formatters=formatters, tooltips=[
             *axes_tips, ("sliding", "@sliding"), (slm.GROWTH_ALL_LABEL, "@growth_all"), ("kH at max", "@kH"),
             ("Re z at max", "@re_z")]))

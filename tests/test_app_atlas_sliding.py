@@ -162,6 +162,10 @@ def test_the_atlas_cell_says_where_only_another_branch_is_unstable(atlas_dir: Pa
     message.wait_for(timeout=60_000)
     text = message.text_content()
     assert "Rayleigh branch: stable." in text, text
+    dimmed = page.evaluate("() => Array.from(Bokeh.documents[0].all_models).filter(m => m.type === 'GlyphRenderer' "
+                           "&& m.data_source && m.data_source.data.growth_all !== undefined).map(r => "
+                           "r.nonselection_glyph.fill_alpha.value)")
+    assert dimmed == [1.0], dimmed  # a click selects a cell: the others keep their colour
     assert re.search(r"Sliding \(every branch\): unstable: (intersonic|supersonic) guided mode, max Im", text), text
     save_screenshot(page, "atlas_sliding.png", full_page=False)
     page.get_by_role("button", name=slm.RAYLEIGH).click()

@@ -136,7 +136,8 @@ def test_previews_are_published_pass_by_pass_and_never_recompute_a_point(small, 
     real = slm.compute_chunk
 
     def spy(x, y, names, fixed, floor, idx):
-        seen.append(idx)
+        if names == ("Delta", "xi"):  # this scene's (a served session of an earlier test may still compute another)
+            seen.append(idx)
         return real(x, y, names, fixed, floor, idx)
 
     monkeypatch.setattr(slm, "compute_chunk", spy)
@@ -144,6 +145,9 @@ def test_previews_are_published_pass_by_pass_and_never_recompute_a_point(small, 
     real_publish = jobs.Job.publish
 
     def publish(self, partial):
+        if partial.key[0] != "Δ-ξ":  # another session's job
+            real_publish(self, partial)
+            return
         published.append(partial.stride)
         assert partial.computed == sum(p.size for p in slm.passes(12)[:slm.STRIDES.index(partial.stride) + 1])
         shown = partial.shown()["verdict"]
@@ -169,7 +173,7 @@ def test_a_preview_is_drawn_with_its_hover_saying_so(small, monkeypatch) -> None
     real = slm.compute_chunk
 
     def held_after_the_first_pass(x, y, names, fixed, floor, idx):
-        if idx[0] not in slm.passes(12)[0]:
+        if names == ("beta", "gamma") and idx[0] not in slm.passes(12)[0]:
             held.set()
             assert go_on.wait(60)
         return real(x, y, names, fixed, floor, idx)
@@ -204,9 +208,10 @@ def test_colouring_by_the_rayleigh_branch_is_the_papers_map_and_stops_the_slidin
     go_on = threading.Event()
     real = slm.compute_chunk
 
-    def slow(*args):
-        assert go_on.wait(60)
-        return real(*args)
+    def slow(x, y, names, *args):
+        if names == ("f", "gamma"):  # this scene's
+            assert go_on.wait(60)
+        return real(x, y, names, *args)
 
     monkeypatch.setattr(slm, "compute_chunk", slow)
     scene = StabilityMapScene(plane="f-γ")
@@ -232,6 +237,8 @@ def test_new_inputs_cancel_the_sliding_job_and_start_the_new_one(small, monkeypa
     floors: list[float] = []
 
     def slow(x, y, names, fixed, floor, idx):
+        if names != ("beta", "gamma"):  # a served session of an earlier test may still compute another map
+            return real(x, y, names, fixed, floor, idx)
         floors.append(floor)
         assert go_on.wait(60)
         return real(x, y, names, fixed, floor, idx)
