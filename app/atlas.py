@@ -41,7 +41,6 @@ from . import jobs
 from . import sliding_map as slm
 from .common import (
     COLOUR_LEGEND,
-    FAMILY_NAMES,
     GROWTH_LABEL,
     GROWTH_PALETTE,
     LOG_TICKS,
@@ -1059,14 +1058,10 @@ class AtlasScene(pn.viewable.Viewer):
         f = self.sliding_slice()
         if f is not None:
             c = {k: val[iy, ix] for k, val in f.items()}
-            codes = [np.array([int(c[k])]) for k in ("verdict_all", "verdict_reason_all", "family_all")]
-            out += f" Sliding (every branch): {slm.hover_text(*codes, d.sliding_floor)[0]}"
-            if int(c["verdict_all"]) == 1 and np.isfinite(c["growth_all"]):
-                sign = "≥" if c.get("lower_bound_all", False) else "="
-                out += (f", max Im[c/c_s] {sign} {fmt(float(c['growth_all']))}"
-                        f" at kH = {fmt(float(c['kH_at_max_all']))}, z = {fmt(float(c['re_z_at_max_all']), 6)} + "
-                        f"{fmt(float(c['growth_all']))}i")
-            out += "."
+            text = slm.cell_text(verdict=c["verdict_all"], reason=c["verdict_reason_all"], family=c["family_all"],
+                                 growth=c["growth_all"], kH=c["kH_at_max_all"], re_z=c["re_z_at_max_all"],
+                                 lower_bound=bool(c.get("lower_bound_all", False)), floor=d.sliding_floor)
+            out += f" Sliding (every branch): {text}."
         return out
 
     def _show(self, text: str) -> None:
@@ -1188,9 +1183,7 @@ class AtlasScene(pn.viewable.Viewer):
         if f is None:
             return ""
         s = f["verdict_all"]
-        fam = f["family_all"]
-        families = ", ".join(f"{name} {int(((s == 1) & (fam == k)).sum())}" for k, name in FAMILY_NAMES.items()
-                             if ((s == 1) & (fam == k)).any())
+        families = slm.family_counts(s, f["family_all"])
         return (f"\n\n**This slice, sliding (every branch)** unstable {int((s == 1).sum())}, stable "
                 f"{int((s == 0).sum())}, undetermined {int((s == UNDETERMINED).sum())}, not computed "
                 f"{int((s < 0).sum())}; Rayleigh-branch stable but sliding unstable "

@@ -24,6 +24,7 @@ import model
 
 from . import jobs
 from .common import FAMILY_NAMES
+from .params import fmt
 
 #: the strides of the passes, coarsest first (each halves the last; the final pass computes every point)
 STRIDES = (8, 4, 2, 1)
@@ -181,3 +182,22 @@ def hover_text(verdict: np.ndarray, reason: np.ndarray, family: np.ndarray, floo
     out[(verdict == 2) & (reason == 2)] = "undetermined: the window at the floor is too wide"
     out[(verdict == 2) & (reason == 3)] = "undetermined: the contour count failed"
     return out
+
+
+def family_counts(verdict: np.ndarray, family: np.ndarray) -> str:
+    """The unstable points by the family of their fastest mode: "intersonic guided mode 15, ..." ("" if none)."""
+    unstable = np.asarray(verdict) == 1
+    fam = np.asarray(family)
+    return ", ".join(f"{name} {int((unstable & (fam == code)).sum())}" for code, name in FAMILY_NAMES.items()
+                     if (unstable & (fam == code)).any())
+
+
+def cell_text(*, verdict: int, reason: int, family: int, growth: float, kH: float, re_z: float, lower_bound: bool,
+              floor: float) -> str:
+    """One point's sliding verdict in words, with the fastest mode's growth, kH and z where it is certified (the
+    readouts of the Stability map's star cell and of a clicked Atlas cell)."""
+    text = hover_text(np.array([int(verdict)]), np.array([int(reason)]), np.array([int(family)]), floor)[0]
+    if int(verdict) == 1 and np.isfinite(growth):
+        text += (f", max Im[c/c_s] {'≥' if lower_bound else '='} {fmt(float(growth))} at kH = {fmt(float(kH))}, "
+                 f"z = {fmt(float(re_z), 6)} + {fmt(float(growth))}i")
+    return text

@@ -38,7 +38,7 @@ import model
 
 from . import jobs
 from . import sliding_map as sm
-from .common import COLOUR_LEGEND, FAMILY_NAMES, GROWTH_CMAP, GROWTH_LABEL, MARGINAL, NAN_COLOR, neutral_lines
+from .common import COLOUR_LEGEND, GROWTH_CMAP, GROWTH_LABEL, MARGINAL, NAN_COLOR, neutral_lines
 from .params import Choice, SpectrumParams, controls_column, csv_download, csv_table, fmt, scene_layout
 from .workarounds import frozen_document
 
@@ -748,9 +748,7 @@ class StabilityMapScene(pn.viewable.Viewer):
         unstable = int((v == 1).sum())
         lines.append(f"{head} unstable at {unstable} of {n_done} points ({100 * unstable / max(n_done, 1):.1f} %), "
                      f"stable at {int((v == 0).sum())}, undetermined at {int((v == 2).sum())} ({scope})")
-        fam = sl.fields["family"]
-        by_family = ", ".join(f"{name} {int(((v == 1) & (fam == code)).sum())}"
-                              for code, name in FAMILY_NAMES.items() if ((v == 1) & (fam == code)).any())
+        by_family = sm.family_counts(v, sl.fields["family"])
         if by_family:
             lines.append(f"**Fastest mode's family** (unstable points) {by_family}")
         res = self.result
@@ -800,11 +798,8 @@ class StabilityMapScene(pn.viewable.Viewer):
         shown = self.colours_sliding() and sl is not None and sl.key == self.sliding_key
         if shown and sl.fields["verdict"][iy, ix] >= 0:
             f = {k: v[iy, ix] for k, v in sl.fields.items()}
-            text = sm.hover_text(np.array([f["verdict"]]), np.array([f["reason"]]), np.array([f["family"]]),
-                                 sl.floor)[0]
-            if f["verdict"] == 1 and np.isfinite(f["growth"]):
-                text += (f", max Im[c/c_s] {'≥' if f['lower_bound'] else '='} {fmt(float(f['growth']))} at kH = "
-                         f"{fmt(float(f['kH_at_max']))}, z = {fmt(float(f['re_z']), 6)} + {fmt(float(f['growth']))}i")
+            text = sm.cell_text(verdict=f["verdict"], reason=f["reason"], family=f["family"], growth=f["growth"],
+                                kH=f["kH_at_max"], re_z=f["re_z"], lower_bound=bool(f["lower_bound"]), floor=sl.floor)
             lines.append(f"**The star's cell, sliding (every branch)** {text}")
         return lines
 

@@ -32,11 +32,16 @@ def small(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setitem(sm.RESOLUTIONS, StabilityMapScene.param.resolution.default, 12)
 
 
-def _sliding(scene: StabilityMapScene, timeout: float = 300.0) -> slm.SlidingMap:
-    """Render (the Rayleigh map first), wait for both jobs, render again; the finished sliding map."""
+def _rayleigh_map(scene: StabilityMapScene) -> None:
+    """Render (which starts the Rayleigh branch's map), wait for it, render again (which starts the sliding job)."""
     scene.view()[()]
     scene.wait()
     scene.view()[()]
+
+
+def _sliding(scene: StabilityMapScene, timeout: float = 300.0) -> slm.SlidingMap:
+    """The Rayleigh map, then the sliding job waited for, and a render; the finished sliding map."""
+    _rayleigh_map(scene)
     scene.sliding_computation.wait(timeout)
     scene.view()[()]
     sl = scene.sliding
@@ -180,9 +185,7 @@ def test_a_preview_is_drawn_with_its_hover_saying_so(small, monkeypatch) -> None
 
     monkeypatch.setattr(slm, "compute_chunk", held_after_the_first_pass)
     scene = StabilityMapScene(plane="β-γ")
-    scene.view()[()]
-    scene.wait()
-    scene.view()[()]
+    _rayleigh_map(scene)
     assert held.wait(60)
     scene.sliding_computation.update()  # headless: show the job's state now
     try:
@@ -215,9 +218,7 @@ def test_colouring_by_the_rayleigh_branch_is_the_papers_map_and_stops_the_slidin
 
     monkeypatch.setattr(slm, "compute_chunk", slow)
     scene = StabilityMapScene(plane="f-γ")
-    scene.view()[()]
-    scene.wait()
-    scene.view()[()]
+    _rayleigh_map(scene)
     job = scene.sliding_computation.job
     assert job is not None and not job.state().finished
     scene.verdict = slm.RAYLEIGH
@@ -245,9 +246,7 @@ def test_new_inputs_cancel_the_sliding_job_and_start_the_new_one(small, monkeypa
 
     monkeypatch.setattr(slm, "compute_chunk", slow)
     scene = StabilityMapScene(plane="β-γ")
-    scene.view()[()]
-    scene.wait()
-    scene.view()[()]
+    _rayleigh_map(scene)
     first = scene.sliding_computation.job
     scene.floor = "1e-2"
     second = scene.sliding_computation.job
