@@ -719,6 +719,15 @@ class StabilityMapScene(pn.viewable.Viewer):
             lines.append("**Marker** " + "; ".join(notes))
         return "\n\n".join(lines)
 
+    def _show_view(self, pane: pn.pane.HoloViews) -> None:
+        """Show the view of the current plane and colouring, and start what it needs: a view shown again is not
+        rendered again by HoloViews, so the render alone would leave a plane revisited "Not computed yet"."""
+        pane.object = self.view()
+        if not self._current():
+            self.ensure_map()
+        elif self.colours_sliding():
+            self.ensure_sliding()
+
     @param.depends("verdict")
     def legend(self) -> str:
         """The map's colour legend, for the verdict it is coloured by."""
@@ -856,7 +865,7 @@ class StabilityMapScene(pn.viewable.Viewer):
         floor = pn.widgets.Select.from_param(self.param.floor, width=170,
                                              disabled=self.param.verdict.rx() != sm.SLIDING)
         map_pane = pn.pane.HoloViews(self.view(), sizing_mode="stretch_width")
-        self.param.watch(lambda _e: setattr(map_pane, "object", self.view()), ["plane", "verdict"])
+        self.param.watch(lambda _e: self._show_view(map_pane), ["plane", "verdict"])
         plots = pn.Column(
             *([self.lab.panel(with_plot=False)] if self.lab is not None else []),
             pn.FlexBox(plane, resolution, flex_wrap="wrap", sizing_mode="stretch_width"),

@@ -257,6 +257,23 @@ def test_new_inputs_cancel_the_sliding_job_and_start_the_new_one(small, monkeypa
     assert sl.floor == 1e-2 and floors[0] == model.DEFAULT_FLOOR and set(floors[1:]) <= {model.DEFAULT_FLOOR, 1e-2}
 
 
+def test_a_plane_revisited_is_computed_again(small) -> None:
+    """Tour of the app: β-γ (sliding), Rayleigh colouring, η-γ, back to β-γ and to the sliding colouring. The view of
+    β-γ is shown again without a new render: showing it must start its Rayleigh map (it read 'Not computed yet')."""
+    scene = StabilityMapScene(plane="β-γ")
+    scene.__panel__()
+    _sliding(scene)
+    scene.verdict = slm.RAYLEIGH
+    scene.plane = "η-γ"
+    scene.wait()
+    assert scene.result.plane == "η-γ"
+    scene.plane = "β-γ"
+    scene.verdict = slm.SLIDING
+    scene.wait()
+    assert scene.result is not None and scene.result.key == scene.map_key and scene.result.plane == "β-γ"
+    assert "Not computed yet" not in scene.readout() and "**Sliding (every branch)** unstable" in scene.readout()
+
+
 def test_the_csv_holds_both_verdicts(small) -> None:
     params = SpectrumParams(f=0.9, beta=0.3)
     scene = StabilityMapScene(params=params, plane="β-γ")
