@@ -286,13 +286,25 @@ class Follower:
     def _changed(self) -> None:
         """A change of the followed job (any thread): schedule one update of the session unless one is pending."""
         doc = self._doc
-        if doc is None:
+        if doc is None or doc.session_context is None:  # headless, or the session has ended (see _schedule)
             return
         with self._lock:
             if self._pending:
                 return
             self._pending = True
-        doc.add_next_tick_callback(self._tick)
+        self._schedule(doc)
+
+    def _schedule(self, doc) -> None:
+        """Ask the session's event loop for a :meth:`_tick`. Bokeh destroys an ended session's document (its callback
+        registry is deleted, the session context cleared) before it runs the session-destroyed hooks that cancel the
+        job, and the worker may notify in between: the update of a destroyed document is dropped, not raised in the
+        worker (which would end the job as failed with an AttributeError in the server log)."""
+        try:
+            doc.add_next_tick_callback(self._tick)
+        except AttributeError:
+            if doc.session_context is not None:  # a live document: a real error
+                raise
+            log.debug("%s: the session ended; its update is dropped", self._job.name if self._job else "job")
 
     def _tick(self) -> None:
         """On the session's event loop: update, or wait until :attr:`interval` has passed since the last update."""

@@ -4,6 +4,7 @@ session shown only the job it follows (headless here: the served path is exercis
 from __future__ import annotations
 
 import threading
+import weakref
 
 import pytest
 
@@ -91,3 +92,34 @@ def test_wait_times_out() -> None:
         job.wait(0.05)
     release.set()
     job.wait(30)
+
+
+def test_a_job_outlives_the_destroyed_document_of_its_session() -> None:
+    """Bokeh destroys an ended session's document before its destroy hooks cancel the session's job; the worker's
+    notifications meanwhile must not raise (the load test's server log showed an AttributeError from
+    add_next_tick_callback on a destroyed document, and the job ended as failed)."""
+    from bokeh.document import Document
+    from panel.io.state import set_curdoc
+
+    class _Context:  # what Bokeh's server gives a served document: a session context
+        pass
+
+    context = _Context()
+    doc = Document()
+    doc._session_context = weakref.ref(context)  # served: served_document() returns it
+    session = _Context()  # what the server session registers, and Document.destroy(session) removes
+    doc.callbacks.on_change_dispatch_to(session)
+    release = threading.Event()
+    shown: list[str] = []
+    follower = jobs.Follower(lambda job, state: shown.append(state.status))
+    with set_curdoc(doc):
+        job = follower.run(_held(release), name="t", key="k", totals={"chunks": 3})
+    for callback in list(doc.session_callbacks):  # the session's event loop runs the update scheduled
+        doc.remove_next_tick_callback(callback)
+        callback.callback()
+    assert shown == [jobs.RUNNING]
+    doc.destroy(session)  # the session ended: its hooks (the cancel) have not run yet
+    release.set()
+    state = job.wait(30)
+    assert (state.status, state.error) == (jobs.DONE, "")
+    assert shown == [jobs.RUNNING]  # nothing reached the destroyed document
