@@ -471,9 +471,11 @@ class HeatMap:
                     legend_label="computed points (click: show / hide)", visible=False)
         return filled, points
 
-    def update_adaptive(self, computed: np.ndarray, cls: np.ndarray, level: np.ndarray | None) -> None:
+    def update_adaptive(self, computed: np.ndarray, cls: np.ndarray, level: np.ndarray | None,
+                        which: str = "verdict") -> None:
         """The adaptive layers of the slice: `computed` (the level, -1 where not computed), the filled verdict class
-        `cls` and the level of the cell it came from (`level`; None: not known), all of the slice's shape."""
+        `cls` and the level of the cell it came from (`level`; None: not known), all of the slice's shape; `which`:
+        the verdict's name in the hover ("verdict": the Rayleigh branch's, or "sliding verdict")."""
         if self.filled is None:
             return
         c, v = np.asarray(computed).ravel(), np.asarray(cls).ravel()
@@ -482,8 +484,8 @@ class HeatMap:
         names = np.array([FILLED_CLASSES.get(int(k), FILLED_CLASSES[-1])[0] for k in range(-1, 3)], dtype=object)
         colors = np.array([FILLED_CLASSES.get(int(k), FILLED_CLASSES[-1])[1] for k in range(-1, 3)], dtype=object)
         k = (np.clip(v[hit], -1, 2) + 1).astype(int)  # slice2d gives floats
-        why = np.array([f"verdict {names[i]} from its cell (level {int(L)})" if L >= 0 else
-                        f"verdict {names[i]} from its cell" for i, L in zip(k, lv[hit], strict=True)], dtype=object)
+        why = np.array([f"{which} {names[i]} from its cell (level {int(L)})" if L >= 0 else
+                        f"{which} {names[i]} from its cell" for i, L in zip(k, lv[hit], strict=True)], dtype=object)
         self.filled.data = {**{key: val[hit] for key, val in self._cell_geometry.items()}, "color": colors[k],
                             "legend": np.array([f"not computed: {n} (from its cell)" for n in names],
                                                dtype=object)[k], "why": why}
@@ -982,14 +984,22 @@ class AtlasScene(pn.viewable.Viewer):
         if self.data.adaptive:
             self._draw_adaptive(heat)
 
+    def _filled_names(self) -> tuple[str, str, str]:
+        """The filled verdict shown (variable, its cells' levels, its name): the sliding one where the heat map
+        colours it and the atlas refined it, else the Rayleigh branch's."""
+        if self.colours_sliding() and "verdict_filled_all" in self.data.sliding:
+            return "verdict_filled_all", "filled_level_all", "sliding verdict"
+        return "verdict_filled", "filled_level", "verdict"
+
     def _draw_adaptive(self, heat: HeatMap) -> None:
         """An adaptive atlas's slice: which points were computed, and the filled class (and its cell's level) of
-        the others."""
-        computed, filled = self.slice2d("computed"), self.slice2d("verdict_filled")
+        the others, of the verdict the heat map colours."""
+        name, level_name, which = self._filled_names()
+        computed, filled = self.slice2d("computed"), self.slice2d(name)
         if computed is None or filled is None:
             return
-        level = self.slice2d("filled_level")
-        heat.update_adaptive(computed[2], filled[2], None if level is None else level[2])
+        level = self.slice2d(level_name)
+        heat.update_adaptive(computed[2], filled[2], None if level is None else level[2], which)
 
     def _slice_changed(self, *_events) -> None:
         heat = self.heat_map()
@@ -1054,13 +1064,21 @@ class AtlasScene(pn.viewable.Viewer):
         if v is None:
             return ""
         words = {0: "stable", 1: "unstable", 2: "undetermined"}
-        out = f" Rayleigh branch: {words.get(int(v[2][iy, ix]), 'not computed')}."
+
+        def not_computed(name: str) -> str:  # an adaptive atlas: the class filled from the point's cell
+            filled = self.slice2d(name) if d.adaptive else None
+            k = int(filled[2][iy, ix]) if filled is not None else -1
+            return f"not computed ({words[k]} from its cell)" if k in words else "not computed"
+
+        rayleigh = int(v[2][iy, ix])
+        out = f" Rayleigh branch: {words[rayleigh] if rayleigh in words else not_computed('verdict_filled')}."
         f = self.sliding_slice()
         if f is not None:
             c = {k: val[iy, ix] for k, val in f.items()}
-            text = slm.cell_text(verdict=c["verdict_all"], reason=c["verdict_reason_all"], family=c["family_all"],
-                                 growth=c["growth_all"], kH=c["kH_at_max_all"], re_z=c["re_z_at_max_all"],
-                                 lower_bound=bool(c.get("lower_bound_all", False)), floor=d.sliding_floor)
+            text = (slm.cell_text(verdict=c["verdict_all"], reason=c["verdict_reason_all"], family=c["family_all"],
+                                  growth=c["growth_all"], kH=c["kH_at_max_all"], re_z=c["re_z_at_max_all"],
+                                  lower_bound=bool(c.get("lower_bound_all", False)), floor=d.sliding_floor)
+                    if int(c["verdict_all"]) >= 0 else not_computed("verdict_filled_all"))
             out += f" Sliding (every branch): {text}."
         return out
 
@@ -1161,7 +1179,9 @@ class AtlasScene(pn.viewable.Viewer):
         n_nan = int((~finite).sum())
         largest = fmt(float(np.max(g[finite])) if finite.any() else math.nan)
         if self.data.adaptive:
-            return self._adaptive_slice_readout(g, largest)
+            filled = self.slice2d("verdict_filled")
+            return (self._adaptive_slice_readout(g, largest)
+                    + ("" if filled is None else self._sliding_slice_readout(filled[2])))
         verdict = self.slice2d("verdict")
         if verdict is None:
             unstable = int((g[finite] > MARGINAL).sum())
@@ -1182,9 +1202,11 @@ class AtlasScene(pn.viewable.Viewer):
         f = self.sliding_slice()
         if f is None:
             return ""
-        s = f["verdict_all"]
-        families = slm.family_counts(s, f["family_all"])
-        return (f"\n\n**This slice, sliding (every branch)** unstable {int((s == 1).sum())}, stable "
+        s = f.get("verdict_filled_all", f["verdict_all"])  # an adaptive atlas: filled where not computed
+        families = slm.family_counts(f["verdict_all"], f["family_all"])
+        filled = (f" ({int((f['verdict_all'] >= 0).sum())} computed, the others filled from their cell)"
+                  if "verdict_filled_all" in f else "")
+        return (f"\n\n**This slice, sliding (every branch)**{filled} unstable {int((s == 1).sum())}, stable "
                 f"{int((s == 0).sum())}, undetermined {int((s == UNDETERMINED).sum())}, not computed "
                 f"{int((s < 0).sum())}; Rayleigh-branch stable but sliding unstable "
                 f"{int(((rayleigh == 0) & (s == 1)).sum())}" + (f" (fastest: {families})" if families else ""))
@@ -1226,8 +1248,10 @@ class AtlasScene(pn.viewable.Viewer):
             lines.append(verdict_coverage(d.verdict, d.verdict_reason))
         if d.has_sliding:
             lo, hi = d.sliding_kH
-            s = np.asarray(d.sliding["verdict_all"])
-            lines.append(f"**Sliding (every branch)** Im z ≥ {d.sliding_floor:g}, kH {lo:g} to {hi:g}: unstable "
+            s = np.asarray(d.sliding.get("verdict_filled_all", d.sliding["verdict_all"]))
+            how = (" (adaptive: refined on both verdicts, classes filled from their cells where not computed)"
+                   if "verdict_filled_all" in d.sliding else "")
+            lines.append(f"**Sliding (every branch)** Im z ≥ {d.sliding_floor:g}, kH {lo:g} to {hi:g}{how}: unstable "
                          f"{int((s == 1).sum())}, stable {int((s == 0).sum())}, undetermined {int((s == 2).sum())}, "
                          f"not computed {int((s < 0).sum())} of {s.size} points")
         else:

@@ -121,9 +121,10 @@ def _adaptive_spec(args: argparse.Namespace) -> tuple[list[str], object]:
         for note in notes:
             print(f"asymslide: note: {note}", file=sys.stderr)
         adaptive = AdaptiveSpec(levels=levels, margin=0 if args.margin is None else args.margin, guard=args.guard,
-                                follow=not args.no_follow)
-    elif args.levels is not None or args.margin is not None or args.guard or args.no_follow:
-        raise SweepError("--levels, --margin, --guard and --no-follow belong to an adaptive sweep: add --adaptive")
+                                follow=not args.no_follow, verdict=args.verdict)
+    elif args.levels is not None or args.margin is not None or args.guard or args.no_follow or args.verdict:
+        raise SweepError("--levels, --margin, --guard, --no-follow and --verdict belong to an adaptive sweep: add "
+                         "--adaptive")
     return specs, adaptive
 
 
@@ -147,7 +148,7 @@ def _sweep_settings(args: argparse.Namespace, specs: Sequence[str]) -> tuple[dic
             raise SweepError(f"--count must be re_max,im_min,im_max; got {args.count!r}")
         count = CountSpec(tuple(parse_axis(f"kH={args.count_kH}")[1]), window)  # type: ignore[arg-type]
     sliding = None
-    if args.sliding:
+    if args.sliding or args.verdict == "sliding":  # refining the sliding verdict computes it
         sliding = SlidingSpec(tuple(parse_axis(f"kH={args.sliding_kH}")[1]), _number("--floor", args.floor))
     settings = dict(fixed=fixed, kH=kh, rtol=args.rtol, growth=not args.no_growth, gamma_c=not args.no_gamma_c,
                     gamma_range=gamma_range, count=count, chunk_points=args.chunk_points, sliding=sliding)
@@ -330,8 +331,8 @@ def build_parser() -> argparse.ArgumentParser:
     sw.add_argument("--count-kH", default="0.1:10:5:log", metavar="LO:HI:N[:log]",
                     help="kH grid of the count (default 0.1:10:5:log)")
     sw.add_argument("--sliding", action="store_true",
-                    help="also the sliding verdict over every branch (growth_all, verdict_all, ...; dense sweeps; "
-                    "about 10 ms a point at eta = inf, 0.1 s at finite eta)")
+                    help="also the sliding verdict over every branch (growth_all, verdict_all, ...; about 10 ms a "
+                    "point at eta = inf, 0.1 s at finite eta; an adaptive sweep then refines it: --verdict)")
     sw.add_argument("--sliding-kH", default="1e-2:1e2:17:log", metavar="LO:HI:N[:log]",
                     help="kH grid of the sliding verdict (default 1e-2:1e2:17:log, the model's)")
     sw.add_argument("--floor", default="1e-6", metavar="GROWTH",
@@ -356,6 +357,10 @@ def build_parser() -> argparse.ArgumentParser:
                     help="adaptive: do not follow the boundary out of the refined cells (each level's cells whose "
                          "evaluated corners differ get their other corners evaluated, until none is left); pair it "
                          "with --margin 1 for a ring of cells around the refined ones instead")
+    sw.add_argument("--verdict", choices=("sliding", "rayleigh"), default=None,
+                    help="adaptive: the verdict refined: sliding (every branch above --floor, and the Rayleigh "
+                         "branch's: a cell is refined where either changes; implies --sliding) or rayleigh (the "
+                         "Rayleigh branch's alone); default: sliding with --sliding, else rayleigh")
     sw.add_argument("--guard", type=float, nargs="?", const=1.0, default=0.0, metavar="FACTOR",
                     help="adaptive: also refine nearly neutral cells, where min |growth| over the corners is below "
                          "FACTOR (default 1) times the curvature estimate (finds islands inside a cell; costs more "

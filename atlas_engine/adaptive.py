@@ -39,9 +39,16 @@ sweep computes them (bitwise equal). Variables besides the dense sweep's growth 
 - ``verdict_filled``: the verdict class at every point: the model's verdict where evaluated, else the common class
   of the corners of the finest evaluated cell (all corners evaluated and of one class) that contains the point.
 
-The store's attribute ``adaptive`` (JSON) records the levels, the coarse grid, margin, guard and the evaluated
-fraction overall and per level. The plan (:class:`AdaptiveSpec` in it) is part of the store's identity, as the
-dense sweep's: another margin, guard or level count refuses to resume.
+**The verdict refined** (:attr:`AdaptiveSpec.verdict`): the Rayleigh branch's, or with the sliding verdict over
+every branch (``sliding``: the plan computes :func:`atlas_engine.sweep.sliding_arrays` at every evaluated point, so
+each has both verdicts' variables) the pair of both classes (:func:`refinement_classes`): a cell is refined where
+either verdict changes, so both can be filled (``verdict_filled``, ``verdict_filled_all``). The guard reads the
+Rayleigh branch's growth (the sliding growth is NaN where stable). Journal entries name their rows (attribute
+``rows``), so both kinds of store resume.
+
+The store's attribute ``adaptive`` (JSON) records the levels, the coarse grid, margin, guard, the verdict refined
+and the evaluated fraction overall and per level. The plan (:class:`AdaptiveSpec` in it) is part of the store's
+identity, as the dense sweep's: another margin, guard, level count or verdict refuses to resume.
 
 Layering: this module takes a validated :class:`atlas_engine.sweep.Plan` (the CLI parses, the engine takes a plan);
 :func:`refine_targets` and :func:`fill_classes` are pure NumPy functions of the state arrays.
@@ -67,11 +74,19 @@ if TYPE_CHECKING:
 COARSE_POINTS = 9
 #: at most this many points per task of a level (a task never spans two Zarr chunks)
 TASK_POINTS = 8192
+#: at most this many points per task where the sweep also computes the sliding verdict (~10 ms a point at eta = inf,
+#: ~0.1 s at finite eta: 128 points keep both threads busy on a coarse level and lose little to a kill)
+SLIDING_TASK_POINTS = 128
 #: the growth variables' chunks hold at most this many points in an adaptive store: a level rewrites every chunk it
 #: touches, and larger chunks mean fewer writes (zarr writes cost ~1-5 ms per chunk and variable on this machine)
 CHUNK_POINTS = 131072
 #: ``computed`` where a point was not evaluated
 NOT_COMPUTED = -1
+#: the verdicts an adaptive sweep can refine: the Rayleigh branch's (the growth variables), or the sliding verdict
+#: over every branch (docs/physics.md §14; the ``*_all`` variables, every evaluated point getting both verdicts and
+#: a cell refined where either changes class, so that both filled verdicts hold)
+RAYLEIGH, SLIDING = "rayleigh", "sliding"
+VERDICTS = (RAYLEIGH, SLIDING)
 
 
 @dataclass(frozen=True)
@@ -86,9 +101,15 @@ class AdaptiveSpec:
     margin: int = 0
     guard: float = 0.0
     follow: bool = True
+    #: the verdict refined: "rayleigh" (the Rayleigh branch's), "sliding" (the sliding verdict over every branch and
+    #: the Rayleigh branch's: :data:`VERDICTS`); None: "sliding" if the plan computes the sliding verdict, else
+    #: "rayleigh" (fixed by atlas_engine.sweep.make_plan)
+    verdict: str | None = None
 
     def identity(self) -> dict[str, Any]:
-        return {"levels": self.levels, "margin": self.margin, "guard": self.guard, "follow": self.follow}
+        out = {"levels": self.levels, "margin": self.margin, "guard": self.guard, "follow": self.follow}
+        # only where the sliding verdict is refined: the plans of Rayleigh-branch atlases keep their identity
+        return {**out, "verdict": self.verdict} if self.verdict == SLIDING else out
 
 
 def adaptive_size(n: int, levels: int) -> int:
@@ -123,7 +144,10 @@ def resolve_spec(spec: AdaptiveSpec | bool | Mapping[str, Any], shape: tuple[int
         raise ValueError(f"adaptive guard must be a finite factor >= 0 (0: off); got {spec.guard!r}")
     if not isinstance(spec.follow, bool | np.bool_):
         raise ValueError(f"adaptive follow must be True or False; got {spec.follow!r}")
-    return AdaptiveSpec(int(levels), int(spec.margin), guard, bool(spec.follow))
+    if spec.verdict is not None and spec.verdict not in VERDICTS:
+        raise ValueError(f"adaptive verdict must be one of {', '.join(VERDICTS)} (or None: the plan's); got "
+                         f"{spec.verdict!r}")
+    return AdaptiveSpec(int(levels), int(spec.margin), guard, bool(spec.follow), spec.verdict)
 
 
 def check_shape(names: tuple[str, ...], shape: tuple[int, ...], levels: int) -> None:
@@ -221,12 +245,14 @@ def _curvature(growth: np.ndarray, certified: np.ndarray) -> np.ndarray:
 
 
 def refine_targets(level: int, spec: AdaptiveSpec, verdict: np.ndarray, growth: np.ndarray,
-                   computed: np.ndarray) -> np.ndarray:
+                   computed: np.ndarray, classes: np.ndarray | None = None) -> np.ndarray:
     """Boolean mask (full grid) of the points level `level` evaluates, from the points evaluated at levels below it
     (only those: the result does not depend on how far `level` itself got), excluding those already evaluated
-    there. `verdict`: the class (0, 1, 2) where evaluated; `growth`: the growth; `computed`: the level, or -1."""
+    there. `verdict`: the class (0, 1, 2) where evaluated; `growth`: the growth; `computed`: the level, or -1;
+    `classes`: the classes whose change flags a cell (default `verdict`; :func:`refinement_classes`), the guard
+    reading `verdict` and `growth`."""
     shape = verdict.shape
-    v, g, c = _squeezed(verdict, growth, computed)
+    v, g, c, k = _squeezed(verdict, growth, computed, verdict if classes is None else classes)
     L = spec.levels
     if level == 0:
         out = np.zeros(v.shape, bool)
@@ -236,7 +262,7 @@ def refine_targets(level: int, spec: AdaptiveSpec, verdict: np.ndarray, growth: 
         return np.zeros(shape, bool)
     parent = 2 ** (L - level + 1)
     known = (c >= 0) & (c < level)
-    kv, kk = _lattice(v, parent), _lattice(known, parent)
+    kv, kk = _lattice(k, parent), _lattice(known, parent)
     all_known = _corner_reduce(kk, np.logical_and)
     vmin, vmax = _corner_span(kk, kv)
     flagged = all_known & (vmin != vmax)
@@ -258,8 +284,9 @@ def refine_targets(level: int, spec: AdaptiveSpec, verdict: np.ndarray, growth: 
 def follow_targets(level: int, spec: AdaptiveSpec, verdict: np.ndarray, computed: np.ndarray) -> np.ndarray:
     """Boolean mask (full grid) of the points a follow round of level `level` evaluates: the corners not evaluated
     yet of every cell of the level (side 2^(L - level) grid steps) among whose evaluated corners (of this level and
-    those below) two classes are found. Empty when the level's points are closed under that rule; a point added can
-    only add such cells, so rounds until it is empty reach the same closure whatever order points came in."""
+    those below) two classes of `verdict` (or of :func:`refinement_classes`) are found. Empty when the level's
+    points are closed under that rule; a point added can only add such cells, so rounds until it is empty reach the
+    same closure whatever order points came in."""
     shape = verdict.shape
     v, c = _squeezed(verdict, computed)
     if level == 0 or v.ndim == 0:  # level 0 evaluates its whole lattice
@@ -273,6 +300,17 @@ def follow_targets(level: int, spec: AdaptiveSpec, verdict: np.ndarray, computed
     if split.any():
         out[(slice(None, None, stride),) * out.ndim] = _expand(split.astype(np.int8), 1).astype(bool) & ~kk
     return out.reshape(shape)
+
+
+def refinement_classes(verdict: np.ndarray, verdict_all: np.ndarray | None = None) -> np.ndarray:
+    """The classes whose change between a cell's corners flags it: the Rayleigh branch's verdict class, or, with
+    the sliding verdict `verdict_all` (a sweep refining it), the pair of both classes as one number (3·verdict +
+    verdict_all; -1 where either is not computed), so that a cell is refined where either verdict changes and
+    both verdicts can be filled from cells whose corners agree."""
+    if verdict_all is None:
+        return verdict
+    pair = 3 * verdict.astype(np.int16) + verdict_all
+    return np.where((verdict >= 0) & (verdict_all >= 0), pair, -1).astype(np.int8)
 
 
 def fill_classes(verdict: np.ndarray, computed: np.ndarray, levels: int) -> np.ndarray:
@@ -316,7 +354,9 @@ def refinement_text(a: Mapping[str, Any]) -> str:
     Atlas tab): margin, guard and following (stores written before following existed record none: not followed)."""
     guard = f"guard {a['guard']:g}" if a.get("guard") else "guard off"
     follow = "boundary followed" if a.get("follow") else "boundary not followed"
-    return f"margin {a.get('margin')}, {guard}, {follow}"
+    which = ("refined where the sliding verdict (every branch) or the Rayleigh branch's changes"
+             if a.get("verdict") == SLIDING else "refined on the Rayleigh branch's verdict")
+    return f"margin {a.get('margin')}, {guard}, {follow}; {which}"
 
 
 def level_counts(computed: np.ndarray, levels: int) -> list[int]:
@@ -340,7 +380,8 @@ def summary(shape: tuple[int, ...], spec: AdaptiveSpec, counts: list[int] | None
     per_level = [{"level": lv, "stride": 2 ** (L - lv), "points": n, "fraction_of_grid": n / size,
                   "fraction_of_level_grid": n / lattice_size(shape, L, lv)} for lv, n in enumerate(counts)]
     return {"levels": L, "coarse_stride": 2**L, "coarse_shape": [(n - 1) // 2**L + 1 for n in shape],
-            "margin": spec.margin, "guard": spec.guard, "follow": spec.follow, "points": size, "evaluated": sum(counts),
+            "margin": spec.margin, "guard": spec.guard, "follow": spec.follow, "verdict": spec.verdict or RAYLEIGH,
+            "points": size, "evaluated": sum(counts),
             "evaluated_fraction": sum(counts) / size, "per_level": per_level}
 
 
@@ -354,7 +395,7 @@ _STATE = ("growth", "verdict", "computed")
 
 @dataclass(frozen=True)
 class PointTask:
-    """The points of one Zarr chunk that one level evaluates (at most :data:`TASK_POINTS`): their flat indices in
+    """The points of one Zarr chunk that one level evaluates (at most :func:`task_points`): their flat indices in
     the grid and their parameter rows (gamma, f, beta, eta, Delta, xi), so a worker needs nothing else."""
 
     kind: str
@@ -365,6 +406,8 @@ class PointTask:
     params: np.ndarray
     kH: tuple[float, ...]
     rtol: float | None
+    #: the sliding verdict's spec (atlas_engine.sweep.SlidingSpec) where the sweep refines it; None: Rayleigh only
+    sliding: Any = None
 
     @property
     def points(self) -> int:
@@ -372,10 +415,14 @@ class PointTask:
 
 
 def run_points(task: PointTask) -> dict[str, np.ndarray]:
-    """Evaluate one task's points (on a worker): :func:`atlas_engine.sweep.growth_arrays`, as the dense sweep."""
-    from .sweep import growth_arrays
+    """Evaluate one task's points (on a worker): :func:`atlas_engine.sweep.growth_arrays` and, where the sweep
+    refines the sliding verdict, :func:`atlas_engine.sweep.sliding_arrays`, as the dense sweep."""
+    from .sweep import growth_arrays, sliding_arrays
 
-    return growth_arrays(np.log(np.asarray(task.kH)), task.params, task.rtol)
+    out = growth_arrays(np.log(np.asarray(task.kH)), task.params, task.rtol)
+    if task.sliding is not None:
+        out.update(sliding_arrays(task.sliding, task.params))
+    return out
 
 
 class _Grid:
@@ -407,8 +454,8 @@ class _Grid:
         return tuple(slice(s * c, min((s + 1) * c, n)) for s, c, n in zip(start, self.chunks, self.shape, strict=True))
 
     def tasks(self, level: int, flat: np.ndarray) -> list[PointTask]:
-        """The level's points `flat` as tasks: grouped by Zarr chunk, at most TASK_POINTS each, the largest first
-        (a batch ends when its last task does)."""
+        """The level's points `flat` as tasks: grouped by Zarr chunk, at most :func:`task_points` each, the largest
+        first (a batch ends when its last task does)."""
         if flat.size == 0:
             return []
         chunk = self.chunk_of(flat)
@@ -417,17 +464,38 @@ class _Grid:
         params = self.params(flat)
         starts = np.r_[0, np.flatnonzero(np.diff(chunk)) + 1]
         stops = np.r_[starts[1:], flat.size]
-        parts = [(int(chunk[a]), i, min(i + TASK_POINTS, z)) for a, z in zip(starts, stops, strict=True)
-                 for i in range(a, z, TASK_POINTS)]
+        size = task_points(self.plan)
+        parts = [(int(chunk[a]), i, min(i + size, z)) for a, z in zip(starts, stops, strict=True)
+                 for i in range(a, z, size)]
         parts.sort(key=lambda p: p[1] - p[2])
-        return [PointTask(f"level{level}", k, level, cid, flat[a:z], params[:, a:z], self.plan.kH, self.plan.rtol)
-                for k, (cid, a, z) in enumerate(parts)]
+        return [PointTask(f"level{level}", k, level, cid, flat[a:z], params[:, a:z], self.plan.kH, self.plan.rtol,
+                          self.plan.sliding) for k, (cid, a, z) in enumerate(parts)]
 
 
 #: the Zarr group (inside the store) of the journal: the points evaluated since the grid variables were last written
 JOURNAL = "adaptive_journal"
-#: the growth variables in a journal entry's rows, after the flat index and the level
+#: the growth variables in a journal entry's rows, after the flat index and the level (an entry records its rows in
+#: its attribute ``rows``; entries written before it existed hold these)
 _ROWS = ("growth", "kH_at_max", "kH_min", "kH_max", "n_masked", "verdict", "verdict_reason")
+
+
+def task_points(plan: Plan) -> int:
+    """The most points a task of the plan holds (a journal entry's chunk): :data:`TASK_POINTS`, or
+    :data:`SLIDING_TASK_POINTS` where the sliding verdict is computed too."""
+    return SLIDING_TASK_POINTS if plan.sliding is not None else TASK_POINTS
+
+
+def journal_rows(plan: Plan) -> tuple[str, ...]:
+    """The variables a journal entry of the plan holds: the growth variables, and the sliding ones where the sweep
+    refines the sliding verdict."""
+    from .sweep import SLIDING_VARS
+
+    return _ROWS + (tuple(SLIDING_VARS) if plan.sliding is not None else ())
+
+
+def state_names(plan: Plan) -> tuple[str, ...]:
+    """The grid variables an adaptive sweep keeps in memory and writes at its end (``computed`` last)."""
+    return (*journal_rows(plan), "computed")
 
 
 class _Store:
@@ -441,10 +509,11 @@ class _Store:
     sweep loses only the tasks in flight (a chunk not written reads as NaN: its points are computed again).
     """
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, rows: tuple[str, ...] = _ROWS, size: int = TASK_POINTS) -> None:
         import zarr
 
         self.path = path
+        self.rows, self.size = rows, size
         self.group = zarr.open_group(str(path), mode="r+")
         self._entry = None
 
@@ -453,8 +522,9 @@ class _Store:
         memory = {name: self.group[name][...] for name in names}
         flat = {name: memory[name].reshape(-1) for name in names}
         for index, level, rows in read_journal(self.group):
-            for name, values in zip(_ROWS, rows, strict=True):
-                flat[name][index] = values
+            for name, values in rows.items():
+                if name in flat:
+                    flat[name][index] = values
             flat["computed"][index] = level
         return memory
 
@@ -466,44 +536,49 @@ class _Store:
         if tasks:
             journal = self.group.require_group(JOURNAL)
             name = f"L{level}-{os.getpid()}-{time.time_ns()}"
-            self._entry = journal.create_array(name, shape=(2 + len(_ROWS), len(tasks) * TASK_POINTS),
-                                               chunks=(2 + len(_ROWS), TASK_POINTS), dtype="f8", fill_value=np.nan,
-                                               compressors=[ZstdCodec(level=1)])
+            self._entry = journal.create_array(name, shape=(2 + len(self.rows), len(tasks) * self.size),
+                                               chunks=(2 + len(self.rows), self.size), dtype="f8", fill_value=np.nan,
+                                               compressors=[ZstdCodec(level=1)], attributes={"rows": list(self.rows)})
 
     def append(self, task: PointTask, result: dict[str, np.ndarray]) -> None:
         """One finished task into its chunk of the level's journal array."""
-        rows = np.full((2 + len(_ROWS), TASK_POINTS), np.nan)
+        rows = np.full((2 + len(self.rows), self.size), np.nan)
         n = task.flat.size
         rows[0, :n] = task.flat
         rows[1, :n] = task.level
-        for i, name in enumerate(_ROWS):
+        for i, name in enumerate(self.rows):
             rows[2 + i, :n] = result[name]
-        self._entry[:, task.index * TASK_POINTS:(task.index + 1) * TASK_POINTS] = rows
+        self._entry[:, task.index * self.size:(task.index + 1) * self.size] = rows
 
-    def finish(self, memory: dict[str, np.ndarray], names: tuple[str, ...], filled: np.ndarray, summary: str) -> None:
-        """The grid variables (``computed`` last), the filled verdict and the summary, then the journal removed."""
+    def finish(self, memory: dict[str, np.ndarray], names: tuple[str, ...], filled: dict[str, np.ndarray],
+               summary: str) -> None:
+        """The grid variables (``computed`` last), the filled verdicts (variable -> values) and the summary, then
+        the journal removed."""
         for name in names:
             self.group[name][...] = memory[name]
-        self.group["verdict_filled"][...] = filled
+        for name, values in filled.items():
+            self.group[name][...] = values
         self.group.attrs["adaptive"] = summary
         if JOURNAL in self.group:
             del self.group[JOURNAL]
 
 
-def read_journal(group) -> list[tuple[np.ndarray, int, np.ndarray]]:
-    """(flat indices, level, value rows) of the points in a store's journal (none if it has none): every column of
-    its arrays whose index is not NaN (the chunks of tasks that did not finish are)."""
+def read_journal(group) -> list[tuple[np.ndarray, int, dict[str, np.ndarray]]]:
+    """(flat indices, level, variable -> values) of the points in a store's journal (none if it has none): every
+    column of its arrays whose index is not NaN (the chunks of tasks that did not finish are)."""
     if JOURNAL not in group:
         return []
     out = []
     for _, entry in sorted(group[JOURNAL].arrays()):
+        names = tuple(entry.attrs.get("rows", _ROWS))
         rows = entry[...]
-        if rows.shape[0] != 2 + len(_ROWS):
+        if rows.shape[0] != 2 + len(names):
             continue
         rows = rows[:, ~np.isnan(rows[0])]
         for level in np.unique(rows[1]):
             at = rows[1] == level
-            out.append((rows[0, at].astype(np.intp), int(level), rows[2:, at]))
+            values = rows[2:, at]
+            out.append((rows[0, at].astype(np.intp), int(level), dict(zip(names, values, strict=True))))
     return out
 
 
@@ -519,6 +594,11 @@ def stored_computed(path: str | os.PathLike) -> np.ndarray:
     return computed
 
 
+def filled_names(plan: Plan) -> dict[str, str]:
+    """The filled verdicts an adaptive sweep writes at its end: variable -> the verdict it fills."""
+    return {"verdict_filled": "verdict", **({"verdict_filled_all": "verdict_all"} if plan.sliding is not None else {})}
+
+
 def _ignore(kind: str, points: int) -> None:
     """A progress callback that does nothing."""
 
@@ -532,14 +612,14 @@ def _open(plan: Plan, names: tuple[str, ...], store: str | os.PathLike | None, c
 
     if store is None:
         ds = S.memory_dataset(plan, command)
-        return ds, None, None, {name: ds[name].values for name in (*names, "verdict_filled")}
+        return ds, None, None, {name: ds[name].values for name in (*names, *filled_names(plan))}
     fresh = not Path(store).exists()
     path = S.open_store(plan, Path(store), command)
-    writer = _Store(path)
+    writer = _Store(path, journal_rows(plan), task_points(plan))
     if not fresh:
         return None, path, writer, writer.load(names)
-    memory = {name: np.full(plan.shape, S.GROWTH_VARS[name][1] if name in S.GROWTH_VARS else NOT_COMPUTED,
-                            dtype=S.GROWTH_VARS[name][0] if name in S.GROWTH_VARS else np.int8) for name in names}
+    kinds = {**S.GROWTH_VARS, **S.SLIDING_VARS, "computed": (np.int8, NOT_COMPUTED)}
+    memory = {name: np.full(plan.shape, kinds[name][1], dtype=kinds[name][0]) for name in names}
     return None, path, writer, memory  # nothing to read: the fill values
 
 
@@ -554,13 +634,18 @@ class _Rounds:
         self.flat = {name: a.reshape(-1) for name, a in memory.items()}
 
     def levels(self, spec: AdaptiveSpec) -> None:
-        """Levels 0 .. L: each its first round (:func:`refine_targets`), then its follow rounds until none is left."""
+        """Levels 0 .. L: each its first round (:func:`refine_targets`), then its follow rounds until none is left
+        (on :func:`refinement_classes`: the Rayleigh branch's verdict, or both verdicts)."""
         m = self.memory
+
+        def classes() -> np.ndarray:
+            return refinement_classes(m["verdict"], m["verdict_all"] if spec.verdict == SLIDING else None)
+
         for level in range(spec.levels + 1):
-            target = refine_targets(level, spec, m["verdict"], m["growth"], m["computed"])
+            target = refine_targets(level, spec, m["verdict"], m["growth"], m["computed"], classes())
             while target.any():
                 self.execute(level, target)
-                target = (follow_targets(level, spec, m["verdict"], m["computed"]) if spec.follow
+                target = (follow_targets(level, spec, classes(), m["computed"]) if spec.follow
                           else np.zeros_like(target))
 
     def execute(self, level: int, target: np.ndarray) -> None:
@@ -606,15 +691,17 @@ def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, work
     if spec is None or spec.levels is None:
         raise ValueError("run() needs a plan made with adaptive=... (atlas_engine.sweep.make_plan)")
     grid = _Grid(plan)
-    names = (*S.GROWTH_VARS, "computed")
+    names = state_names(plan)
     ds, path, writer, memory = _open(plan, names, store, command)
     progress = progress or _ignore
     _Rounds(grid, memory, writer, client, workers, progress, start or _ignore).levels(spec)
-    filled = fill_classes(memory["verdict"], memory["computed"], spec.levels)
+    filled = {name: fill_classes(memory[source], memory["computed"], spec.levels)
+              for name, source in filled_names(plan).items()}
     text = json.dumps(summary(plan.shape, spec, level_counts(memory["computed"], spec.levels)))
     kinds = tuple(k for k in ("gamma_c", "count") if k in S.tasks(plan))
     if writer is None:
-        memory["verdict_filled"][...] = filled
+        for name, values in filled.items():
+            memory[name][...] = values
         ds.attrs["adaptive"] = text
         S.run_kinds(plan, kinds, ds=ds, client=client, workers=workers, progress=progress)
         return ds

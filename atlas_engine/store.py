@@ -193,17 +193,20 @@ def _is_log(values: np.ndarray, attrs: dict) -> bool:
     return engine.axis_scale(values) == "log"
 
 
-#: the sliding variables the app reads (atlas_engine.sweep.SLIDING_VARS)
+#: the sliding variables the app reads (atlas_engine.sweep.SLIDING_VARS; an adaptive atlas of the sliding verdict
+#: also its filled verdict, and ``filled_level_all``, the level of the cell each filled class comes from)
 SLIDING_FIELDS = ("growth_all", "kH_at_max_all", "re_z_at_max_all", "family_all", "verdict_all", "verdict_reason_all",
-                  "lower_bound_all")
+                  "lower_bound_all", "verdict_filled_all")
 
 
-def _sliding(ds, small: bool) -> dict:
+def _sliding(ds, small: bool, adaptive: dict) -> dict:
     """The sliding fields of an atlas (Atlas.sliding, sliding_floor, sliding_kH, sliding_top); none in an atlas of
     the Rayleigh branch only."""
     if "verdict_all" not in ds:
         return {}
     fields = {v: (ds[v].values if small else ds[v]) for v in SLIDING_FIELDS if v in ds}
+    if adaptive and small and adaptive.get("evaluated") and "verdict_filled_all" in ds:
+        fields["filled_level_all"] = fill_levels(fields["verdict_all"], ds["computed"].values, int(adaptive["levels"]))
     g = ds["growth_all"].values if small else np.asarray(ds["growth_all"].max().values)
     finite = g[np.isfinite(g)]
     kh = ds["kH_sliding"].values if "kH_sliding" in ds else np.array([math.nan])
@@ -242,7 +245,7 @@ def read_atlas(name: str, path: Path, stamp: str) -> Atlas:
         filled_level = fill_levels(verdicts["verdict"], verdicts["computed"], int(adaptive["levels"]))
     return Atlas(name, path, axes, log_axes, fixed, g, gc, reason, dict(ds.attrs), max(clim, 1e-12),
                  crossings=crossings if len(crossings) == len(CROSSING_VARIABLES) else {}, adaptive=adaptive,
-                 filled_level=filled_level, **verdicts, **_sliding(ds, small))
+                 filled_level=filled_level, **verdicts, **_sliding(ds, small, adaptive))
 
 
 def open_atlas(name: str, path: Path) -> Atlas:

@@ -53,7 +53,7 @@ import shutil
 import subprocess
 import threading
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -321,8 +321,10 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
     (default: the γ axis' range if γ is an axis of more than one value, else (1e-2, 1e3)); chunk_points: grid
     points per growth chunk (default :data:`CHUNK_POINTS`, adaptive :data:`atlas_engine.adaptive.CHUNK_POINTS`);
     adaptive: None or False (the dense sweep), True or an :class:`~atlas_engine.adaptive.AdaptiveSpec` (levels,
-    margin, guard, follow; every axis must have m·2^levels + 1 points); sliding: None or False (the Rayleigh
-    branch only), True or a :class:`SlidingSpec` (also the sliding verdict over every branch; dense sweeps only).
+    margin, guard, follow, verdict; every axis must have m·2^levels + 1 points); sliding: None or False (the
+    Rayleigh branch only), True or a :class:`SlidingSpec` (also the sliding verdict over every branch). An adaptive
+    sweep with the sliding verdict refines it (and the Rayleigh branch's verdict): its spec's verdict is "sliding"
+    (None: taken from `sliding`; "sliding" without `sliding`: the model's default spec).
     """
     if not axes:
         raise SweepError("no axis given: a sweep needs at least one axis (e.g. gamma=0.1:30:64:log)")
@@ -341,9 +343,8 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
         raise SweepError(f"gamma_range must be 0 < lo < hi < inf; got {gamma_range}")
     count = None if count is None else _checked_count(count)
     spec = None if adaptive is None or adaptive is False else _checked_adaptive(adaptive, clean_axes, growth)
-    if spec is not None and sliding is not None:
-        raise SweepError("the sliding verdict is computed by dense sweeps only (an adaptive sweep refines the Rayleigh "
-                         "branch's verdict): drop --adaptive or --sliding")
+    if spec is not None:
+        spec, sliding = _adaptive_verdict(spec, sliding)
     if chunk_points is None:
         chunk_points = CHUNK_POINTS if spec is None else _adaptive.CHUNK_POINTS
     if chunk_points < 1:
@@ -436,6 +437,21 @@ def _checked_adaptive(adaptive: AdaptiveSpec | bool | Mapping[str, Any], axes: M
     except (TypeError, ValueError) as exc:
         raise SweepError(str(exc)) from None
     return spec
+
+
+def _adaptive_verdict(spec: AdaptiveSpec, sliding: SlidingSpec | None) -> tuple[AdaptiveSpec, SlidingSpec | None]:
+    """The adaptive spec with its verdict fixed, and the sliding spec it needs: refining the sliding verdict computes
+    it (the model's default spec unless one is given); refining the Rayleigh branch's alone with the sliding verdict
+    asked for is refused (the sliding verdict would be filled from cells whose corners agree only on the Rayleigh
+    branch's)."""
+    verdict = spec.verdict or (_adaptive.SLIDING if sliding is not None else _adaptive.RAYLEIGH)
+    if verdict == _adaptive.RAYLEIGH and sliding is not None:
+        raise SweepError("an adaptive sweep refining the Rayleigh branch's verdict cannot give the sliding verdict "
+                         "(it would be filled from cells refined on the Rayleigh branch alone): refine on the sliding "
+                         "verdict (--verdict sliding) or drop --sliding")
+    if verdict == _adaptive.SLIDING and sliding is None:
+        sliding = SlidingSpec()
+    return replace(spec, verdict=verdict), sliding
 
 
 def _plan_chunks(axes: Mapping[str, tuple[float, ...]], chunk_points: int) -> dict[str, int]:
@@ -668,7 +684,8 @@ def template(plan: Plan, command: str | None = None):
                                 {"long_name": "the kH grid of the sliding verdict (its ends are the range)",
                                  "units": "1"})
         data.update(_sliding_vars(plan))
-        flags["sliding"] = len(plan.sliding_blocks())
+        if plan.adaptive is None:  # an adaptive sweep's ``computed`` is its done flag, per point
+            flags["sliding"] = len(plan.sliding_blocks())
     for kind, n in flags.items():
         data[f"done_{kind}"] = (f"{kind}_chunk", da.zeros(n, dtype=np.int8, chunks=1),
                                 {"long_name": f"1 where the {kind} chunk is written (resumable sweeps)"})
@@ -694,7 +711,7 @@ def _growth_vars(plan: Plan) -> dict[str, Any]:
         attrs = {"long_name": long_name, "units": units, **(_flag_attrs(meanings[name]) if name in meanings else {})}
         data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks), attrs)
     if plan.adaptive is not None:
-        for name, (dtype, fill, long_name, attrs) in _adaptive_vars(plan.adaptive).items():
+        for name, (dtype, fill, long_name, attrs) in _adaptive_vars(plan.adaptive, plan.sliding is not None).items():
             data[name] = (dims, da.full(plan.shape, fill, dtype=dtype, chunks=chunks),
                           {"long_name": long_name, "units": "1", **attrs})
     return data
@@ -745,7 +762,8 @@ def _sliding_vars(plan: Plan) -> dict[str, Any]:
     """The template's sliding variables over the grid (every branch; the floor in each one's attributes)."""
     import dask.array as da
 
-    chunks = tuple(plan.chunks[f"sliding:{n}"] for n in plan.names)
+    # an adaptive sweep writes them with the growth variables, chunked as those
+    chunks = tuple(plan.chunks[n if plan.adaptive is not None else f"sliding:{n}"] for n in plan.names)
     meanings = {"verdict_all": model.VERDICTS, "verdict_reason_all": model.SLIDING_STATUS,
                 "family_all": {-1: "none", **model.FAMILIES}}
     data: dict[str, Any] = {}
@@ -759,22 +777,29 @@ def _sliding_vars(plan: Plan) -> dict[str, Any]:
 #: Zarr fill values (what a chunk not written yet reads as) of the integer variables; floats: NaN
 INT_FILL = {"n_masked": -1, "gamma_c_reason": -1, "unstable_count": -2, "verdict": -1, "verdict_reason": -1,
             "gamma_c_direction": 0, "gamma_c_crossing_reason": -1, "gamma_c_n_crossings": -1, "gamma_c_complete": -1,
-            "computed": -1, "verdict_filled": -1,
+            "computed": -1, "verdict_filled": -1, "verdict_filled_all": -1,
             **{name: v[1] for name, v in SLIDING_VARS.items() if np.dtype(v[0]).kind == "i"}}
 
 
-def _adaptive_vars(spec: AdaptiveSpec) -> dict[str, tuple[Any, int, str, dict[str, Any]]]:
-    """The adaptive sweep's variables: dtype, fill, long name, further attributes."""
+def _adaptive_vars(spec: AdaptiveSpec, sliding: bool = False) -> dict[str, tuple[Any, int, str, dict[str, Any]]]:
+    """The adaptive sweep's variables: dtype, fill, long name, further attributes (`sliding`: also the filled
+    sliding verdict)."""
     levels = spec.levels or 0
     meanings = {"-1": "not computed (growth NaN there; its class is in verdict_filled)",
                 **{str(k): f"computed at level {k} (stride {2 ** (levels - k)})" for k in range(levels + 1)}}
+    classes = {"flag_values": sorted(model.VERDICTS),
+               "flag_meanings": json.dumps({str(k): v for k, v in model.VERDICTS.items()})}
+    filled_all = {"verdict_filled_all": (
+        np.int8, -1, "sliding verdict class (every branch above the floor) at every point: the model's where computed, "
+        "else the common class of the corners of the finest computed cell holding the point (-1: not yet filled)",
+        classes)} if sliding else {}
     return {
         "computed": (np.int8, -1, "the refinement level at which the point was computed (-1: not computed)",
                      {"flag_values": list(range(-1, levels + 1)), "flag_meanings": json.dumps(meanings)}),
         "verdict_filled": (np.int8, -1, "verdict class at every point: the model's verdict where computed, else the "
                            "common class of the corners of the finest computed cell holding the point (-1: not yet "
-                           "filled)", {"flag_values": sorted(model.VERDICTS),
-                                      "flag_meanings": json.dumps({str(k): v for k, v in model.VERDICTS.items()})}),
+                           "filled)", classes),
+        **filled_all,
     }
 
 
@@ -981,7 +1006,8 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
     verdict can change: :mod:`atlas_engine.adaptive`; every axis must have m·2^levels + 1 points); start: called with
     (kind, points) when an adaptive level's batch of that many points starts (kind ``level L``, as in `progress`; again
     as each of its follow rounds starts, with the points the round adds); sliding: None (the Rayleigh branch only) or
-    True / a :class:`SlidingSpec` (also the sliding verdict over every branch, the ``*_all`` variables; dense sweeps).
+    True / a :class:`SlidingSpec` (also the sliding verdict over every branch, the ``*_all`` variables; an adaptive
+    sweep refines it too).
 
     Returns the dataset: in memory without a store, else opened lazily from the store. Variables and attributes:
     see the module docstring. Bad input raises SweepError (a ValueError) naming the problem.
@@ -1084,7 +1110,7 @@ def plan_points(plan: Plan) -> dict[str, int]:
         out["gamma_c"] = math.prod(len(plan.axes[n]) for n in plan.gamma_c_names)
     if plan.count is not None:
         out["count"] = plan.size
-    if plan.sliding is not None:
+    if plan.sliding is not None and plan.adaptive is None:  # an adaptive sweep's levels compute both verdicts
         out["sliding"] = plan.size
     return out
 
@@ -1116,6 +1142,10 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
                 f"{model.VERDICTS[k]} {100 * (filled == k).mean():.1f} %" for k in sorted(model.VERDICTS)))
         else:
             yield "  verdict_filled: not yet (the sweep has not finished: run the same command to resume it)"
+        if "verdict_filled_all" in ds and (filled >= 0).all():
+            sl = ds["verdict_filled_all"].values
+            yield ("  verdict_filled_all (sliding, every point): " + ", ".join(
+                f"{model.VERDICTS[k]} {100 * (sl == k).mean():.1f} %" for k in sorted(model.VERDICTS)))
     g = ds["growth"].values if "growth" in ds else np.empty(0)
     finite = np.isfinite(g)
     if finite.any():

@@ -5,6 +5,7 @@ only says so; and a browser journey on a slice where only another branch is unst
 
 from __future__ import annotations
 
+import math
 import re
 import shutil
 import urllib.parse
@@ -28,6 +29,8 @@ AXES = {"gamma": np.geomspace(1.0, 10.0, 8), "beta": np.linspace(0.3, 0.6, 6)}
 #: a slice where the Rayleigh branch is stable everywhere and sliding unstable everywhere (guided modes)
 HIDDEN = {"gamma": np.geomspace(1.4, 2.2, 5), "beta": np.linspace(0.35, 0.6, 6)}
 FIXED = {"f": 0.9}
+#: an adaptive atlas of the sliding verdict (asymslide sweep --adaptive --verdict sliding): both boundaries cross it
+ADAPTIVE = {"beta": np.linspace(0.2, 0.7, 17), "gamma": np.geomspace(0.3, 30, 17)}
 
 
 @pytest.fixture(scope="module")
@@ -36,6 +39,8 @@ def sliding_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
     S.sweep(AXES, fixed=FIXED, kH=KH, gamma_c=False, sliding=True, store=directory / "both.zarr")
     S.sweep(HIDDEN, fixed=FIXED, kH=KH, gamma_c=False, sliding=True, store=directory / "hidden.zarr")
     S.sweep(AXES, fixed=FIXED, kH=KH, gamma_c=False, store=directory / "rayleigh.zarr")
+    S.sweep(ADAPTIVE, fixed={"eta": math.inf}, kH=KH, gamma_c=False, sliding=True, adaptive={"levels": 2},
+            store=directory / "adaptive.zarr")
     return directory
 
 
@@ -176,3 +181,36 @@ def test_the_atlas_cell_says_where_only_another_branch_is_unstable(atlas_dir: Pa
     page.wait_for_function("() => Array.from(Bokeh.documents[0].all_models).some(m => m.type === 'Title' && "
                            "m.text.includes('sliding verdict'))", timeout=60_000)
     assert page.console_errors == []
+
+
+def test_an_adaptive_sliding_atlas_shows_the_filled_verdict_it_colours(atlas_dir: Path) -> None:
+    """Not computed cells of an adaptive atlas swept on the sliding verdict: pale in the class of their cell of the
+    sliding verdict (hover "sliding verdict ... from its cell"), of the Rayleigh branch's once it is chosen; the
+    readouts count the filled classes; a click on a not computed cell reads both filled classes."""
+    scene = _scene("adaptive")
+    ds = _stored(atlas_dir, "adaptive")
+    computed = ds["computed"].values  # (beta, gamma): the slice is (gamma, beta)
+    hit = (computed < 0).T.ravel()
+    assert 0 < hit.sum() < hit.size
+    heat = scene.heat_map()
+    pale = {k: colour for k, (_, colour) in A.FILLED_CLASSES.items()}
+
+    def filled(name: str) -> list[str]:
+        return [pale[int(k)] for k in ds[name].values.T.ravel()[hit]]
+
+    assert filled("verdict_filled_all") != filled("verdict_filled")  # cells filled differently by the two verdicts
+    assert scene.colours_sliding() and list(heat.filled.data["color"]) == filled("verdict_filled_all")
+    assert all(w.startswith("sliding verdict ") and "from its cell (level " in w for w in heat.filled.data["why"])
+    s = ds["verdict_filled_all"].values
+    assert (f"**This slice, sliding (every branch)** ({int((~hit).sum())} computed, the others filled from their "
+            f"cell) unstable {int((s == 1).sum())}, stable {int((s == 0).sum())}") in scene.slice_readout()
+    assert "refined on both verdicts" in scene.readout()
+    i, j = np.argwhere(computed < 0)[0]  # (beta, gamma) of a not computed point
+    scene._on_tap(x=scene.data.display("beta")[i], y=scene.data.display("gamma")[j])
+    words = {0: "stable", 1: "unstable", 2: "undetermined"}
+    assert f"Rayleigh branch: not computed ({words[int(ds['verdict_filled'].values[i, j])]} from its cell)" in (
+        scene.message)
+    assert f"Sliding (every branch): not computed ({words[int(s[i, j])]} from its cell)" in scene.message
+    scene.verdict = slm.RAYLEIGH
+    assert list(heat.filled.data["color"]) == filled("verdict_filled")
+    assert all(w.startswith("verdict ") for w in heat.filled.data["why"])

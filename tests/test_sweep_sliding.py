@@ -113,9 +113,9 @@ def test_bad_sliding_settings_are_refused(kwargs: dict, message: str) -> None:
         S.make_plan(AXES, kH=KH, **kwargs)
 
 
-def test_adaptive_sweeps_refuse_the_sliding_verdict_with_a_reason() -> None:
-    with pytest.raises(S.SweepError, match="dense sweeps only"):
-        S.make_plan({"gamma": np.linspace(1, 3, 5)}, kH=KH, adaptive=dict(levels=1), sliding=True)
+def test_an_adaptive_sweep_on_the_rayleigh_verdict_refuses_the_sliding_one_with_a_reason() -> None:
+    with pytest.raises(S.SweepError, match="cannot give the sliding verdict"):
+        S.make_plan({"gamma": np.linspace(1, 3, 5)}, kH=KH, adaptive=dict(levels=1, verdict="rayleigh"), sliding=True)
 
 
 def test_cli_sweep_sliding_and_info(tmp_path: Path) -> None:
