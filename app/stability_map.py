@@ -66,6 +66,10 @@ BETA_CRITERION = np.linspace(0.025, 0.70, 28)
 BETA_EXACT = BETA_CRITERION[1::2].copy()
 #: Fig. 4c y range; a current χ off this range is drawn at its edge
 CHI_RANGE = (0.0, 5.0)
+#: β per cached chunk of Fig. 4c's sliding threshold (about 0.5 s a β at η = ∞)
+FIG4C_SLIDING_CHUNK = 2
+#: Fig. 4c's marker colour of the sliding threshold (every branch)
+SLIDING_THRESHOLD_COLOR = "#d6604d"
 
 
 @dataclass(frozen=True)
@@ -204,6 +208,62 @@ def compute_fig4c(f: float) -> dict:
             "reason": reason}
 
 
+def _first_certified(value: np.ndarray, reason: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(index, found) of every row's first certified crossing (reason 0 or 1: model.CROSSING_STATUS)."""
+    ok = np.isin(reason, (0, 1))
+    return np.argmax(ok, axis=1), ok.any(axis=1) & np.isfinite(value[np.arange(len(value)), np.argmax(ok, axis=1)])
+
+
+@pn.cache(max_items=64)
+def compute_fig4c_sliding_chunk(f: float, betas: tuple[float, ...]) -> dict:
+    """Fig. 4c's threshold of sliding over every branch at `betas` (η = ∞, Δ = 1; the model's kH range and growth
+    floor: :func:`model.critical_gammas` with ``branches="all"``, docs/physics.md §14.10): χ_c = γ_c f at the first
+    certified crossing in γ (NaN where there is none), its crossing reason (model.CROSSING_STATUS; 1: at an end of
+    the kH range), kH and z, and the status (model.THRESHOLD_STATUS) of each β."""
+    r = model.critical_gammas(f=f, beta=np.asarray(betas, dtype=float), branches="all")
+    k, found = _first_certified(r.value, r.reason)
+    rows = np.arange(len(betas))
+    pick = {name: np.where(found, np.asarray(getattr(r, name))[rows, k], np.nan) for name in ("value", "kH", "z")}
+    return {"chi": pick["value"] * f, "kH": pick["kH"], "z": np.real(pick["z"]),
+            "reason": np.where(found, r.reason[rows, k], -1), "status": np.asarray(r.status, int)}
+
+
+def compute_fig4c_sliding(f: float, job: jobs.Job) -> dict:
+    """Fig. 4c's sliding threshold at every β of :data:`BETA_EXACT` (a job: cached chunks of
+    :data:`FIG4C_SLIDING_CHUNK` β, progress per β)."""
+    parts = []
+    for i in range(0, BETA_EXACT.size, FIG4C_SLIDING_CHUNK):
+        job.check()
+        betas = tuple(float(b) for b in BETA_EXACT[i:i + FIG4C_SLIDING_CHUNK])
+        parts.append(compute_fig4c_sliding_chunk(f, betas))
+        job.advance("β", len(betas))
+    out = {name: np.concatenate([p[name] for p in parts]) for name in parts[0]}
+    return {"f": f, "beta": BETA_EXACT, **out}
+
+
+def fig4c_sliding_text(d: dict) -> str:
+    """The sliding threshold of Fig. 4c in words: where it is certified, where it lies on an end of the kH range
+    (over a wider range it may lie elsewhere), and why it is missing at the other β."""
+    chi, beta = d["chi"], d["beta"]
+    found = np.isfinite(chi)
+    text = (f"**Sliding threshold (every branch, f = {fmt(d['f'])})** certified at {int(found.sum())} of "
+            f"{beta.size} β (triangles)")
+    if found.any():
+        text += f": χ_c from {fmt(float(np.nanmin(chi)))} to {fmt(float(np.nanmax(chi)))}"
+        at_end = found & (d["reason"] == 1)
+        if at_end.any():
+            text += (f"; at {int(at_end.sum())} β its neutral mode is at kH = {fmt(float(np.nanmax(d['kH'][at_end])))}"
+                     f", the end of the kH range searched (z = {fmt(float(d['z'][at_end][0]), 6)}: a root just beyond "
+                     "the shear wave speed; over a wider kH range the threshold may lie lower)")
+        text += (". The map's sliding verdict, with its growth floor, turns unstable a little higher, where the "
+                 "growth exceeds the floor (docs/physics.md §14.10)")
+    missing = [f"β = {fmt(float(b))}: {model.THRESHOLD_STATUS.get(int(st), f'status {int(st)}')}"
+               for b, st, ok in zip(beta, d["status"], found, strict=True) if not ok]
+    if missing:
+        text += ". No certified threshold at " + "; ".join(missing)
+    return text + "."
+
+
 # --------------------------------------------------------------------------------------------
 # the computed map
 # --------------------------------------------------------------------------------------------
@@ -284,6 +344,10 @@ class StabilityMapScene(pn.viewable.Viewer):
     sliding_status = param.String("idle", precedence=-1)
     #: "idle", "computing", "done", "error: ..."
     status = param.String("idle", precedence=-1)
+    #: Fig. 4c's sliding threshold (every branch; compute_fig4c_sliding) for the f it was computed at; None: none yet
+    fig4c_sliding = param.Dict(default=None, allow_None=True, precedence=-1)
+    #: its job's progress in words ("" when shown complete)
+    fig4c_sliding_status = param.String("", precedence=-1)
     #: the Lab-units panel (an app.lab.LabScene, shared with the Spectrum scene) shown above the map; None: none
     lab = param.ClassSelector(class_=pn.viewable.Viewer, default=None, allow_None=True, precedence=-1)
 
@@ -298,6 +362,8 @@ class StabilityMapScene(pn.viewable.Viewer):
         self.computation = jobs.Follower(self._show_job)
         #: the background computation of the sliding verdict (coarse to fine): cancelled when its inputs change
         self.sliding_computation = jobs.Follower(self._show_sliding_job)
+        #: the background computation of Fig. 4c's sliding threshold: cancelled when f changes
+        self.fig4c_computation = jobs.Follower(self._show_fig4c_job)
         self._views: dict[tuple[str, str], hv.DynamicMap] = {}  # by (plane, verdict)
         self.tap_streams: dict[tuple[str, str], hv.streams.Tap] = {}  # by (plane, verdict)
         self.progress = pn.indicators.Progress(value=0, max=1, bar_color="primary", sizing_mode="stretch_width",
@@ -311,6 +377,9 @@ class StabilityMapScene(pn.viewable.Viewer):
         self.param.watch(self._sliding_key_changed, "sliding_key")
         self.param.watch(self._verdict_changed, "verdict")
         self.fig4c_dmap = (hv.DynamicMap(self._fig4c_curves, streams=[hv.streams.Params(self.params, ["f"])])
+                           * hv.DynamicMap(self._fig4c_sliding_points,
+                                           streams=[hv.streams.Params(self, ["fig4c_sliding"]),
+                                                    hv.streams.Params(self.params, ["f"])])
                            * hv.DynamicMap(self._fig4c_marker, streams=[hv.streams.Params(
                                self.params, ["beta", "gamma", "f", "eta_infinite", "Delta"])])).opts(
             hv.opts.Overlay(title="Fig. 4c: instability threshold χ_c vs β (η = ∞, Δ = 1)", responsive=True,
@@ -632,6 +701,7 @@ class StabilityMapScene(pn.viewable.Viewer):
     # ----------------------------------------------------------------------------------------
 
     def _fig4c_curves(self, f: float, **_stream_values) -> hv.Overlay:
+        self.ensure_fig4c_sliding()
         d = compute_fig4c(float(f))
         beta, chi = hv.Dimension("beta", label="β = c_s/c_d"), hv.Dimension("chi", label="χ_c = γ_c f")
         criterion = hv.Curve((d["beta_criterion"], d["criterion"]), beta, chi, label="criterion (Eq. criterion)").opts(
@@ -639,6 +709,44 @@ class StabilityMapScene(pn.viewable.Viewer):
         exact = hv.Scatter((d["beta"], d["exact"]), beta, chi, label=f"exact threshold (f = {f:g})").opts(
             marker="circle", size=8, fill_color="white", line_color="#1f4e79", line_width=1.5)
         return criterion * exact
+
+    def ensure_fig4c_sliding(self) -> None:
+        """Start computing Fig. 4c's sliding threshold at the current f unless it is shown or being computed
+        (called as Fig. 4c is drawn: a render, a change of f)."""
+        f = float(self.params.f)
+        job = self.fig4c_computation.job
+        shown = self.fig4c_sliding is not None and self.fig4c_sliding["f"] == f
+        if shown or (job is not None and job.key == f and job.state().status in (jobs.RUNNING, jobs.DONE)):
+            return
+        self.fig4c_computation.run(partial(compute_fig4c_sliding, f), name="Fig. 4c sliding threshold", key=f,
+                                   totals={"β": BETA_EXACT.size})
+
+    def _show_fig4c_job(self, job: jobs.Job, state: jobs.JobState) -> None:
+        """Fig. 4c's sliding-threshold job: its progress in the readout, then the points (or the failure)."""
+        done, total = state.done.get("β", 0), state.totals.get("β", 0)
+        if state.status == jobs.RUNNING:
+            self.fig4c_sliding_status = (f"Computing the sliding threshold (every branch) at f = {fmt(job.key)}: "
+                                         f"{done} of {total} β")
+        elif state.status == jobs.FAILED:
+            self.fig4c_sliding_status = f"The sliding threshold could not be computed: {state.error}"
+        elif state.status == jobs.DONE:
+            with frozen_document():
+                self.param.update(fig4c_sliding=state.result, fig4c_sliding_status="")
+
+    def wait_fig4c(self, timeout: float = 120.0) -> None:
+        """Block until Fig. 4c's sliding threshold (if computing) is finished, shown when not served (tests)."""
+        self.fig4c_computation.wait(timeout)
+
+    def _fig4c_sliding_points(self, fig4c_sliding: dict | None = None, f: float | None = None,
+                              **_stream_values) -> hv.Scatter:
+        """The sliding threshold's certified points, at the f they were computed for (none for another f: redrawn
+        when f changes, not only when the points do)."""
+        beta, chi = hv.Dimension("beta", label="β = c_s/c_d"), hv.Dimension("chi", label="χ_c = γ_c f")
+        d = fig4c_sliding
+        current = d is not None and d["f"] == float(self.params.f if f is None else f)
+        points = (d["beta"], d["chi"]) if current else ([], [])
+        return hv.Scatter(points, beta, chi, label="sliding threshold (every branch)").opts(
+            marker="triangle", size=9, color=SLIDING_THRESHOLD_COLOR, line_color="black")
 
     def _fig4c_marker(self, **_stream_values) -> hv.Overlay:
         p = self.params
@@ -653,17 +761,25 @@ class StabilityMapScene(pn.viewable.Viewer):
         """Fig. 4c is for η = ∞ and Δ = 1: only then is the current χ = γ f comparable with χ_c."""
         return bool(self.params.eta_infinite and self.params.Delta == 1)
 
-    @param.depends("params.gamma", "params.f", "params.beta", "params.eta_infinite", "params.Delta")
+    @param.depends("params.gamma", "params.f", "params.beta", "params.eta_infinite", "params.Delta", "fig4c_sliding",
+                   "fig4c_sliding_status")
     def fig4c_readout(self) -> str:
         p = self.params
         if self.fig4c_applies():
             text = (f"**Current** χ = γ f = {fmt(p.gamma * p.f)} at β = {fmt(p.beta)} (star; dotted line: β). "
-                    "Sliding is unstable on the Rayleigh branch above the exact threshold (circles).")
+                    "The Rayleigh branch is unstable above its exact threshold (circles), sliding (every branch) "
+                    "above the sliding threshold (triangles).")
             if not CHI_RANGE[0] <= p.gamma * p.f <= CHI_RANGE[1]:
                 text += f" The star is drawn at the edge of the plotted range {CHI_RANGE}."
-            return text
-        return (f"**Current** β = {fmt(p.beta)} (dotted line). Fig. 4c is for η = ∞ and Δ = 1; at the current "
-                "η and Δ the threshold differs, so χ = γ f is not drawn.")
+        else:
+            text = (f"**Current** β = {fmt(p.beta)} (dotted line). Fig. 4c is for η = ∞ and Δ = 1; at the current "
+                    "η and Δ the threshold differs, so χ = γ f is not drawn.")
+        d = self.fig4c_sliding
+        if self.fig4c_sliding_status:
+            text += f"\n\n{self.fig4c_sliding_status}"
+        elif d is not None and d["f"] == float(p.f):
+            text += "\n\n" + fig4c_sliding_text(d)
+        return text
 
     # ----------------------------------------------------------------------------------------
     # readout and export
@@ -850,8 +966,17 @@ class StabilityMapScene(pn.viewable.Viewer):
         d = compute_fig4c(f)
         exact = np.full(d["beta_criterion"].shape, np.nan)
         exact[1::2] = d["exact"]
-        return csv_table(f"asymslide Fig. 4c (eta = inf, Delta = 1); f = {f!r}; chi_c_exact at every other beta",
-                         {"beta": d["beta_criterion"], "chi_c_criterion": d["criterion"], "chi_c_exact": exact})
+        columns = {"beta": d["beta_criterion"], "chi_c_criterion": d["criterion"], "chi_c_exact": exact}
+        sl = self.fig4c_sliding
+        note = "chi_c_sliding (every branch) not computed yet"
+        if sl is not None and sl["f"] == f:
+            chi = np.full(exact.shape, np.nan)
+            chi[1::2] = sl["chi"]
+            columns["chi_c_sliding"] = chi
+            note = ("chi_c_sliding: the sliding threshold over every branch (model.critical_gammas branches='all', "
+                    "first certified crossing; NaN: none certified)")
+        return csv_table(f"asymslide Fig. 4c (eta = inf, Delta = 1); f = {f!r}; chi_c_exact at every other beta; "
+                         f"{note}", columns)
 
     # ----------------------------------------------------------------------------------------
     # layout

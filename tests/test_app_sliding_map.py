@@ -345,3 +345,35 @@ def test_the_map_says_where_only_another_branch_is_unstable(served_app: str, bro
     page.locator("p", has_text="The star's cell, sliding").first.wait_for(timeout=60_000)
     assert math.isfinite(len(d["sliding"])) and len(d["sliding"]) == 24 * 24
     assert page.console_errors == []
+
+
+_FIG4C_JS = """() => {
+  const r = Array.from(Bokeh.documents[0].all_models).find(m => m.type === 'LegendItem'
+      && JSON.stringify(m.label).includes('sliding threshold'));
+  if (!r) return null;
+  const source = r.renderers[0].data_source;
+  const ys = Array.from(source.data[Object.keys(source.data).find(k => k !== 'beta' && k !== 'index')] || []);
+  return {n: ys.filter(v => Number.isFinite(v)).length};
+}"""
+
+
+@pytest.mark.ui
+def test_fig4c_draws_the_sliding_threshold_beside_the_paper_s(served_app: str, browser_page) -> None:
+    """A user opens the Stability map (Rayleigh colouring: nothing else computes) and scrolls to Fig. 4c: the
+    readout follows the sliding threshold's job, then the triangles (every branch) are drawn beside the paper's
+    circles and the readout names the β where it is not certified; a page at another f computes and draws its own
+    (a change of f within a session: test_app_stability_map.py)."""
+    page = browser_page
+    page.set_viewport_size({"width": 1280, "height": 1400})
+    open_app(page, served_app + "?tab=map&map_verdict=rayleigh")
+    readout = page.locator("p", has_text="Sliding threshold (every branch, f = 0.9) certified at").first
+    readout.wait_for(timeout=180_000)
+    text = readout.text_content()
+    assert "certified at 13 of 14 β" in text and "No certified threshold at β = 0.5" in text, text
+    page.wait_for_function(f"() => {{ const d = ({_FIG4C_JS})(); return d && d.n === 13; }}", timeout=60_000)
+    page.get_by_text("Download Fig. 4c (CSV)").first.wait_for(timeout=30_000)
+    page.goto(served_app + "?tab=map&map_verdict=rayleigh&f=0.7")
+    page.locator("p", has_text="Sliding threshold (every branch, f = 0.7) certified at").first.wait_for(
+        timeout=180_000)
+    page.wait_for_function(f"() => {{ const d = ({_FIG4C_JS})(); return d && d.n > 0; }}", timeout=60_000)
+    assert page.console_errors == []

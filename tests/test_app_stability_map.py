@@ -70,8 +70,8 @@ def _expected(plane: str, n: int, p: SpectrumParams) -> tuple[np.ndarray, np.nda
     return x, y, growth, kh
 
 
-def _layer(overlay: hv.Overlay, kind: type) -> hv.Element:
-    (el,) = [el for el in overlay if isinstance(el, kind)]
+def _layer(overlay: hv.Overlay, kind: type, label: str = "") -> hv.Element:
+    (el,) = [el for el in overlay if isinstance(el, kind) and el.label.startswith(label)]
     return el
 
 
@@ -350,7 +350,7 @@ def test_marker_is_clipped_to_the_plotted_range() -> None:
 def test_fig4c_equals_model_and_is_cached_by_f_only() -> None:
     scene = StabilityMapScene()
     overlay = scene.fig4c_dmap[()]
-    scatter, curve = _layer(overlay, hv.Scatter), _layer(overlay, hv.Curve)
+    scatter, curve = _layer(overlay, hv.Scatter, "exact threshold"), _layer(overlay, hv.Curve)
     np.testing.assert_array_equal(scatter.dimension_values(0), sm.BETA_EXACT)
     np.testing.assert_array_equal(scatter.dimension_values(1), model.critical_chi(sm.BETA_EXACT, f=0.9))
     np.testing.assert_array_equal(curve.dimension_values(0), sm.BETA_CRITERION)
@@ -368,6 +368,38 @@ def test_fig4c_equals_model_and_is_cached_by_f_only() -> None:
     scene.params.eta_infinite = False  # Fig. 4c is for eta = inf: no star
     assert len(_layer(scene.fig4c_dmap[()], hv.Points)) == 0
     assert "not drawn" in scene.fig4c_readout()
+
+
+def test_fig4c_shows_the_sliding_threshold_where_the_model_certifies_it() -> None:
+    """Issue 32 point 5: beside the Rayleigh branch's exact threshold, the threshold of sliding over every branch
+    (model.critical_gammas with branches="all": its first certified crossing), computed as a job when Fig. 4c is
+    drawn; a β without a certified one is named with the model's reason; the CSV holds it."""
+    scene = StabilityMapScene()
+    comment, header, _ = _read_csv(scene.fig4c_csv())
+    assert "chi_c_sliding (every branch) not computed yet" in comment and "chi_c_sliding" not in header
+    scene.fig4c_dmap[()]  # drawing Fig. 4c starts the job
+    scene.wait_fig4c(180)
+    ref = model.critical_gammas(f=0.9, beta=sm.BETA_EXACT, branches="all")
+    first = np.array([next((ref.value[i, k] for k in range(ref.value.shape[1]) if ref.reason[i, k] in (0, 1)),
+                           np.nan) for i in range(sm.BETA_EXACT.size)])
+    points = _layer(scene.fig4c_dmap[()], hv.Scatter, "sliding threshold")
+    np.testing.assert_array_equal(points.dimension_values(0), sm.BETA_EXACT)
+    np.testing.assert_array_equal(points.dimension_values(1), first * 0.9)
+    found = np.isfinite(first)
+    assert 0 < found.sum() < found.size  # certified at most β; refused (NaN, with the reason) at the others
+    rayleigh = model.critical_chi(sm.BETA_EXACT, f=0.9)
+    assert np.all(first[found] * 0.9 < rayleigh[found])  # another branch goes unstable first (docs §14.10)
+    text = scene.fig4c_readout()
+    assert f"**Sliding threshold (every branch, f = 0.9)** certified at {int(found.sum())} of 14 β" in text
+    assert "the end of the kH range searched" in text
+    for b, status in zip(sm.BETA_EXACT[~found], ref.status[~found], strict=True):
+        assert f"β = {b:.4g}: {model.THRESHOLD_STATUS[int(status)]}" in text
+    comment, header, data = _read_csv(scene.fig4c_csv())
+    assert header[-1] == "chi_c_sliding" and "first certified crossing" in comment
+    np.testing.assert_array_equal(data[1::2, 3], first * 0.9)
+    scene.params.f = 0.7  # another f: its points are not shown for it until computed
+    assert len(_layer(scene.fig4c_dmap[()], hv.Scatter, "sliding threshold")) == 0
+    scene.fig4c_computation.cancel()
 
 
 def test_fig4c_without_threshold_is_masked_with_the_reason() -> None:
@@ -411,7 +443,7 @@ def test_map_csv_is_what_the_map_shows(small) -> None:
 def test_fig4c_csv_is_what_fig4c_shows() -> None:
     scene = StabilityMapScene()
     comment, header, data = _read_csv(scene.fig4c_download.callback())
-    assert header == ["beta", "chi_c_criterion", "chi_c_exact"] and "f = 0.9" in comment
+    assert header == ["beta", "chi_c_criterion", "chi_c_exact"] and "f = 0.9" in comment  # sliding: not yet
     np.testing.assert_array_equal(data[:, 0], sm.BETA_CRITERION)
     np.testing.assert_array_equal(data[:, 1], model.criterion_chi(sm.BETA_CRITERION))
     np.testing.assert_array_equal(data[1::2, 2], model.critical_chi(sm.BETA_EXACT, f=0.9))
