@@ -281,6 +281,9 @@ FILLED_CLASSES = {0: ("stable", "#d6e6f4"), 1: ("unstable", "#f9d5c5"), 2: ("und
 FILLED_HATCH = "#8c8c8c"
 #: colours of the certified crossings by direction (+1 destabilising, -1 stabilising as γ grows) and of the refused ones
 CROSSING_COLORS = {1: "#1b7837", -1: "#e08214", 0: "#2ca25f"}
+#: the threshold of sliding over every branch (an atlas swept with --sliding-thresholds), drawn when the heat map is
+#: coloured by the sliding verdict
+SLIDING_THRESHOLD_COLOR = "#762a83"
 REFUSED_COLOR = "#404040"
 
 
@@ -361,12 +364,7 @@ class HeatMap:
         self.contour = ColumnDataSource({"xs": [], "ys": []})
         fig.multi_line(xs="xs", ys="ys", source=self.contour, line_color="black", line_width=2,
                        legend_label="Rayleigh branch neutral curve (growth = 0)")
-        self.thresholds = {}
-        for direction, label in ((1, "γ_c: unstable above (certified)"), (-1, "γ_c: stable above (certified)"),
-                                 (0, "γ_c (an older atlas: the first threshold, direction not stored)")):
-            self.thresholds[direction] = ColumnDataSource({"xs": [], "ys": []})
-            fig.multi_line(xs="xs", ys="ys", source=self.thresholds[direction], line_color=CROSSING_COLORS[direction],
-                           line_width=3, line_dash="dashed", legend_label=label)
+        self.sliding_thresholds, self.thresholds = self._threshold_layers(fig, atlas)
         self.refused = ColumnDataSource({"x": [], "y": [], "why": []})
         crosses = fig.scatter(x="x", y="y", source=self.refused, marker="x", size=9, line_width=2,
                               line_color=REFUSED_COLOR, legend_label="sign change, not a threshold")
@@ -455,16 +453,36 @@ class HeatMap:
                                     "kH": np.asarray(fields["kH_at_max_all"], dtype=float).ravel()[done],
                                     "re_z": np.asarray(fields["re_z_at_max_all"], dtype=float).ravel()[done]}
 
+    @staticmethod
+    def _threshold_layers(fig, atlas: Atlas):
+        """The γ_c lines: the sliding threshold's (an atlas with it), then the Rayleigh branch's by direction.
+        Returns their data sources (sliding, {direction: source})."""
+        from bokeh.models import ColumnDataSource
+
+        sliding = ColumnDataSource({"xs": [], "ys": []})
+        if atlas.crossings_all:
+            fig.multi_line(xs="xs", ys="ys", source=sliding, line_color=SLIDING_THRESHOLD_COLOR, line_width=3,
+                           line_dash="dotdash", legend_label="sliding γ_c (every branch; certified)")
+        thresholds = {}
+        for direction, label in ((1, "γ_c: unstable above (certified)"), (-1, "γ_c: stable above (certified)"),
+                                 (0, "γ_c (an older atlas: the first threshold, direction not stored)")):
+            thresholds[direction] = ColumnDataSource({"xs": [], "ys": []})
+            fig.multi_line(xs="xs", ys="ys", source=thresholds[direction], line_color=CROSSING_COLORS[direction],
+                           line_width=3, line_dash="dashed", legend_label=label)
+        return sliding, thresholds
+
     def _adaptive_layers(self, fig):
         """The layers of an adaptive atlas: the not computed cells in the pale colour of their filled verdict class,
         dotted, with hover "not computed: verdict ... from its cell (level L)", and the computed points as dots
         (hidden until their legend entry is clicked). Returns their two data sources."""
         from bokeh.models import ColumnDataSource, HoverTool
 
-        filled = ColumnDataSource({"x": [], "y": [], "w": [], "h": [], "color": [], "legend": [], "why": []})
+        # its own legend field: Bokeh merges the legend items of renderers whose label field has the same name (the
+        # sliding classes' "legend"), drawing one layer's swatches with the other's labels
+        filled = ColumnDataSource({"x": [], "y": [], "w": [], "h": [], "color": [], "filled_legend": [], "why": []})
         cells = fig.rect(x="x", y="y", width="w", height="h", source=filled, fill_color="color", fill_alpha=1,
                          line_alpha=0, hatch_pattern=".", hatch_color=FILLED_HATCH, hatch_alpha=0.6, hatch_scale=6,
-                         legend_field="legend")
+                         legend_field="filled_legend")
         fig.add_tools(HoverTool(renderers=[cells], tooltips=[("not computed", "@why")]))
         points = ColumnDataSource({"x": [], "y": []})
         fig.scatter(x="x", y="y", source=points, marker="circle", size=3, color="#000000", alpha=0.6,
@@ -484,10 +502,11 @@ class HeatMap:
         names = np.array([FILLED_CLASSES.get(int(k), FILLED_CLASSES[-1])[0] for k in range(-1, 3)], dtype=object)
         colors = np.array([FILLED_CLASSES.get(int(k), FILLED_CLASSES[-1])[1] for k in range(-1, 3)], dtype=object)
         k = (np.clip(v[hit], -1, 2) + 1).astype(int)  # slice2d gives floats
+        prefix = "sliding " if which.startswith("sliding") else ""
         why = np.array([f"{which} {names[i]} from its cell (level {int(L)})" if L >= 0 else
                         f"{which} {names[i]} from its cell" for i, L in zip(k, lv[hit], strict=True)], dtype=object)
         self.filled.data = {**{key: val[hit] for key, val in self._cell_geometry.items()}, "color": colors[k],
-                            "legend": np.array([f"not computed: {n} (from its cell)" for n in names],
+                            "filled_legend": np.array([f"not computed: {prefix}{n} (from its cell)" for n in names],
                                                dtype=object)[k], "why": why}
         done = np.flatnonzero(c >= 0)
         self.computed_points.data = {"x": self._cell_geometry["x"][done], "y": self._cell_geometry["y"][done]}
@@ -513,6 +532,17 @@ class HeatMap:
             source.data = {"xs": [p[0] for p in b.lines.get(direction, [])],
                            "ys": [p[1] for p in b.lines.get(direction, [])]}
         self.refused.data = {"x": b.refused[0], "y": b.refused[1], "why": b.refused[2]}
+        self._legend_visibility()
+
+    def update_sliding_thresholds(self, boundary: Boundary | None) -> None:
+        """Draw the slice of the threshold of sliding in γ (every branch; both directions, certified crossings), or
+        none."""
+        lines = [] if boundary is None else [p for runs in boundary.lines.values() for p in runs]
+        self.sliding_thresholds.data = {"xs": [p[0] for p in lines], "ys": [p[1] for p in lines]}
+        self._legend_visibility()
+
+    def _legend_visibility(self) -> None:
+        """Legend entries of what the slice does not have are hidden."""
         for item in self.figure.legend[0].items:
             source = item.renderers[0].data_source
             item.visible = (bool(len(next(iter(source.data.values()), []))) or source is self.contour
@@ -572,7 +602,7 @@ def verdict_coverage(verdict: np.ndarray, reason: np.ndarray) -> str:
             + (f"; undetermined (hatched): {why}" if why else ""))
 
 
-def crossing_coverage(reason: np.ndarray) -> str:
+def crossing_coverage(reason: np.ndarray, which: str = "Thresholds in γ") -> str:
     """The readout line of an atlas's boundary in γ: certified thresholds and refused sign changes by reason."""
     r = np.asarray(reason)
     points = r.reshape(-1, r.shape[-1])
@@ -580,7 +610,7 @@ def crossing_coverage(reason: np.ndarray) -> str:
     complete = int(np.all((points < 0) | np.isin(points, (0, 1)), axis=1).sum())
     refused = ", ".join(f"{REFUSED_CROSSING.get(int(code), f'reason {int(code)}')} {int((r == code).sum())}"
                         for code in np.unique(r[(r >= 0) & ~np.isin(r, (0, 1))]))
-    return (f"**Thresholds in γ** {certified} certified crossing(s); every sign change certified at {complete} of "
+    return (f"**{which}** {certified} certified crossing(s); every sign change certified at {complete} of "
             f"{points.shape[0]} points of the other axes" + (f"; refused (×, not thresholds): {refused}" if refused
                                                              else ""))
 
@@ -899,12 +929,15 @@ class AtlasScene(pn.viewable.Viewer):
             out[(verdict[2] == UNDETERMINED) & (codes == code)] = short_reason(code, model.VERDICT_STATUS)
         return out
 
-    def boundary(self) -> Boundary | None:
+    def boundary(self, sliding: bool = False) -> Boundary | None:
         """The slice of the atlas's boundary in γ where γ is one of the image axes: every certified crossing as a
         polyline per crossing index and direction, and the refused sign changes (jumps, pole-dense modes) as points.
-        An atlas without the crossing variables draws its γ_c (the first certified crossing) with direction 0."""
+        An atlas without the crossing variables draws its γ_c (the first certified crossing) with direction 0.
+        `sliding`: the threshold of sliding over every branch instead (None where the atlas has none)."""
         d = self.data
         if d is None or "gamma" not in (self.x_axis, self.y_axis) or self.y_axis is None:
+            return None
+        if sliding and not d.crossings_all:
             return None
         other = self.y_axis if self.x_axis == "gamma" else self.x_axis
         gnames = [n for n in d.names if n != "gamma"]
@@ -918,13 +951,13 @@ class AtlasScene(pn.viewable.Viewer):
             return (a, b) if self.x_axis == "gamma" else (b, a)
 
         out = Boundary()
-        if not d.crossings:
+        if not sliding and not d.crossings:
             if d.gamma_c is None:
                 return None
             gc = np.asarray(d.gamma_c[index], dtype=float)
             out.lines[0] = [xy(*run) for run in _runs(shown(gc), along, np.isfinite(gc))]
             return out
-        c = {k: np.asarray(v[index]) for k, v in d.crossings.items()}  # (other, crossing)
+        c = {k: np.asarray(v[index]) for k, v in (d.crossings_all if sliding else d.crossings).items()}
         for k in range(c["gamma_c_crossing"].shape[-1]):
             value, direction = c["gamma_c_crossing"][:, k].astype(float), c["gamma_c_direction"][:, k]
             for sign in (1, -1):
@@ -981,6 +1014,7 @@ class AtlasScene(pn.viewable.Viewer):
         heat.update(x, y, g, None if sliding else self.undetermined_reasons(), self.boundary())
         plane = f"{self.data.label(self.x_axis)}-{self.data.label(self.y_axis) if self.y_axis else ''}"
         heat.update_sliding(self.sliding_slice() if sliding else None, self.data.sliding_floor, plane)
+        heat.update_sliding_thresholds(self.boundary(sliding=True) if sliding else None)
         if self.data.adaptive:
             self._draw_adaptive(heat)
 
@@ -1257,7 +1291,11 @@ class AtlasScene(pn.viewable.Viewer):
         else:
             lines.append("**Rayleigh branch only**: this atlas has no sliding verdict over every branch")
         if d.crossings:
-            lines.append(crossing_coverage(d.crossings["gamma_c_crossing_reason"]))
+            which = "Thresholds in γ (Rayleigh branch)" if d.crossings_all else "Thresholds in γ"
+            lines.append(crossing_coverage(d.crossings["gamma_c_crossing_reason"], which))
+        if d.crossings_all:
+            lines.append(crossing_coverage(d.crossings_all["gamma_c_crossing_reason"],
+                                           "Thresholds of sliding in γ (every branch; dash-dotted, purple)"))
         elif d.gamma_c_reason is not None:
             r = np.asarray(d.gamma_c_reason)
             lines.append(f"**γ_c** found at {int((r == 0).sum())} of {r.size} points of the other axes")
@@ -1321,7 +1359,10 @@ class AtlasScene(pn.viewable.Viewer):
         choose = pn.Column(
             self.atlas_select, self.x_select, self.y_select, self.verdict_select,
             heading("Other axes"), self.sliders,
-            pn.pane.Markdown(self.slice_readout, sizing_mode="stretch_width", height=150),
+            # a fixed height (a slice change does not move the panes below); longer readouts (both verdicts of an
+            # adaptive atlas) scroll inside it instead of running over the next pane
+            pn.pane.Markdown(self.slice_readout, sizing_mode="stretch_width", height=190,
+                             styles={"overflow-y": "auto"}),
             pn.pane.Markdown(self.readout, sizing_mode="stretch_width"),
             width=340,
         )

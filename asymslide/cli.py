@@ -148,8 +148,9 @@ def _sweep_settings(args: argparse.Namespace, specs: Sequence[str]) -> tuple[dic
             raise SweepError(f"--count must be re_max,im_min,im_max; got {args.count!r}")
         count = CountSpec(tuple(parse_axis(f"kH={args.count_kH}")[1]), window)  # type: ignore[arg-type]
     sliding = None
-    if args.sliding or args.verdict == "sliding":  # refining the sliding verdict computes it
-        sliding = SlidingSpec(tuple(parse_axis(f"kH={args.sliding_kH}")[1]), _number("--floor", args.floor))
+    if args.sliding or args.verdict == "sliding" or args.sliding_thresholds:  # these need the sliding verdict
+        sliding = SlidingSpec(tuple(parse_axis(f"kH={args.sliding_kH}")[1]), _number("--floor", args.floor),
+                              args.sliding_thresholds)
     settings = dict(fixed=fixed, kH=kh, rtol=args.rtol, growth=not args.no_growth, gamma_c=not args.no_gamma_c,
                     gamma_range=gamma_range, count=count, chunk_points=args.chunk_points, sliding=sliding)
     return axes, settings
@@ -333,6 +334,10 @@ def build_parser() -> argparse.ArgumentParser:
     sw.add_argument("--sliding", action="store_true",
                     help="also the sliding verdict over every branch (growth_all, verdict_all, ...; about 10 ms a "
                     "point at eta = inf, 0.1 s at finite eta; an adaptive sweep then refines it: --verdict)")
+    sw.add_argument("--sliding-thresholds", action="store_true",
+                    help="also the threshold of sliding in gamma over every branch (gamma_c_all and its crossings, "
+                    "with gamma_c; implies --sliding; ~0.5 s a point of the other axes at eta = inf, ~10 s at finite "
+                    "eta)")
     sw.add_argument("--sliding-kH", default="1e-2:1e2:17:log", metavar="LO:HI:N[:log]",
                     help="kH grid of the sliding verdict (default 1e-2:1e2:17:log, the model's)")
     sw.add_argument("--floor", default="1e-6", metavar="GROWTH",

@@ -698,7 +698,7 @@ def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, work
     filled = {name: fill_classes(memory[source], memory["computed"], spec.levels)
               for name, source in filled_names(plan).items()}
     text = json.dumps(summary(plan.shape, spec, level_counts(memory["computed"], spec.levels)))
-    kinds = tuple(k for k in ("gamma_c", "count") if k in S.tasks(plan))
+    kinds = tuple(k for k in ("gamma_c", "gamma_c_all", "count") if k in S.tasks(plan))
     if writer is None:
         for name, values in filled.items():
             memory[name][...] = values

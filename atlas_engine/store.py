@@ -81,7 +81,8 @@ def points_done(path: Path, plan: engine.Plan) -> dict[str, int]:
         done = engine.done_chunks(path)
     except (OSError, ValueError, KeyError):
         return {}
-    blocks = {"growth": plan.growth_blocks(), "gamma_c": plan.gamma_c_blocks(), "count": plan.count_blocks(),
+    blocks = {"growth": plan.growth_blocks(), "gamma_c": plan.gamma_c_blocks(), "gamma_c_all": plan.gamma_c_blocks(),
+              "count": plan.count_blocks(),
               "sliding": plan.sliding_blocks()}
     return {kind: sum(math.prod(b - a for a, b in blocks[kind][i]) for i in np.flatnonzero(flags))
             for kind, flags in done.items()}
@@ -152,6 +153,9 @@ class Atlas:
     sliding_kH: tuple[float, float] = (math.nan, math.nan)
     #: the largest growth over every branch in the atlas (the sliding colour range's top; NaN: none)
     sliding_top: float = math.nan
+    #: the threshold of sliding in γ over every branch (asymslide sweep --sliding-thresholds): the crossings as
+    #: ``crossings`` (CROSSING_VARIABLES, named with ``gamma_c_all``: see :func:`crossing_name`); {} without them
+    crossings_all: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def has_sliding(self) -> bool:
@@ -185,6 +189,11 @@ class Atlas:
     def label(self, name: str) -> str:
         """The paper's symbol of an axis (model.PARAMETERS)."""
         return model.PARAMETERS[name].symbol if name in model.PARAMETERS else name
+
+
+def crossing_name(name: str, sliding: bool) -> str:
+    """The store's name of a crossing variable (CROSSING_VARIABLES) of the Rayleigh branch or of sliding."""
+    return name.replace("gamma_c", "gamma_c_all", 1) if sliding else name
 
 
 def _is_log(values: np.ndarray, attrs: dict) -> bool:
@@ -239,12 +248,14 @@ def read_atlas(name: str, path: Path, stamp: str) -> Atlas:
     verdicts = {v: (ds[v].values if small else ds[v]) if v in ds else None
                 for v in ("verdict", "verdict_reason", "computed", "verdict_filled")}
     crossings = {v: ds[v].values for v in CROSSING_VARIABLES if v in ds}
+    crossings_all = {v: ds[crossing_name(v, True)].values for v in CROSSING_VARIABLES if crossing_name(v, True) in ds}
     adaptive = json.loads(ds.attrs["adaptive"]) if "adaptive" in ds.attrs and "computed" in ds else {}
     filled_level = None
     if adaptive and small and adaptive.get("evaluated"):
         filled_level = fill_levels(verdicts["verdict"], verdicts["computed"], int(adaptive["levels"]))
     return Atlas(name, path, axes, log_axes, fixed, g, gc, reason, dict(ds.attrs), max(clim, 1e-12),
                  crossings=crossings if len(crossings) == len(CROSSING_VARIABLES) else {}, adaptive=adaptive,
+                 crossings_all=crossings_all if len(crossings_all) == len(CROSSING_VARIABLES) else {},
                  filled_level=filled_level, **verdicts, **_sliding(ds, small, adaptive))
 
 

@@ -126,12 +126,20 @@ CROSSING_VARS = {
     "gamma_c_direction": (np.int8, 0, "+1 destabilising (unstable above), -1 stabilising, 0 not certified or none"),
     "gamma_c_crossing_reason": (np.int8, -1, "reason code of each crossing (model.CROSSING_STATUS; -1: none)"),
 }
+#: the sliding threshold's variables (every branch; asymslide sweep --sliding-thresholds): the Rayleigh branch's
+#: names with ``gamma_c_all`` for ``gamma_c`` (model.crossings_chunk with branches="all", docs/physics.md §14.10)
+def _all(name: str) -> str:
+    return name.replace("gamma_c", "gamma_c_all", 1)
+
+
 #: per-point summaries of the boundary in gamma: dtype, fill, long name
 CROSSING_SUMMARY_VARS = {
     "gamma_c_n_crossings": (np.int16, -1, "sign changes of the max growth found in the gamma range (-1: not computed; "
                             "may exceed the crossing dimension)"),
     "gamma_c_complete": (np.int8, -1, "1 where every crossing found is certified, 0 where not (-1: not computed)"),
 }
+#: the sliding threshold's crossing variables (with the ``crossing`` dimension)
+CROSSING_ALL_VARS = {_all(name): v for name, v in CROSSING_VARS.items()}
 
 
 class SweepError(ValueError):
@@ -159,9 +167,13 @@ class SlidingSpec:
 
     kH: tuple[float, ...] = tuple(float(x) for x in model.SLIDING_KH)
     floor: float = model.DEFAULT_FLOOR
+    #: also the threshold of sliding in gamma over the axes other than gamma (``gamma_c_all`` and its crossings, with
+    #: the plan's gamma_c; ~0.5 s a point at eta = inf, ~10 s at finite eta)
+    thresholds: bool = False
 
     def identity(self) -> dict[str, Any]:
-        return {"kH": list(self.kH), "floor": self.floor}
+        out = {"kH": list(self.kH), "floor": self.floor}
+        return {**out, "thresholds": True} if self.thresholds else out  # older plans keep their identity
 
 
 @dataclass(frozen=True)
@@ -422,7 +434,7 @@ def _checked_sliding(sliding: SlidingSpec | bool | None) -> SlidingSpec | None:
     floor = float(spec.floor)
     if not (math.isfinite(floor) and floor > 0):
         raise SweepError(f"the sliding floor must be a positive finite growth; got {spec.floor!r}")
-    return SlidingSpec(tuple(float(x) for x in grid), floor)
+    return SlidingSpec(tuple(float(x) for x in grid), floor, bool(spec.thresholds))
 
 
 def _checked_adaptive(adaptive: AdaptiveSpec | bool | Mapping[str, Any], axes: Mapping[str, tuple[float, ...]],
@@ -538,15 +550,13 @@ def run_task(task: Task) -> dict[str, np.ndarray]:
     if task.kind == "growth":
         return {name: arr.reshape(shape) for name, arr in growth_arrays(s, params, task.rtol).items()}
     if task.kind == "gamma_c":
-        c = model.crossings_chunk("gamma", s, params, task.gamma_range, task.rtol, CROSSINGS)
-        k = (*shape, CROSSINGS)
-        return {"gamma_c": c.first.reshape(shape), "gamma_c_reason": c.status.astype(np.int8).reshape(shape),
-                "gamma_c_crossing": c.value.reshape(k), "gamma_c_location": c.location.reshape(k),
-                "gamma_c_kH": c.kH.reshape(k), "gamma_c_z": c.z.reshape(k),
-                "gamma_c_direction": c.direction.astype(np.int8).reshape(k),
-                "gamma_c_crossing_reason": c.reason.astype(np.int8).reshape(k),
-                "gamma_c_n_crossings": c.count.astype(np.int16).reshape(shape),
-                "gamma_c_complete": c.complete.astype(np.int8).reshape(shape)}
+        return _crossing_arrays(model.crossings_chunk("gamma", s, params, task.gamma_range, task.rtol, CROSSINGS),
+                                shape)
+    if task.kind == "gamma_c_all":
+        assert task.sliding is not None
+        c = model.crossings_chunk("gamma", np.log(np.asarray(task.sliding.kH)), params, task.gamma_range, None,
+                                  CROSSINGS, "all", task.sliding.floor)
+        return {_all(name): arr for name, arr in _crossing_arrays(c, shape).items()}
     if task.kind == "count":
         assert task.count is not None
         re_max, im_min, im_max = task.count.window
@@ -565,6 +575,25 @@ def run_task(task: Task) -> dict[str, np.ndarray]:
     raise ValueError(f"unknown task kind {task.kind!r}")
 
 
+def _crossing_arrays(c: model.Crossings, shape: tuple[int, ...]) -> dict[str, np.ndarray]:
+    """The threshold variables of one chunk from model.crossings_chunk: the first certified crossing, its status,
+    every crossing (last dimension ``crossing``) and their summaries."""
+    k = (*shape, CROSSINGS)
+    return {"gamma_c": c.first.reshape(shape), "gamma_c_reason": c.status.astype(np.int8).reshape(shape),
+            "gamma_c_crossing": c.value.reshape(k), "gamma_c_location": c.location.reshape(k),
+            "gamma_c_kH": c.kH.reshape(k), "gamma_c_z": c.z.reshape(k),
+            "gamma_c_direction": c.direction.astype(np.int8).reshape(k),
+            "gamma_c_crossing_reason": c.reason.astype(np.int8).reshape(k),
+            "gamma_c_n_crossings": c.count.astype(np.int16).reshape(shape),
+            "gamma_c_complete": c.complete.astype(np.int8).reshape(shape)}
+
+
+def sliding_thresholds(plan: Plan) -> bool:
+    """Whether the plan computes the threshold of sliding in gamma (``gamma_c_all``): gamma_c with the sliding
+    verdict and its ``thresholds``."""
+    return plan.gamma_c and plan.sliding is not None and plan.sliding.thresholds
+
+
 def tasks(plan: Plan, kinds: Sequence[str] | None = None) -> dict[str, list[Task]]:
     """Every task of the plan, per kind."""
     common = dict(fixed=tuple(plan.fixed.items()), kH=plan.kH, rtol=plan.rtol, gamma_range=plan.gamma_range,
@@ -574,6 +603,8 @@ def tasks(plan: Plan, kinds: Sequence[str] | None = None) -> dict[str, list[Task
         groups["growth"] = (plan.names, plan.growth_blocks())
     if plan.gamma_c:
         groups["gamma_c"] = (plan.gamma_c_names, plan.gamma_c_blocks())
+    if sliding_thresholds(plan):
+        groups["gamma_c_all"] = (plan.gamma_c_names, plan.gamma_c_blocks())
     if plan.count is not None:
         groups["count"] = (plan.names, plan.count_blocks())
     if plan.sliding is not None:
@@ -674,6 +705,9 @@ def template(plan: Plan, command: str | None = None):
                                                                  "growth in gamma, in increasing gamma"})
         data.update(_gamma_c_vars(plan))
         flags["gamma_c"] = len(plan.gamma_c_blocks())
+    if sliding_thresholds(plan):
+        data.update(_gamma_c_all_vars(plan))
+        flags["gamma_c_all"] = len(plan.gamma_c_blocks())
     if plan.count is not None:
         coords["kH_count"] = ("kH_count", np.asarray(plan.count.kH), {"long_name": "kH of the all-branch count",
                                                                       "units": "1"})
@@ -744,6 +778,20 @@ def _gamma_c_vars(plan: Plan) -> dict[str, Any]:
     return data
 
 
+def _gamma_c_all_vars(plan: Plan) -> dict[str, Any]:
+    """The template's sliding threshold variables (every branch): the Rayleigh branch's, renamed, with their long
+    names saying so and the floor and kH range of the search."""
+    spec = plan.sliding
+    assert spec is not None
+    data = {}
+    for name, (dims, arr, attrs) in _gamma_c_vars(plan).items():
+        long_name = attrs["long_name"].replace("on the Rayleigh branch", "over every branch")
+        data[_all(name)] = (dims, arr, {**attrs, "long_name": f"sliding (every branch, growth floor {spec.floor:g}, kH "
+                                                              f"{spec.kH[0]:g} to {spec.kH[-1]:g}): {long_name}",
+                                        "floor": spec.floor})
+    return data
+
+
 def _count_vars(plan: Plan) -> dict[str, Any]:
     """The template's all-branch count over the grid and ``kH_count``."""
     import dask.array as da
@@ -777,7 +825,9 @@ def _sliding_vars(plan: Plan) -> dict[str, Any]:
 #: Zarr fill values (what a chunk not written yet reads as) of the integer variables; floats: NaN
 INT_FILL = {"n_masked": -1, "gamma_c_reason": -1, "unstable_count": -2, "verdict": -1, "verdict_reason": -1,
             "gamma_c_direction": 0, "gamma_c_crossing_reason": -1, "gamma_c_n_crossings": -1, "gamma_c_complete": -1,
-            "computed": -1, "verdict_filled": -1, "verdict_filled_all": -1,
+            "computed": -1, "verdict_filled": -1, "verdict_filled_all": -1, "gamma_c_all_reason": -1,
+            "gamma_c_all_direction": 0, "gamma_c_all_crossing_reason": -1, "gamma_c_all_n_crossings": -1,
+            "gamma_c_all_complete": -1,
             **{name: v[1] for name, v in SLIDING_VARS.items() if np.dtype(v[0]).kind == "i"}}
 
 
@@ -879,11 +929,11 @@ def _write(store: Path, task: Task, result: dict[str, np.ndarray], region_dims: 
     data = {}
     for name, arr in result.items():
         var_dims = (*dims, "kH_count") if name == "unstable_count" else (
-            (*dims, "crossing") if name in CROSSING_VARS else dims)
+            (*dims, "crossing") if name in CROSSING_VARS or name in CROSSING_ALL_VARS else dims)
         data[name] = (var_dims, arr)
     if task.kind == "count":
         region = {**region, "kH_count": slice(0, len(task.count.kH))}  # type: ignore[union-attr]
-    if task.kind == "gamma_c":
+    if task.kind in ("gamma_c", "gamma_c_all"):
         region = {**region, "crossing": slice(0, CROSSINGS)}
     xr.Dataset(data).to_zarr(store, region=region, consolidated=False)
     flag = np.ones(1, np.int8)
@@ -1073,7 +1123,8 @@ def run_kinds(plan: Plan, kinds: Sequence[str], *, ds=None, path: Path | None = 
     """Run the chunks of the task kinds `kinds` not yet done: into the in-memory dataset `ds` or the store `path`
     (region writes, then the done flags)."""
     groups = tasks(plan, kinds)
-    region_dims = {"growth": plan.names, "gamma_c": plan.gamma_c_names, "count": plan.names, "sliding": plan.names}
+    region_dims = {"growth": plan.names, "gamma_c": plan.gamma_c_names, "count": plan.names, "sliding": plan.names,
+                   "gamma_c_all": plan.gamma_c_names}
     if path is None:
         todo = [t for group in groups.values() for t in group]
 
@@ -1108,6 +1159,8 @@ def plan_points(plan: Plan) -> dict[str, int]:
     out = {"growth": plan.size} if plan.growth else {}
     if plan.gamma_c:
         out["gamma_c"] = math.prod(len(plan.axes[n]) for n in plan.gamma_c_names)
+    if sliding_thresholds(plan):
+        out["gamma_c_all"] = out["gamma_c"]
     if plan.count is not None:
         out["count"] = plan.size
     if plan.sliding is not None and plan.adaptive is None:  # an adaptive sweep's levels compute both verdicts
@@ -1133,27 +1186,19 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
     done = done_chunks(path)
     if done:
         yield "  chunks written: " + ", ".join(f"{kind} {int(done[kind].sum())} of {done[kind].size}"
-                                              for kind in ("growth", "gamma_c", "count", "sliding") if kind in done)
+                                              for kind in ("growth", "gamma_c", "count", "sliding", "gamma_c_all")
+                                              if kind in done)
     if "adaptive" in ds.attrs and "computed" in ds:
-        yield from adaptive_lines(ds.attrs["adaptive"], ds["computed"].values)
-        filled = ds["verdict_filled"].values
-        if (filled >= 0).all():
-            yield ("  verdict_filled (every point): " + ", ".join(
-                f"{model.VERDICTS[k]} {100 * (filled == k).mean():.1f} %" for k in sorted(model.VERDICTS)))
-        else:
-            yield "  verdict_filled: not yet (the sweep has not finished: run the same command to resume it)"
-        if "verdict_filled_all" in ds and (filled >= 0).all():
-            sl = ds["verdict_filled_all"].values
-            yield ("  verdict_filled_all (sliding, every point): " + ", ".join(
-                f"{model.VERDICTS[k]} {100 * (sl == k).mean():.1f} %" for k in sorted(model.VERDICTS)))
+        yield from _adaptive_store_lines(ds)
     g = ds["growth"].values if "growth" in ds else np.empty(0)
     finite = np.isfinite(g)
     if finite.any():
         yield (f"  growth (Rayleigh branch): {int(finite.sum())} of {g.size} points computed; unstable (growth > 0) at "
                f"{100 * float((g[finite] > 0).mean()):.1f} %; range {np.nanmin(g):.4g} .. {np.nanmax(g):.4g}")
     yield from _both_verdicts(ds)
-    if "gamma_c" in ds:
-        yield from _gamma_c_lines(ds["gamma_c"].values, ds["gamma_c_reason"].values)
+    for name, which in (("gamma_c", "gamma_c"), ("gamma_c_all", "gamma_c_all (sliding, every branch)")):
+        if name in ds:
+            yield from _gamma_c_lines(ds[name].values, ds[f"{name}_reason"].values, which)
     if "gamma_c_complete" in ds:
         yield from _crossing_lines(ds)
     if "unstable_count" in ds:
@@ -1163,10 +1208,24 @@ def iter_summary(store: str | os.PathLike) -> Iterator[str]:
                f"{int((uc == -1).sum())}")
 
 
-def _gamma_c_lines(gc: np.ndarray, reason: np.ndarray) -> Iterator[str]:
+def _adaptive_store_lines(ds) -> Iterator[str]:
+    """An adaptive atlas: its refinement, the points evaluated per level and the filled verdicts' classes."""
+    yield from adaptive_lines(ds.attrs["adaptive"], ds["computed"].values)
+    filled = ds["verdict_filled"].values
+    if not (filled >= 0).all():
+        yield "  verdict_filled: not yet (the sweep has not finished: run the same command to resume it)"
+        return
+    for name, which in (("verdict_filled", "every point"), ("verdict_filled_all", "sliding, every point")):
+        if name in ds:
+            v = ds[name].values
+            yield (f"  {name} ({which}): " + ", ".join(f"{model.VERDICTS[k]} {100 * (v == k).mean():.1f} %"
+                                                       for k in sorted(model.VERDICTS)))
+
+
+def _gamma_c_lines(gc: np.ndarray, reason: np.ndarray, which: str = "gamma_c") -> Iterator[str]:
     """Where the threshold was found, its range, and the count of each reason it was not."""
     ok = reason == 0
-    yield (f"  gamma_c: found at {int(ok.sum())} of {gc.size} points"
+    yield (f"  {which}: found at {int(ok.sum())} of {gc.size} points"
            + (f", range {np.nanmin(gc):.6g} .. {np.nanmax(gc):.6g}" if ok.any() else ""))
     for code, text in model.THRESHOLD_STATUS.items():
         n = int((reason == code).sum())

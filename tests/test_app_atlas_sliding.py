@@ -31,6 +31,8 @@ HIDDEN = {"gamma": np.geomspace(1.4, 2.2, 5), "beta": np.linspace(0.35, 0.6, 6)}
 FIXED = {"f": 0.9}
 #: an adaptive atlas of the sliding verdict (asymslide sweep --adaptive --verdict sliding): both boundaries cross it
 ADAPTIVE = {"beta": np.linspace(0.2, 0.7, 17), "gamma": np.geomspace(0.3, 30, 17)}
+#: an atlas with the threshold of sliding in gamma (asymslide sweep --sliding-thresholds): below the Rayleigh one
+THRESHOLDS = {"gamma": np.geomspace(0.5, 4.0, 8), "f": np.array([0.5, 0.7, 0.9, 1.2])}
 
 
 @pytest.fixture(scope="module")
@@ -41,6 +43,8 @@ def sliding_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
     S.sweep(AXES, fixed=FIXED, kH=KH, gamma_c=False, store=directory / "rayleigh.zarr")
     S.sweep(ADAPTIVE, fixed={"eta": math.inf}, kH=KH, gamma_c=False, sliding=True, adaptive={"levels": 2},
             store=directory / "adaptive.zarr")
+    S.sweep(THRESHOLDS, fixed={"beta": 0.3}, kH=KH, sliding=S.SlidingSpec(thresholds=True),
+            store=directory / "thresholds.zarr")
     return directory
 
 
@@ -57,8 +61,8 @@ def _stored(directory: Path, name: str) -> xr.Dataset:
     return xr.open_zarr(directory / f"{name}.zarr", consolidated=False).load()
 
 
-def _scene(name: str, **kwargs) -> A.AtlasScene:
-    scene = A.AtlasScene(requested=A.AtlasRequest(name=name, x="beta", y="gamma", **kwargs))
+def _scene(name: str, x: str = "beta", **kwargs) -> A.AtlasScene:
+    scene = A.AtlasScene(requested=A.AtlasRequest(name=name, x=x, y="gamma", **kwargs))
     scene.refresh()
     scene._show_heat_map()
     assert scene.image_pane.object is scene.heat_map().figure
@@ -199,6 +203,11 @@ def test_an_adaptive_sliding_atlas_shows_the_filled_verdict_it_colours(atlas_dir
         return [pale[int(k)] for k in ds[name].values.T.ravel()[hit]]
 
     assert filled("verdict_filled_all") != filled("verdict_filled")  # cells filled differently by the two verdicts
+    # one legend item per layer (Bokeh merged the filled cells' and the sliding classes' items when both had the label
+    # field "legend": the browser drew the classes' swatches beside the filled cells' labels)
+    assert all(len(item.renderers) == 1 for item in heat.figure.legend[0].items)
+    assert set(heat.filled.data["filled_legend"]) <= {f"not computed: sliding {w} (from its cell)"
+                                                      for w in ("stable", "unstable", "undetermined")}
     assert scene.colours_sliding() and list(heat.filled.data["color"]) == filled("verdict_filled_all")
     assert all(w.startswith("sliding verdict ") and "from its cell (level " in w for w in heat.filled.data["why"])
     s = ds["verdict_filled_all"].values
@@ -214,3 +223,25 @@ def test_an_adaptive_sliding_atlas_shows_the_filled_verdict_it_colours(atlas_dir
     scene.verdict = slm.RAYLEIGH
     assert list(heat.filled.data["color"]) == filled("verdict_filled")
     assert all(w.startswith("verdict ") for w in heat.filled.data["why"])
+
+
+def test_the_threshold_of_sliding_is_drawn_with_the_sliding_verdict(atlas_dir: Path) -> None:
+    """An atlas swept with --sliding-thresholds: coloured by the sliding verdict, its γ_c over every branch is drawn
+    (dash-dotted, purple) through the stored crossings, beside the Rayleigh branch's; the readout counts both;
+    colouring by the Rayleigh branch hides it."""
+    scene = _scene("thresholds", x="f")
+    ds = _stored(atlas_dir, "thresholds")
+    heat = scene.heat_map()
+    crossing, reason = ds["gamma_c_all_crossing"].values, ds["gamma_c_all_crossing_reason"].values
+    assert np.isin(reason[:, 0], (0, 1)).all()  # one certified crossing at every f
+    drawn = heat.sliding_thresholds.data
+    assert len(drawn["xs"]) == 1  # one run along f
+    np.testing.assert_allclose(drawn["xs"][0], THRESHOLDS["f"])
+    np.testing.assert_allclose(drawn["ys"][0], np.log10(crossing[:, 0]))  # gamma is a log axis: log10 plotted
+    legend = [str(item.label) for item in heat.figure.legend[0].items if item.visible]
+    assert any("sliding γ_c (every branch; certified)" in label for label in legend)
+    text = scene.readout()
+    assert "**Thresholds of sliding in γ (every branch; dash-dotted, purple)** 4 certified crossing(s)" in text
+    assert "**Thresholds in γ (Rayleigh branch)**" in text
+    scene.verdict = slm.RAYLEIGH
+    assert heat.sliding_thresholds.data["xs"] == []

@@ -139,3 +139,40 @@ def test_a_gamma_axis_of_one_value_without_gamma_c_is_a_valid_sweep() -> None:
     assert plan.gamma_range == (1e-2, 1e3)
     ds = S.sweep({"gamma": [3.0]}, kH=KH, gamma_c=False, sliding=True)
     assert float(ds["growth_all"].values[0]) == float(model.sliding_analysis(gamma=3.0, f=0.9, beta=0.3).growth)
+
+
+# the threshold of sliding in gamma over every branch (asymslide sweep --sliding-thresholds; issue 32 point 5)
+THRESHOLD_AXES = {"gamma": np.geomspace(0.5, 4.0, 8), "f": np.array([0.5, 0.9, 1.2])}
+
+
+def test_sliding_thresholds_equal_the_models_and_resume(tmp_path: Path) -> None:
+    """gamma_c_all and its crossings are model.critical_gammas(branches="all") over the other axes (its first
+    certified crossing and status), beside the Rayleigh branch's gamma_c; written chunk by chunk and resumed; info
+    names both; a plan without them keeps its identity."""
+    store = tmp_path / "t.zarr"
+    spec = S.SlidingSpec(thresholds=True)
+    assert "thresholds" not in S.SlidingSpec().identity() and spec.identity()["thresholds"] is True
+    S.sweep(THRESHOLD_AXES, fixed={"beta": 0.3}, kH=KH, sliding=spec, store=store)
+    ds = S.sweep(THRESHOLD_AXES, fixed={"beta": 0.3}, kH=KH, sliding=spec, store=store)  # nothing left
+    assert S.done_chunks(store)["gamma_c_all"].all()
+    ref = model.critical_gammas(f=THRESHOLD_AXES["f"], beta=0.3, branches="all", gamma_range=(0.5, 4.0))
+    np.testing.assert_array_equal(ds["gamma_c_all_crossing"].values, ref.value)
+    np.testing.assert_array_equal(ds["gamma_c_all_crossing_reason"].values, ref.reason)
+    np.testing.assert_array_equal(ds["gamma_c_all_reason"].values, ref.status)
+    first = [model.critical_gamma(f=f, beta=0.3, branches="all", gamma_range=(0.5, 4.0)) for f in THRESHOLD_AXES["f"]]
+    np.testing.assert_array_equal(ds["gamma_c_all"].values, first)
+    rayleigh = ds["gamma_c"].values
+    assert np.all(np.asarray(first) < np.where(np.isnan(rayleigh), np.inf, rayleigh))  # sliding goes first here
+    assert "over every branch" in ds["gamma_c_all"].attrs["long_name"]
+    text = "\n".join(S.iter_summary(store))
+    assert "gamma_c_all (sliding, every branch): found at 3 of 3 points" in text and "gamma_c: found at" in text
+
+
+def test_cli_sliding_thresholds(tmp_path: Path) -> None:
+    out = tmp_path / "cli.zarr"
+    r = _cli("sweep", "--axis", "gamma=0.5:4:5:log", "--axis", "f=0.9:1.2:2", "--fixed", "beta=0.3", "--kH",
+             "1e-3:1e3:25:log", "--sliding-thresholds", "--quiet", "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    ds = xr.open_zarr(out, consolidated=False)
+    assert "gamma_c_all" in ds and "verdict_all" in ds  # implies --sliding
+    assert np.isfinite(ds["gamma_c_all"].values).all()
