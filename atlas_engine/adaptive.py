@@ -413,6 +413,11 @@ class PointTask:
     def points(self) -> int:
         return int(self.flat.size)
 
+    @property
+    def holds_gil(self) -> bool:
+        """Whether its model calls hold the GIL: the sliding verdict's (atlas_engine.sweep.Task.holds_gil)."""
+        return self.sliding is not None
+
 
 def run_points(task: PointTask) -> dict[str, np.ndarray]:
     """Evaluate one task's points (on a worker): :func:`atlas_engine.sweep.growth_arrays` and, where the sweep

@@ -42,6 +42,7 @@ Execution: without a client, Dask's threaded scheduler on this machine (the comp
 
 from __future__ import annotations
 
+import contextlib
 import datetime
 import functools
 import hashlib
@@ -83,6 +84,8 @@ COUNT_CHUNK_POINTS = 16
 DEFAULT_WINDOW = (5.0, 1e-4, 2.0)
 #: grid points per sliding chunk (model.sliding_chunk: ~10 ms a point at eta = inf, ~0.1 s at finite eta)
 SLIDING_CHUNK_POINTS = 64
+#: the task kinds whose model calls hold the GIL (run in processes: :func:`_execute`)
+GIL_KINDS = ("sliding", "gamma_c_all")
 #: the sliding variables (every branch; model.sliding_chunk): dtype, fill, long name
 SLIDING_VARS = {
     "growth_all": (np.float64, np.nan, "max over kH of Im(c/c_s) over every branch (sliding; NaN unless unstable with "
@@ -506,6 +509,12 @@ class Task:
     @property
     def points(self) -> int:
         return math.prod(len(v) for v in self.values)
+
+    @property
+    def holds_gil(self) -> bool:
+        """Whether the task's model calls hold the GIL (the sliding verdict and its thresholds: Python around the
+        compiled kernels), so that threads do not run it in parallel: :func:`_execute` gives it processes."""
+        return self.kind in GIL_KINDS
 
 
 def _params(task: Task) -> tuple[tuple[int, ...], np.ndarray]:
@@ -990,10 +999,79 @@ class _ResultQueue:
 THREADED_BATCH = 256
 
 
+def _spawnable() -> bool:
+    """Whether spawned processes can start here: they import the main module by its path, which a script read from
+    stdin has not (``python -c``, ``-m`` and notebooks have or need none)."""
+    import sys
+
+    main = getattr(sys.modules.get("__main__"), "__file__", None)
+    return main is None or os.path.exists(main)
+
+
+#: the process pools of the sweep running (workers -> pool): started when its first tasks that hold the GIL come,
+#: shut down when the sweep ends (:func:`_sweep_processes`)
+_POOLS: dict[int, Any] = {}
+#: open :func:`_sweep_processes` blocks (a sweep in a sweep keeps the outer one's pools)
+_SCOPES: list[None] = []
+
+
+@contextlib.contextmanager
+def _sweep_processes() -> Iterator[None]:
+    """Keep the process pools started inside (by :func:`_process_pool`) until the block ends, then shut them down
+    (a pool kept for the life of the process hung pytest's exit)."""
+    outer = set(_POOLS)
+    _SCOPES.append(None)
+    try:
+        yield
+    finally:
+        _SCOPES.pop()
+        for key in [k for k in _POOLS if k not in outer]:
+            _POOLS.pop(key).shutdown(wait=True, cancel_futures=True)
+
+
+def _process_pool(workers: int):
+    """The process pool for tasks that hold the GIL (:attr:`Task.holds_gil`): `workers` spawned processes, each
+    importing the model once (the compiled kernels come from their on-disk cache), kept while the sweep runs."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    if workers not in _POOLS:
+        _POOLS[workers] = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+    return _POOLS[workers]
+
+
+def _execute_in_processes(todo: Sequence[Any], on_result: Callable[[Any, dict[str, np.ndarray]], None],
+                          workers: int, run: Callable[[Any], dict[str, np.ndarray]]) -> None:
+    """Run `todo` in :func:`_process_pool`, calling `on_result` in this thread as each task finishes; the tasks
+    not started are cancelled if this is interrupted (a task running finishes in its process)."""
+    with contextlib.ExitStack() as stack:
+        if not _SCOPES:  # outside a sweep (a direct call): a pool for this call only
+            stack.enter_context(_sweep_processes())
+        pool = _process_pool(workers)
+        _collect(pool, todo, on_result, run)
+
+
+def _collect(pool, todo: Sequence[Any], on_result: Callable[[Any, dict[str, np.ndarray]], None],
+             run: Callable[[Any], dict[str, np.ndarray]]) -> None:
+    """Submit `todo` to `pool` and hand each result to `on_result` as it comes; cancel what has not started if
+    interrupted."""
+    from concurrent.futures import as_completed
+
+    futures = {pool.submit(run, t): t for t in todo}
+    try:
+        for future in as_completed(futures):
+            on_result(futures[future], future.result())
+    finally:
+        for future in futures:
+            future.cancel()
+
+
 def _execute(todo: Sequence[Any], on_result: Callable[[Any, dict[str, np.ndarray]], None], client=None,
              workers: int | None = None, run: Callable[[Any], dict[str, np.ndarray]] | None = None) -> None:
     """Run `todo` (tasks with a `kind` and an `index`, unique together), calling `on_result` in one thread as each
-    task finishes (in any order); `run`: the function of a task (default :func:`run_task`)."""
+    task finishes (in any order); `run`: the function of a task (default :func:`run_task`). Without a client: Dask's
+    threaded scheduler, and for the tasks that hold the GIL (the sliding verdict: two threads 0.93x one thread's
+    speed, two processes 1.76x; ``bench_sliding.threads_vs_processes``) `workers` processes."""
     if not todo:
         return
     run = run or run_task
@@ -1009,10 +1087,25 @@ def _execute(todo: Sequence[Any], on_result: Callable[[Any, dict[str, np.ndarray
         finally:
             client.cancel(futures)
         return
+    n_workers = workers or os.cpu_count() or 1
+    gil = [t for t in todo if getattr(t, "holds_gil", False)]
+    if n_workers > 1 and len(gil) > 1 and _spawnable():  # threads would run them one at a time
+        todo = [t for t in todo if not getattr(t, "holds_gil", False)]
+        _execute_threaded(todo, on_result, n_workers, run)
+        _execute_in_processes(gil, on_result, n_workers, run)
+        return
+    _execute_threaded(todo, on_result, n_workers, run)
+
+
+def _execute_threaded(todo: Sequence[Any], on_result: Callable[[Any, dict[str, np.ndarray]], None], n_workers: int,
+                      run: Callable[[Any], dict[str, np.ndarray]]) -> None:
+    """Run `todo` on Dask's threaded scheduler (`n_workers` threads; the compiled kernels release the GIL), in
+    batches of :data:`THREADED_BATCH`, handing each result to `on_result` in a writer thread."""
+    if not todo:
+        return
     import dask.threaded
     from dask.callbacks import Callback
 
-    n_workers = workers or os.cpu_count() or 1
     results: dict[str, Any] = {}
     writer = _ResultQueue(on_result, backlog=2 * n_workers)
 
@@ -1072,10 +1165,11 @@ def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, work
     """Compute a validated plan (:func:`make_plan`): the dense sweep, or the adaptive one if the plan has
     ``adaptive``; the other arguments and the result as :func:`sweep`. The command line parses and plans, then
     calls this."""
-    if plan.adaptive is not None:
-        return _adaptive.run(plan, store=store, client=client, workers=workers, progress=progress, start=start,
-                             command=command)
-    return run_dense(plan, store=store, client=client, workers=workers, progress=progress, command=command)
+    with _sweep_processes():  # processes started for the sliding verdict serve every round of the sweep
+        if plan.adaptive is not None:
+            return _adaptive.run(plan, store=store, client=client, workers=workers, progress=progress, start=start,
+                                 command=command)
+        return run_dense(plan, store=store, client=client, workers=workers, progress=progress, command=command)
 
 
 def run_dense(plan: Plan, *, store: str | os.PathLike | None = None, client=None, workers: int | None = None,

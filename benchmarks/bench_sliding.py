@@ -19,6 +19,7 @@ import statistics
 import sys
 import time
 from collections import Counter
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -275,7 +276,8 @@ def map_cost(plane: str = "β-γ", resolution: str = "medium") -> str:
 def adaptive_atlas(n: int = 33, sample: int = 400, seed: int = 32) -> str:
     """A 33^3 adaptive atlas on the sliding verdict at eta = inf (issue 32 point 6; ``asymslide sweep --adaptive
     --verdict sliding``): gamma in [0.1, 30] (log), f in [0.1, 1.5], beta in [0.05, 0.7], xi = 1, the default
-    refinement and sliding spec, into a Zarr store on this machine's threads. Reported: the wall time, the evaluated
+    refinement and sliding spec, into a Zarr store (the sliding tasks in one process per core: they hold the GIL).
+    Reported: the wall time, the evaluated
     fraction per level, and against the dense model call at `sample` random points (half among the filled, half
     among the computed ones): both filled verdicts' agreement, the values' bitwise equality, and the dense sweep's
     time estimated from those calls' cost per point."""
@@ -313,9 +315,10 @@ def adaptive_atlas(n: int = 33, sample: int = 400, seed: int = 32) -> str:
     dense_estimate = per_point * computed.size
     return (f"\nAn adaptive atlas on the sliding verdict (`asymslide sweep --adaptive --verdict sliding`; {n}^3 over "
             f"gamma 0.1..30 (log) x f 0.1..1.5 x beta 0.05..0.7, eta = inf, xi = 1, {summary['levels']} levels from a "
-            f"{summary['coarse_shape'][0]}^3 coarse grid, refined where either verdict changes, into Zarr on this "
-            f"machine's threads): **{t_adaptive:.0f} s**, evaluated **{100 * summary['evaluated_fraction']:.1f} %** "
-            f"of the {computed.size} points ({levels}); filled sliding classes stable/unstable/undetermined "
+            f"{summary['coarse_shape'][0]}^3 coarse grid, refined where either verdict changes, into Zarr, the "
+            f"sliding tasks in two processes): **{t_adaptive:.0f} s**, evaluated "
+            f"**{100 * summary['evaluated_fraction']:.1f} %** of the {computed.size} points ({levels}); filled "
+            "sliding classes stable/unstable/undetermined "
             f"{[int(c) for c in classes]}. Against the dense model call at {sample} random points: the filled class "
             f"differs at {differ['verdict_all']} (sliding) and {differ['verdict']} (Rayleigh branch) of "
             f"{sample // 2} points not computed; the values at {sample // 2} computed points bitwise equal: "
@@ -325,11 +328,45 @@ def adaptive_atlas(n: int = 33, sample: int = 400, seed: int = 32) -> str:
             "that).\n")
 
 
+def threads_vs_processes(n: int = 60, seed: int = 33) -> str:
+    """Why sliding sweeps run in processes: atlas_engine.sweep.sliding_arrays on two blocks of `n` random points at
+    eta = inf, one after the other, in two threads, and in two spawned processes (warm: each process computes one
+    point first)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+
+    from atlas_engine import sweep as S
+
+    rng = np.random.default_rng(seed)
+    blocks = [np.ascontiguousarray(np.stack([np.exp(rng.uniform(math.log(0.1), math.log(30), n)),
+                                             rng.uniform(0.1, 1.5, n), rng.uniform(0.05, 0.7, n), np.full(n, math.inf),
+                                             np.full(n, 1.0), np.full(n, 1.0)])) for _ in range(2)]
+    spec = S.SlidingSpec()
+    S.sliding_arrays(spec, blocks[0][:, :2])
+    t0 = time.perf_counter()
+    for b in blocks:
+        S.sliding_arrays(spec, b)
+    serial = time.perf_counter() - t0
+    with ThreadPoolExecutor(2) as pool:
+        t0 = time.perf_counter()
+        list(pool.map(partial(S.sliding_arrays, spec), blocks))
+        threads = time.perf_counter() - t0
+    with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as pool:
+        list(pool.map(partial(S.sliding_arrays, spec), [b[:, :1] for b in blocks]))  # warm
+        t0 = time.perf_counter()
+        list(pool.map(partial(S.sliding_arrays, spec), blocks))
+        processes = time.perf_counter() - t0
+    return (f"\nThe sliding verdict holds the GIL (atlas_engine.sweep.sliding_arrays on 2 x {n} random points at eta = "
+            f"inf): one after the other {serial:.2f} s; in two threads {threads:.2f} s ({serial / threads:.2f}x); in "
+            f"two processes {processes:.2f} s ({serial / processes:.2f}x). So sweeps run the sliding tasks in "
+            "processes (atlas_engine.sweep._execute).\n")
+
+
 def main() -> None:
     results = run()
     dense = dense_results(results)
     text = (markdown(results) + denser_grid(results, dense) + track_fraction(results, dense) + oracle_errors()
-            + atlas_cost() + map_cost() + adaptive_atlas())
+            + atlas_cost() + map_cost() + threads_vs_processes() + adaptive_atlas())
     print(text)
 
 

@@ -176,3 +176,23 @@ def test_cli_sliding_thresholds(tmp_path: Path) -> None:
     ds = xr.open_zarr(out, consolidated=False)
     assert "gamma_c_all" in ds and "verdict_all" in ds  # implies --sliding
     assert np.isfinite(ds["gamma_c_all"].values).all()
+
+
+def test_sliding_tasks_run_in_processes_and_give_the_same_bits(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The sliding verdict holds the GIL, so with two workers its tasks run in two processes (the growth's on
+    threads); the numbers are bitwise those of one worker."""
+    handed: list[list[str]] = []
+    real = S._execute_in_processes
+
+    def spy(todo, *args):
+        handed.append([t.kind for t in todo])
+        return real(todo, *args)
+
+    monkeypatch.setattr(S, "_execute_in_processes", spy)
+    two = S.sweep(AXES, kH=KH, gamma_c=False, sliding=True, workers=2, chunk_points=1)
+    assert handed and all(kind == "sliding" for kinds in handed for kind in kinds) and len(handed[0]) == 6
+    handed.clear()
+    one = S.sweep(AXES, kH=KH, gamma_c=False, sliding=True, workers=1, chunk_points=1)
+    assert handed == []  # one worker: in this process
+    for name in (*S.SLIDING_VARS, *S.GROWTH_VARS):
+        np.testing.assert_array_equal(two[name].values, one[name].values, err_msg=name)
