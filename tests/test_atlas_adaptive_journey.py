@@ -43,7 +43,8 @@ _LAYERS_JS = """() => {
       .map(h => h.tooltips.map(t => t.join(': ')).join(' | '));
     out.push({type: r.glyph.type, cols: cols, n: n, visible: r.visible, tips: tips,
               why: data.why ? Array.from(data.why).slice(0, 3) : [],
-              legend: data.legend ? Array.from(new Set(Array.from(data.legend))) : []});
+              legend: data.legend ? Array.from(new Set(Array.from(data.legend))) : [],
+              filled_legend: data.filled_legend ? Array.from(new Set(Array.from(data.filled_legend))) : []});
   }
   return out;
 }"""
@@ -99,12 +100,12 @@ def test_an_adaptive_atlas_shows_computed_values_and_filled_classes_apart(
 
     # the filled layer: one pale dotted cell per not computed point, coloured and labelled by its class, with a hover
     layers = page.evaluate(_LAYERS_JS)
-    fills = [g for g in layers if g["type"] == "Rect" and "legend" in g["cols"]]
+    fills = [g for g in layers if g["type"] == "Rect" and "filled_legend" in g["cols"]]
     assert len(fills) == 1, layers
     fill = fills[0]
     assert fill["n"] == int(not_computed.sum())
     want = {f"not computed: {AT.FILLED_CLASSES[int(k)][0]} (from its cell)" for k in np.unique(filled[not_computed])}
-    assert set(fill["legend"]) == want
+    assert set(fill["filled_legend"]) == want
     assert any("not computed: @why" in t for t in fill["tips"]), fill
     assert all(w.startswith("verdict ") and "from its cell (level " in w for w in fill["why"]), fill
     # the computed points: a layer hidden until its legend entry is clicked
