@@ -1306,7 +1306,9 @@ class AtlasScene(pn.viewable.Viewer):
         """The heat map's legend, for what it is coloured by."""
         colours = (slm.SLIDING_LEGEND.replace('switch "Colour by"', 'switch "sliding / Rayleigh branch" (left)')
                    + "; where γ is an axis, the certified thresholds γ_c of the Rayleigh branch (green: unstable "
-                   "above, orange: stable above)." if self.colours_sliding() else COLOURS)
+                   "above, orange: stable above)"
+                   + (" and of sliding over every branch (purple, dash-dotted)" if self.data.crossings_all else "")
+                   + "." if self.colours_sliding() else COLOURS)
         return (f"{colours} Sliders snap to the atlas grid; click a cell to set the other tabs' parameters (and read "
                 f"its verdicts). Atlases are read from `{atlas_dir()}`; make your own with "
                 "`asymslide sweep ... --out DIR/NAME.zarr` (`--sliding`: also the sliding verdict over every branch).")

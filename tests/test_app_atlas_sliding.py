@@ -243,5 +243,6 @@ def test_the_threshold_of_sliding_is_drawn_with_the_sliding_verdict(atlas_dir: P
     text = scene.readout()
     assert "**Thresholds of sliding in γ (every branch; dash-dotted, purple)** 4 certified crossing(s)" in text
     assert "**Thresholds in γ (Rayleigh branch)**" in text
+    assert "and of sliding over every branch (purple, dash-dotted)." in scene.help_text()
     scene.verdict = slm.RAYLEIGH
     assert heat.sliding_thresholds.data["xs"] == []
