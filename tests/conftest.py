@@ -260,6 +260,18 @@ def served_app(free_port: int, server_log: ServerLog) -> Iterator[str]:
     finally:
         server.stop()
         server.join(timeout=10)
+        clear_patched_curdocs()
+
+
+def clear_patched_curdocs() -> None:
+    """Forget the documents a served session left patched in as Bokeh's curdoc(). bokeh.io.doc.patch_curdoc pushes
+    the session's document on a global stack and pops it after its ``yield`` without try/finally, so a session's
+    code that raised, or a coroutine closed when the server stopped, leaves it there: curdoc() then returns that
+    served document in every thread, panel's state.curdoc falls back to it, and the headless tests after it took the
+    served path of app.jobs.Follower (their jobs stayed "idle": CI failed 29 such tests after the served tests)."""
+    from bokeh.io import doc as bokeh_doc
+
+    bokeh_doc._PATCHED_CURDOCS.clear()
 
 
 # --------------------------------------------------------------------------------------------

@@ -24,7 +24,15 @@ import xarray as xr
 from app import atlas as A
 from app.presets import load_presets
 from atlas_engine import sweep as S
-from tests.conftest import ServerLog, open_app, save_screenshot, set_slider, unexpected, watch_errors
+from tests.conftest import (
+    ServerLog,
+    clear_patched_curdocs,
+    open_app,
+    save_screenshot,
+    set_slider,
+    unexpected,
+    watch_errors,
+)
 
 KH = np.logspace(-3, 3, 33)
 #: a small 3-axis atlas for the Atlas journeys (γ, β, f at η = ∞)
@@ -471,6 +479,7 @@ def test_the_checks_catch_server_and_browser_errors(free_port: int, browser_cont
         finally:
             server.stop()
             server.join(timeout=10)
+            clear_patched_curdocs()  # the failing load callback left its document patched in as Bokeh's curdoc()
     assert any("ZeroDivisionError" in e for e in log.errors), log.errors
     assert any("a deliberate page error" in e for e in errors)  # named expected above: the fixture lets it pass
     assert any("ZeroDivisionError" in e for e in errors)  # BokehJS reports the server's error reply too
