@@ -208,12 +208,6 @@ def compute_fig4c(f: float) -> dict:
             "reason": reason}
 
 
-def _first_certified(value: np.ndarray, reason: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(index, found) of every row's first certified crossing (reason 0 or 1: model.CROSSING_STATUS)."""
-    ok = np.isin(reason, (0, 1))
-    return np.argmax(ok, axis=1), ok.any(axis=1) & np.isfinite(value[np.arange(len(value)), np.argmax(ok, axis=1)])
-
-
 @pn.cache(max_items=64)
 def compute_fig4c_sliding_chunk(f: float, betas: tuple[float, ...]) -> dict:
     """Fig. 4c's threshold of sliding over every branch at `betas` (η = ∞, Δ = 1; the model's kH range and growth
@@ -221,10 +215,12 @@ def compute_fig4c_sliding_chunk(f: float, betas: tuple[float, ...]) -> dict:
     certified crossing in γ (NaN where there is none), its crossing reason (model.CROSSING_STATUS; 1: at an end of
     the kH range), kH and z, and the status (model.THRESHOLD_STATUS) of each β."""
     r = model.critical_gammas(f=f, beta=np.asarray(betas, dtype=float), branches="all")
-    k, found = _first_certified(r.value, r.reason)
+    first = r.first  # the model's first certified crossing; its kH and z are the ones at the same crossing
+    found = np.isfinite(first)
     rows = np.arange(len(betas))
-    pick = {name: np.where(found, np.asarray(getattr(r, name))[rows, k], np.nan) for name in ("value", "kH", "z")}
-    return {"chi": pick["value"] * f, "kH": pick["kH"], "z": np.real(pick["z"]),
+    k = np.argmax(r.value == first[:, None], axis=1)
+    pick = {name: np.where(found, np.asarray(getattr(r, name))[rows, k], np.nan) for name in ("kH", "z")}
+    return {"chi": first * f, "kH": pick["kH"], "z": np.real(pick["z"]),
             "reason": np.where(found, r.reason[rows, k], -1), "status": np.asarray(r.status, int)}
 
 
