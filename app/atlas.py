@@ -699,7 +699,9 @@ class AtlasScene(pn.viewable.Viewer):
         #: the default atlas's computation this session shows (app.jobs; the job is shared by the sessions)
         self.computation = jobs.Follower(self._show_default)
         self._surface_key: tuple | None = None
-        self._figures: dict[tuple, HeatMap] = {}
+        # the figure of the current atlas and axes (a new one per pair: Panel cannot show a Bokeh figure again once
+        # it has left the page, its stylesheets raise a TypeError and the pane keeps the old figure)
+        self._figure: HeatMap | None = None
         self.image_pane = pn.pane.Bokeh(None, sizing_mode="stretch_width", height=HEIGHT)
         self.param.watch(self._show_heat_map, ["data", "x_axis", "y_axis"])
         self.param.watch(self._slice_changed, ["indices", "verdict"])
@@ -972,16 +974,16 @@ class AtlasScene(pn.viewable.Viewer):
         return out
 
     def heat_map(self) -> HeatMap | None:
-        """The figure of the current atlas and pair of axes (one per pair, kept: switching back is instant); None
-        until an atlas and two different axes of it are chosen."""
+        """The figure of the current atlas and pair of axes, built when the pair changes; None until an atlas and
+        two different axes of it are chosen."""
         d = self.data
         if d is None or self.x_axis not in d.names or self.x_axis == self.y_axis or (
                 self.y_axis is not None and self.y_axis not in d.names):
             return None
-        key = (self.data.name, self.x_axis, self.y_axis)
-        if key not in self._figures:
-            self._figures[key] = HeatMap(self.data, self.x_axis, self.y_axis, self._on_tap)
-        return self._figures[key]
+        heat = self._figure
+        if heat is None or heat.atlas is not self.data or (heat.x_axis, heat.y_axis) != (self.x_axis, self.y_axis):
+            self._figure = heat = HeatMap(self.data, self.x_axis, self.y_axis, self._on_tap)
+        return heat
 
     def _show_heat_map(self, *_events) -> None:
         """Put the current figure in the pane and draw the current slice into it."""

@@ -519,3 +519,100 @@ def test_undetermined_cells_are_hatched_with_their_reason_and_every_crossing_is_
 
 def test_refused_crossing_labels_are_model_codes() -> None:
     assert set(A.REFUSED_CROSSING) <= set(model.CROSSING_STATUS) - {0, 1}
+
+
+# ------------------------------------------------------------------------------------------------
+# views revisited: what is drawn always matches the controls
+# ------------------------------------------------------------------------------------------------
+
+#: a four-axis atlas (η = ∞): six heat-map planes and four 3-D axis sets
+FOUR_AXES = {"gamma": np.geomspace(0.5, 20, 5), "beta": np.linspace(0.1, 0.6, 4), "f": np.linspace(0.4, 1.4, 3),
+             "Delta": np.array([0.5, 1.0])}
+SYMBOL = {"gamma": "γ", "beta": "β", "f": "f", "Delta": "Δ"}
+
+#: the shown heat map (JS): its title, and the shape and finite sum of its image (null before one is shown)
+_SHOWN_HEAT_JS = """() => {
+  for (const m of Bokeh.documents[0].all_models) {
+    if (!(m.title && m.title.text && m.title.text.includes('max growth rate over'))) continue;
+    const view = Bokeh.index.find_one(m);
+    if (!view || !view.el.isConnected) continue;
+    for (const r of m.renderers) {
+      if (!r.glyph || r.glyph.type !== 'Image') continue;
+      const img = r.data_source.data['image'][0];
+      const values = Array.from(img.length !== undefined ? img : img.array ?? []);
+      const finite = values.filter(v => Number.isFinite(v));
+      const shape = img.shape ?? r.data_source.data['image'][0].shape ?? null;
+      return {title: m.title.text, n: values.length, sum: finite.reduce((s, v) => s + v, 0), shape: shape};
+    }
+  }
+  return null;
+}"""
+
+#: set the 3-D axes (the MultiChoice of the Atlas tab) as a user's three picks would
+_SURFACE_JS = """(labels) => {
+  for (const m of Bokeh.documents[0].all_models) {
+    if (m.type === 'MultiChoice' && m.title === '3-D axes (three)') { m.value = labels; return true; }
+  }
+  return false;
+}"""
+
+
+@pytest.fixture(scope="module")
+def four_axis_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    directory = tmp_path_factory.mktemp("four")
+    S.sweep(FOUR_AXES, fixed={"xi": 1.0}, kH=KH, store=directory / "four.zarr")
+    return directory
+
+
+def _choose_axis(page, which: int, name: str) -> None:
+    """Pick the axis `name` in the x (which = 1) or y (which = 2) select of the Atlas tab, by its symbol."""
+    select = page.locator("select").nth(which)
+    labels = select.evaluate("e => [...e.options].map(o => o.value)")
+    select.select_option(value=next(v for v in labels if v.split(" ")[0] == SYMBOL[name]))
+    if which == 1:  # the server's answer: the y select no longer offers the new x
+        page.locator("select").nth(2).element_handle().wait_for_element_state("stable")
+        page.wait_for_function("([el, s]) => ![...el.options].some(o => o.value.split(' ')[0] === s)",
+                               arg=[page.locator("select").nth(2).element_handle(), SYMBOL[name]], timeout=30_000)
+
+
+@pytest.mark.ui
+def test_every_plane_and_3d_axis_set_revisited_shows_what_the_controls_say(
+        four_axis_store: Path, served_app: str, browser_page, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 33: every ordered pair of axes is shown twice (all pairs, then all again in the reverse order), and every
+    3-D axis set twice in both orders. After each change the heat map on the page has the title of the chosen pair and
+    the stored slice's values in its shape; the 3-D view's axes are the chosen ones. A revisited plane once kept the
+    previous figure (Panel raised a TypeError on a Bokeh figure shown again); the server log must stay clean."""
+    import itertools
+
+    from tests.conftest import open_app
+
+    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(four_axis_store))
+    stored = xr.open_zarr(four_axis_store / "four.zarr", consolidated=False).growth
+    page = browser_page
+    page.set_viewport_size({"width": 1280, "height": 1500})
+    open_app(page, served_app + "?tab=atlas&atlas=four")
+    page.wait_for_function(f"() => ({_SHOWN_HEAT_JS})() !== null", timeout=60_000)
+    pairs = list(itertools.permutations(FOUR_AXES, 2))
+    for x, y in pairs + pairs[::-1]:
+        if page.locator("select").nth(2).input_value().split(" ")[0] == SYMBOL[x]:
+            _choose_axis(page, 1, x)  # x = the current y: the two swap
+        _choose_axis(page, 1, x)
+        _choose_axis(page, 2, y)
+        title = f"four: max growth rate over {SYMBOL[x]}-{SYMBOL[y]}"
+        page.wait_for_function(f"() => {{ const s = ({_SHOWN_HEAT_JS})(); return s !== null && s.title.startsWith("
+                               f"{title!r}); }}", timeout=30_000)
+        shown = page.evaluate(_SHOWN_HEAT_JS)
+        others = {n: len(v) // 2 for n, v in FOUR_AXES.items() if n not in (x, y)}  # the sliders start mid-way
+        want = stored.isel(others).transpose(y, x).values
+        assert shown["n"] == want.size, (x, y)
+        assert shown["sum"] == pytest.approx(float(np.nansum(want)), rel=1e-12), (x, y)
+    page.locator(".bk-tab", has_text="3-D neutral surface").first.click()
+    sets = list(itertools.combinations(FOUR_AXES, 3))
+    for axes in sets + [s[::-1] for s in sets[::-1]]:
+        labels = [next(o for o in ("γ (log)", "β", "f", "Δ") if o.split(" ")[0] == SYMBOL[n]) for n in axes]
+        page.wait_for_function(_SURFACE_JS, arg=labels, timeout=30_000)  # the tab's widgets exist once it is shown
+        plot = page.locator(".js-plotly-plot").first
+        want_titles = [SYMBOL[n] + (" (log10)" if n == "gamma" else "") for n in axes]
+        page.wait_for_function(
+            "([el, want]) => el.layout && ['xaxis', 'yaxis', 'zaxis'].every((a, i) => "
+            "el.layout.scene[a].title.text === want[i])", arg=[plot.element_handle(), want_titles], timeout=30_000)
