@@ -580,3 +580,51 @@ def test_new_inputs_mid_computation_cancel_it_in_the_browser(served_app: str, br
     assert len(page.evaluate(_MAP_JS)["growth"]) == coarse * coarse
     assert computed.count(medium) == 1  # the stale map stopped after its current chunk
     assert page.console_errors == []
+
+
+#: the shown map (JS): its title, how many cells have a finite non-zero growth, and the range of the cells' edges
+_SHOWN_MAP_JS = """() => {
+  for (const m of Bokeh.documents[0].all_models) {
+    if (!(m.title && m.title.text && m.title.text.includes(' plane'))) continue;
+    const view = Bokeh.index.find_one(m);
+    if (!view || !view.el.isConnected) continue;
+    for (const r of m.renderers) {
+      const d = r.data_source ? r.data_source.data : undefined;
+      if (!d || d.growth === undefined || d.left === undefined) continue;
+      const g = Array.from(d.growth).filter(v => Number.isFinite(v) && v !== 0);
+      const f = a => Array.from(a);
+      return {title: m.title.text, n: g.length, cells: f(d.growth).length, x0: Math.min(...f(d.left)),
+              x1: Math.max(...f(d.right)), y0: Math.min(...f(d.bottom)), y1: Math.max(...f(d.top))};
+    }
+  }
+  return null;
+}"""
+
+_CSV_ENABLED_JS = """() => Array.from(Bokeh.documents[0].all_models).some(
+  m => m.type.endsWith('FileDownload') && m.label === 'Download map (CSV)' && !m.disabled)"""
+
+
+@pytest.mark.ui
+def test_every_plane_revisited_shows_its_own_map(served_app: str, browser_page) -> None:
+    """Issue 33: a user clicks through the four planes and back (every plane twice, in both orders). Each time the
+    page shows that plane's finished map (title, the plane's ranges, every cell computed), says so above it, offers its
+    CSV and names it in the readout. A revisited plane once stayed faded with "Not computed yet" under the previous
+    plane's heading, its CSV disabled."""
+    page = browser_page
+    page.set_viewport_size({"width": 1280, "height": 1400})
+    open_app(page, served_app + "?tab=map&map_res=coarse&map_verdict=rayleigh")
+    n = sm.RESOLUTIONS["coarse"]
+    planes = list(PLANES)
+    for plane in planes + planes[::-1] + planes[1:]:
+        page.locator("button", has_text=plane).first.click()
+        page.wait_for_function(f"() => {{ const s = ({_SHOWN_MAP_JS})(); return s !== null && s.title.endsWith("
+                               f"'the {plane} plane') && s.n > 0; }}", timeout=120_000)
+        page.get_by_text(f"The {plane} map ({n} × {n} points)", exact=True).first.wait_for(timeout=120_000)
+        page.wait_for_function(_CSV_ENABLED_JS, timeout=30_000)
+        shown = page.evaluate(_SHOWN_MAP_JS)
+        xe, ye = PLANES[plane][0].edges(n), PLANES[plane][1].edges(n)
+        assert shown["cells"] == n * n, plane
+        assert (shown["x0"], shown["x1"], shown["y0"], shown["y1"]) == pytest.approx(
+            (xe[0], xe[-1], ye[0], ye[-1]), rel=1e-9), plane
+        page.locator("p", has_text=f"Plane {plane}:").first.wait_for(timeout=30_000)  # the readout
+        assert page.get_by_text("Not computed yet").count() == 0, plane
