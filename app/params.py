@@ -26,7 +26,12 @@ from .workarounds import frozen_document
 hv.extension("bokeh", logo=False)
 # plotly.js with every page (served by this server from Panel's bundle): the Atlas tab's 3-D view is created after
 # the page has loaded (a lazily built tab), when it is too late to add a JavaScript library to the page
-pn.extension("plotly", "katex")  # katex: the equations of the Spectrum and All-branches tabs
+pn.extension("plotly", "katex",  # katex: the equations of the Spectrum and All-branches tabs
+             # a lost server (stopped, restarted, network gone) is said on the page: the plots stop following the
+             # controls, and without it nothing but the unchanged plots would tell
+             notifications=True,
+             disconnect_notification="Connection to the asymslide server lost: the plots no longer follow the "
+                                     "controls. Reload the page once the server is back.")
 # Canvas, not WebGL: the plots hold at most a few thousand points, and copying the WebGL layer onto
 # the canvas (software GL without a GPU) was most of a browser update in Chromium's profile
 # (benchmarks/design_measurements.md). Image-based plots are unaffected.

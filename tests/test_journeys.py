@@ -550,3 +550,29 @@ def test_the_spectrum_names_both_verdicts_where_only_another_branch_is_unstable(
     (zplane,) = [f for f in figures(page) if f["title"].startswith("z-plane at kH")]
     assert any(g["type"] == "Scatter" and g["n"] == 1 and abs(g["hi"] - 3.6e-5) < 1e-6 for g in zplane["glyphs"])
     save_screenshot(page, "all_branches_fastest_outside_window.png", full_page=False)
+
+
+@pytest.mark.ui
+@pytest.mark.expected_errors(browser=["[Ww]eb[Ss]ocket", "ERR_CONNECTION_REFUSED", "[Ll]ost.*connection"])
+def test_a_lost_server_is_said_on_the_page(free_port: int, browser_context) -> None:
+    """Issue 33: when the server stops, the page says so (a notification that stays) instead of leaving plots that
+    silently no longer follow the controls."""
+    import panel as pn
+
+    from app.main import create_app
+
+    server = pn.serve(create_app, port=free_port, address="127.0.0.1", websocket_origin=[f"127.0.0.1:{free_port}"],
+                      threaded=True, show=False, start=True, verbose=False)
+    try:
+        page = browser_context()
+        open_app(page, f"http://127.0.0.1:{free_port}/")
+        assert page.get_by_text("Connection to the asymslide server lost").count() == 0
+    finally:
+        server.stop()
+        server.join(timeout=10)
+        clear_patched_curdocs()
+    note = page.get_by_text("Connection to the asymslide server lost").first
+    note.wait_for(state="visible", timeout=WAIT)
+    page.wait_for_timeout(4000)  # it stays (a toast of the default duration would be gone after 3 s)
+    assert note.is_visible()
+    save_screenshot(page, "screenshot_connection_lost.png", full_page=False)
