@@ -266,7 +266,7 @@ class AllBranchesScene(pn.viewable.Viewer):
         super().__init__(**kwargs)
         self.window_alert = pn.pane.Alert("", alert_type="danger", visible=False, sizing_mode="stretch_width")
         self._update_keys()
-        self.params.param.watch(self._update_keys, [*physical_parameters(SpectrumParams), "eta_infinite"])
+        self.params.param.watch(self._update_keys, [*physical_parameters(SpectrumParams), "eta_infinite", "dragging"])
         self.param.watch(self._update_keys, [*physical_parameters(AllBranchesScene), "active"])
         self.zplane_dmap = hv.DynamicMap(self.zplane_plot)
         self.count_dmap = hv.DynamicMap(self.count_plot)
@@ -276,7 +276,7 @@ class AllBranchesScene(pn.viewable.Viewer):
 
     def _update_keys(self, *_events) -> None:
         """Recompute the normalised keys from the parameters; a view updates only if a key it uses changed."""
-        if not self.active:
+        if not self.active or self.params.dragging:  # a held shared slider: the (costly) roots wait for its release
             return
         args = self.params.model_args()
         kh = from_log10(self.log10_kH)

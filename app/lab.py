@@ -4,8 +4,9 @@
 One :class:`LabScene` per session is shared by both scenes (each shows its own widgets, bound to the same
 parameters). While its link is on, every change of a lab value sets the shared :class:`~app.params.SpectrumParams`
 in one update, with the values the model returns (:func:`model.dimensionless_parameters`) clamped to the sliders'
-ranges; bad input leaves the sliders as they are and the panel shows the model's message. Moving a slider by hand
-afterwards is allowed: the panel then says the sliders no longer match the lab values and offers to re-apply them.
+ranges; bad input leaves the sliders as they are and the panel shows the model's message (in mm, MPa or µm for
+the fields typed in those units). Moving a slider by hand afterwards is allowed: the panel then says the sliders no
+longer match the lab values and offers to re-apply them.
 
 The readouts describe the lab setting (its own γ, β, … unclamped; the same cached spectrum as the Spectrum scene's
 while the sliders match): the fastest-growing mode, i.e. the largest growth rate k Im c
@@ -166,6 +167,42 @@ def compute_rate_state(gamma: float, Delta: float, xi: float, eta: float, rho: f
 
 
 # --------------------------------------------------------------------------------------------
+# bad input in the units the user typed
+# --------------------------------------------------------------------------------------------
+
+#: the lab fields the panel takes in other units than the model's SI ones (mm, MPa, µm), each with the lower end
+#: of its valid range and whether that end is valid (the model's domains: heights and σ₀ > 0, D_c ≥ 0). Both ends
+#: are 0 or ∞, the same in either unit; the model stays the judge of validity (these only word its refusal).
+UNIT_FIELDS: dict[str, tuple[float, bool]] = {"H1_mm": (0.0, False), "H2_mm": (0.0, False),
+                                              "sigma0_MPa": (0.0, False), "D_c_um": (0.0, True)}
+
+
+def _symbol_and_unit(label: str) -> tuple[str, str]:
+    """("H₁", "mm") of a declared label "H₁ [mm]"."""
+    symbol, _, unit = label.partition(" [")
+    return symbol, unit.rstrip("]")
+
+
+def unit_field_errors(p: LabParams) -> list[str]:
+    """A message for every field of `p` in :data:`UNIT_FIELDS` outside its range, in that field's units and with
+    its symbol as the panel labels it, e.g. "H₁ must be in (0, ∞) mm; got -5 mm" (the model, which takes metres,
+    says "H1 must be in (0, inf) m; got -0.005")."""
+    out = []
+    for name, (lo, lo_valid) in UNIT_FIELDS.items():
+        if name == "H2_mm" and p.H2_infinite:
+            continue  # H₂ = ∞ is ticked: the typed H₂ is not used
+        x = float(getattr(p, name))
+        if math.isfinite(x) and (x > lo or (lo_valid and x == lo)):
+            continue
+        symbol, unit = _symbol_and_unit(LabParams.param[name].label)
+        interval = f"{'[' if lo_valid else '('}{lo:g}, ∞) {unit}"
+        if name == "H2_mm":
+            interval += " (or tick H₂ = ∞ for a half-space)"
+        out.append(f"{symbol} must be in {interval}; got {x:g} {unit}")
+    return out
+
+
+# --------------------------------------------------------------------------------------------
 # lab values -> slider values
 # --------------------------------------------------------------------------------------------
 
@@ -239,7 +276,50 @@ def e_folding_axis_hook(plot, _element) -> None:
 
 PLOT_OPTIONS = dict(logx=True, responsive=True, height=320, framewise=True, xlabel=WAVELENGTH_LABEL,
                     ylabel=RATE_LABEL, legend_position="top_right", title="Growth rate vs wavelength (lab values)",
+                    legend_opts={"background_fill_alpha": 0.6},  # a stable curve runs along zero, under the legend
                     hooks=[zero_line_hook, e_folding_axis_hook])
+
+#: room above the shown rates for the legend (top right; up to three rows) and below them, as fractions of their
+#: span (zero included)
+LEGEND_ROOM = 0.25
+RATE_PADDING = 0.05
+
+
+def wavelength_window(lam: np.ndarray, band: tuple[float, float], growing: bool) -> tuple[float, float]:
+    """The λ range [mm] the lab plot shows: a decade either side of the unstable band `band` [mm] while a mode grows
+    (the grid spans six decades of wavelength), otherwise the whole grid `lam` [mm, increasing]."""
+    lo, hi = band
+    if growing and np.isfinite(lo) and np.isfinite(hi):
+        return max(lo / 10.0, float(lam[0])), min(hi * 10.0, float(lam[-1]))
+    return float(lam[0]), float(lam[-1])
+
+
+def rate_window(rate: np.ndarray) -> tuple[float, float]:
+    """The growth-rate range [1/s] the lab plot shows for the rates `rate` it shows: their span with zero, padded,
+    with room above for the legend. While a mode grows, the decay shown below zero is cut at the largest growth:
+    the short wavelengths decay at millions per second and would flatten the growing part (the toolbar zooms
+    out)."""
+    finite = rate[np.isfinite(rate)]
+    top = max(0.0, float(finite.max())) if finite.size else 0.0
+    bottom = min(0.0, float(finite.min())) if finite.size else 0.0
+    if top > 0.0:
+        bottom = max(bottom, -top)
+    span = top - bottom if top > bottom else 1.0
+    return bottom - RATE_PADDING * span, top + LEGEND_ROOM * span
+
+
+def plot_ranges(lam: np.ndarray, rate: np.ndarray, band: tuple[float, float],
+                peak_rate: float) -> dict[str, tuple[float, float]]:
+    """``xlim`` and ``ylim`` of the lab plot for the curve (`lam` [mm, increasing], `rate` [1/s]), the unstable band
+    [mm] and the peak growth rate [1/s]; the y range is that of the rates inside the shown λ range.
+
+    Both are set on every frame: a DynamicMap keeps a plot option that a later frame leaves out, so a stable
+    setting shown after an unstable one kept the unstable one's ±1000 1/s (issue 33)."""
+    growing = bool(np.isfinite(peak_rate) and peak_rate > 0)
+    x0, x1 = wavelength_window(lam, band, growing)
+    with np.errstate(invalid="ignore"):
+        shown = rate[(lam >= x0) & (lam <= x1)]
+    return {"xlim": (x0, x1), "ylim": rate_window(shown)}
 
 
 class LabScene(pn.viewable.Viewer):
@@ -285,13 +365,20 @@ class LabScene(pn.viewable.Viewer):
         self._update_title()
 
     def lab(self) -> dict:
+        """γ, f, β, η, Δ, ξ of the lab setting (:func:`compute_lab`), or the model's message."""
         return compute_lab(*self.key)
+
+    def _error_text(self, model_message: str) -> str:
+        """What the panel says when the model refused the lab values: the fields typed in mm, MPa or µm that are out
+        of range, in those units (the model's message speaks of metres and pascals); otherwise the model's message
+        (the other fields are in the model's own units)."""
+        return "; ".join(unit_field_errors(self.params)) or model_message
 
     def state(self) -> LabState:
         """The lab values against the sliders (cheap: the dimensionless parameters are cached)."""
         d = self.lab()
         if "error" in d:
-            return LabState(error=d["error"])
+            return LabState(error=self._error_text(d["error"]))
         updates, notes = slider_values(d["params"])
         target = _model_args(updates)
         shown = self.spectrum.model_args()
@@ -464,11 +551,7 @@ class LabScene(pn.viewable.Viewer):
             if np.isfinite(pk["growth_rate"]) and pk["growth_rate"] > 0:
                 layers.append(hv.Scatter(([pk["wavelength"] * 1e3], [pk["growth_rate"]]), WAVELENGTH_LABEL,
                                          RATE_LABEL, label="fastest-growing mode").opts(color="#b2182b", size=9))
-                # the decay at short wavelengths reaches millions per second, and the grid spans six decades of
-                # wavelength: show the growing part (the toolbar zooms out)
-                opts["ylim"] = (-pk["growth_rate"], 1.25 * pk["growth_rate"])
-                if np.isfinite(lo) and np.isfinite(hi):
-                    opts["xlim"] = (max(lo * 1e2, lam[0]), min(hi * 1e4, lam[-1]))
+            opts.update(plot_ranges(lam, rate, (lo * 1e3, hi * 1e3), pk["growth_rate"]))
         return hv.Overlay(layers).opts(hv.opts.Overlay(**opts))
 
     def csv(self) -> io.StringIO:

@@ -217,6 +217,10 @@ class SpectrumParams(param.Parameterized):
                  doc=_MEANING["f"])
     beta = Physical(_DEFAULT["beta"], bounds=(0.01, 0.7071), step=0.001, label=_SYMBOL["beta"], url="beta",
                     axis=(0.01, 0.7071, False), doc=_MEANING["beta"] + " (β² = (1 − 2ν)/(2 − 2ν))")
+    #: True while a slider of these parameters is held (app.params.bind_two_way): the plots follow the hand, the
+    #: background jobs and maps wait for the release
+    dragging = param.Boolean(False, precedence=-1)
+
     log10_eta = Physical(8.0, bounds=(-2.0, 12.0), step=0.1, label=_SYMBOL["eta"], url="eta", log10=True,
                          axis=(1.0, 1e8, True), infinite="eta_infinite", doc=_MEANING["eta"] + " (slider: log10 η)")
     eta_infinite = param.Boolean(math.isinf(_DEFAULT["eta"]), label=f"{_SYMBOL['eta']} = ∞",
@@ -502,8 +506,44 @@ def make_widgets(obj: param.Parameterized, names: tuple[str, ...] | None = None)
     return widgets
 
 
+#: the parameter of a Parameterized that says a slider of it is held (see :func:`bind_two_way`)
+DRAGGING = "dragging"
+
+
+def _attribute(widget: pn.widgets.Widget) -> str:
+    """The attribute of `widget` that holds its parameter's value."""
+    return "checked" if isinstance(widget, LabelledCheckbox) else "value"
+
+
+def _set_or_restore(obj: param.Parameterized, name: str, event: param.parameterized.Event) -> None:
+    """Set `name` of `obj` from a widget's event; a value the parameter refuses puts the parameter's value back into
+    the widget."""
+    try:
+        set_frozen(obj, name, event.new)
+    except ValueError:
+        event.obj.param.update({_attribute(event.obj): getattr(obj, name)})
+
+
+def _slider_moved(obj: param.Parameterized, name: str, events: tuple[param.parameterized.Event, ...]) -> None:
+    """A slider's value while its handle moves (the plots follow it), and whether it is still held: ``value``
+    differs from ``value_throttled`` (its value at the last release) until the release."""
+    slider = events[0].obj
+    held = slider.value != slider.value_throttled
+    tracked = DRAGGING in obj.param
+    moved = [e for e in events if e.name == "value" and getattr(obj, name) != e.new]
+    if moved:
+        if tracked and held and not obj.dragging:
+            obj.param.update(dragging=True)  # before the value: its watchers see a drag in progress
+        _set_or_restore(obj, name, moved[-1])
+    if tracked and obj.dragging != held:
+        set_frozen(obj, DRAGGING, held)
+
+
 def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]) -> None:
-    """Widget -> parameter (sliders on release, `value_throttled`; other widgets on `value`) and back.
+    """Widget -> parameter (every widget on `value`: a slider's plots follow its handle while it is dragged) and
+    back. If `obj` has a Boolean ``dragging`` parameter, it is True while one of its sliders is held (its value moved
+    since its last release, `value_throttled`): work too slow to follow the hand (background jobs, whole maps)
+    waits for the release.
 
     A value the parameter refuses (an emptied number field, a number beyond the declared bounds) puts the
     parameter's value back into the widget: the session never sees an invalid parameter. The binding keeps its own
@@ -513,28 +553,27 @@ def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]
     widgets = dict(widgets)
 
     def to_param(event: param.parameterized.Event, name: str) -> None:
-        try:
-            set_frozen(obj, name, event.new)
-        except ValueError:
-            setattr(event.obj, event.name if event.name != "value_throttled" else "value", getattr(obj, name))
-
-    def attribute(widget: pn.widgets.Widget) -> str:
-        return "checked" if isinstance(widget, LabelledCheckbox) else "value"
+        _set_or_restore(obj, name, event)
 
     for name, widget in widgets.items():
-        event = "value_throttled" if isinstance(widget, pn.widgets.FloatSlider) else attribute(widget)
-        widget.param.watch(lambda e, n=name: to_param(e, n), event)
+        if isinstance(widget, pn.widgets.FloatSlider):
+            widget.param.watch(lambda *e, n=name: _slider_moved(obj, n, e), ["value", "value_throttled"])
+        else:
+            widget.param.watch(lambda e, n=name: to_param(e, n), _attribute(widget))
 
     def to_widget(*events: param.parameterized.Event) -> None:
         for event in events:
             widget = widgets[event.name]
-            shown = getattr(widget, attribute(widget))
+            shown = getattr(widget, _attribute(widget))
             if shown == event.new or (event.new != event.new and shown != shown):
                 continue  # already shown (NaN != NaN would otherwise loop)
             if isinstance(widget, pn.widgets.FloatSlider):  # a value set from the URL or a preset may lie
                 widget.start = min(widget.start, event.new)  # outside the slider's soft range: widen it
                 widget.end = max(widget.end, event.new)
-            setattr(widget, attribute(widget), event.new)
+                with param.edit_constant(widget):  # set, not dragged: value_throttled too (else it reads "held")
+                    widget.param.update(value=event.new, value_throttled=event.new)
+                continue
+            setattr(widget, _attribute(widget), event.new)
 
     obj.param.watch(to_widget, list(widgets))
 

@@ -20,7 +20,7 @@ import param
 
 import model
 
-from . import jobs
+from . import jobs, live
 from .common import FAMILY_NAMES
 from .params import (
     PALETTE,
@@ -68,8 +68,9 @@ def styled(kind: type[hv.Element], vdim: str, label: str = "", **style: object) 
     return kind(([], []), "kH", vdim, label=label, datatype=["dictionary"]).opts(**style)
 
 
-#: the legend label of the unstable band
+#: the legend labels of the unstable band and of the criterion's level in the G_y plot
 BAND_LABEL = "unstable band"
+CRITERION_LABEL = "criterion −c_R/(c_s γ f)"
 
 
 #: legend entries listed only while their element holds data (the band; the families of the fastest root)
@@ -118,7 +119,7 @@ STYLE = {
     "re branch": styled(hv.Curve, RE_LABEL, "Rayleigh branch", color="#1f4e79", line_width=2),
     "re linear": styled(hv.Curve, RE_LABEL, "linear expansion", color="#b2182b", line_dash="dashed", line_width=1.5),
     "gy": styled(hv.Curve, GY_LABEL, "G_y(c_R, kH)", color="#1f4e79", line_width=2),
-    "criterion": styled(hv.HLine, GY_LABEL, "criterion −c_R/(c_s γ f)", color="#b2182b", line_dash="dashed",
+    "criterion": styled(hv.HLine, GY_LABEL, CRITERION_LABEL, color="#b2182b", line_dash="dashed",
                         line_width=1.5),
     "all line": styled(hv.Curve, IM_LABEL, "fastest root, every branch", color="#777777", line_width=1,
                        line_dash="dotted"),
@@ -226,8 +227,15 @@ def compute_sliding(args: tuple, job: jobs.Job) -> dict:
     return out
 
 
+#: the sliding job's progress while a slider is held (the job starts at the release: too slow to follow the hand)
+HELD = "held"
+
+
 def sliding_lines(d: dict | None, progress: str = "") -> list[str]:
-    """The readout lines of sliding over every branch (d: compute_sliding's result; None: being computed)."""
+    """The readout lines of sliding over every branch (d: compute_sliding's result; None: being computed, or waiting
+    for a held slider's release when progress is :data:`HELD`)."""
+    if progress == HELD:
+        return ["**Sliding, every branch**: computed when the slider is released"]
     if d is None:
         return [f"**Sliding, every branch**: computing{' (' + progress + ')' if progress else ''}…"]
     lo, hi = d["range"]
@@ -263,6 +271,8 @@ class SpectrumScene(pn.viewable.Viewer):
     #: normalised model arguments; the plots depend only on this, so a change that does not change
     #: the model call (xi while Delta == 1) re-renders nothing
     inputs = param.Tuple(default=None, length=6, allow_None=True)
+    #: the inputs the plots show: `inputs`, or while a slider is held the values its curves follow (app.live)
+    shown = param.Tuple(default=None, length=6, allow_None=True)
     #: a family of curves drawn behind the current one (set by the paper-figure presets)
     compare_key = param.Selector(default="", objects=["", *FAMILY])
     compare_values = param.List(default=[], item_type=float)
@@ -276,7 +286,9 @@ class SpectrumScene(pn.viewable.Viewer):
         if "params" not in kwargs:
             kwargs["params"] = SpectrumParams()
         super().__init__(**kwargs)
-        self.inputs = self.params.model_args()
+        self.inputs = self.shown = self.params.model_args()
+        #: the plot panes (growth rate, phase velocity, G_y) once built
+        self.panes: list[pn.pane.HoloViews] = []
         self._gy_curve: tuple[tuple[float, float], hv.Curve] | None = None
         self.params.param.watch(self._update_inputs, list(self.params.param))
         #: the background computation of sliding over every branch (app.jobs): cancelled when the inputs change
@@ -291,15 +303,54 @@ class SpectrumScene(pn.viewable.Viewer):
         self.gy_dmap = hv.DynamicMap(self.gy_plot)
 
     def _update_inputs(self, *_events) -> None:
-        """New model arguments, and with them sliding over every branch (in one update: the growth-rate plot is
-        redrawn once; if not computed before, it is computed in the background and drawn when done)."""
+        """New model arguments: the plots on the page follow at once (:meth:`_follow`, a few ms); unless a slider is
+        still held, HoloViews then redraws them once (:meth:`_redraw`, after the followed frame has been sent), with
+        sliding over every branch. A plot that cannot follow is redrawn at once."""
         args = self.params.model_args()
+        held = self.params.dragging
+        if args != self.shown and self._follow(args):
+            self.param.update(shown=args, sliding_progress=HELD if held else self.sliding_progress)
+            if not held:
+                pn.state.execute(self._redraw, schedule=True)
+            return
+        self._redraw()
+
+    def _redraw(self) -> None:
+        """The plots drawn by HoloViews at the current arguments, and with them sliding over every branch (in one
+        update: the growth-rate plot is redrawn once; if not computed before, it is computed in the background and
+        drawn when done). While a slider is held the job waits for the release (it takes ~0.1-1 s)."""
+        args = self.params.model_args()
+        held = self.params.dragging
+        if held and args == self.shown:  # a drag began meanwhile: the plots follow it (_follow)
+            return
         if args != self.inputs:
             self.sliding_job.cancel()
             hit = SLIDING_CACHE.get(tuple(args))
-            self.param.update(inputs=args, sliding=hit, sliding_progress="")
-            if hit is None:
+            self.param.update(inputs=args, shown=args, sliding=hit,
+                              sliding_progress=HELD if hit is None and held else "")
+            if hit is None and not held:
                 self.ensure_sliding()
+        elif not held and self.sliding is None and self.sliding_progress == HELD:  # released: its job starts now
+            self.ensure_sliding()
+
+    def _follow(self, args: tuple) -> bool:
+        """A held slider: write the curves of `args` into the plots on the page (:mod:`app.live`, a few ms) instead
+        of letting HoloViews redraw them (80-170 ms each); the markers of every branch are emptied (they are of the
+        previous inputs) until the release redraws everything. False where that cannot be done (plots not rendered,
+        a preset's family of curves shown, which would stay at the previous inputs): HoloViews redraws then."""
+        if self.compare_values or len(self.panes) < 3:
+            return False
+        d = compute_spectrum(*args)
+        gamma, f, beta, eta = args[:4]
+        gy = compute_gy_rayleigh(beta, eta)
+        kH, z = d["kH"], d["z"]
+        band = ([d["kH_min"]], [d["kH_max"]]) if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]) else ([], [])
+        level = float(model.criterion_gy_level(gamma=gamma, f=f, beta=beta))
+        return (live.push(self.panes[0], {"Rayleigh branch": (kH, z.imag), "linear expansion": (kH, d["linear"].imag),
+                                          BAND_LABEL: band}, empty_others=True)
+                and live.push(self.panes[1], {"Rayleigh branch": (kH, z.real),
+                                              "linear expansion": (kH, d["linear"].real)})
+                and live.push(self.panes[2], {"G_y(c_R, kH)": (gy["kH"], gy["gy"]), CRITERION_LABEL: level}))
 
     def data(self) -> dict:
         return compute_spectrum(*self.inputs)
@@ -316,7 +367,7 @@ class SpectrumScene(pn.viewable.Viewer):
         job = self.sliding_job.job
         if job is not None and job.key == args and not job.state().finished:
             return
-        if self.sliding is not None:
+        if self.sliding is not None or self.sliding_progress:
             self.param.update(sliding=None, sliding_progress="")
         self.sliding_job.run(partial(compute_sliding, args), name="sliding", key=args,
                              totals={"maximum": 1, "kH": len(KH_ALL)})
@@ -437,9 +488,9 @@ class SpectrumScene(pn.viewable.Viewer):
         return csv_table(self._csv_header(f"G_y at the Rayleigh speed z_R = {gy['z_R']!r}; criterion level "
                                           f"-c_R/(c_s gamma f) = {level!r}"), {"kH": gy["kH"], "G_y_at_z_R": gy["gy"]})
 
-    @param.depends("inputs", "sliding", "sliding_progress")
+    @param.depends("shown", "sliding", "sliding_progress")
     def readout(self) -> str:
-        d = self.data()
+        d = compute_spectrum(*self.shown)  # the plotted inputs, also while a slider is held
         z, status, error = d["z"], d["status"], d["error"]
         shown = np.isfinite(z)
         rel = float(np.max(error[shown] / np.abs(z[shown]))) if shown.any() else np.nan
@@ -469,7 +520,10 @@ class SpectrumScene(pn.viewable.Viewer):
 
     def plot_pane(self, index: int) -> pn.pane.HoloViews:
         """Live plot `index`: 0 growth rate, 1 phase velocity, 2 G_y criterion (top to bottom)."""
-        return pn.pane.HoloViews((self.im_dmap, self.re_dmap, self.gy_dmap)[index], sizing_mode="stretch_width")
+        pane = pn.pane.HoloViews((self.im_dmap, self.re_dmap, self.gy_dmap)[index], sizing_mode="stretch_width")
+        if len(self.panes) == index:  # the scene's panes, in order (a held slider writes into them: _follow)
+            self.panes.append(pane)
+        return pane
 
     def downloads(self) -> list[pn.widgets.FileDownload]:
         """One CSV button per plot, below it: what that plot shows."""

@@ -360,6 +360,7 @@ class StabilityMapScene(pn.viewable.Viewer):
         self.sliding_computation = jobs.Follower(self._show_sliding_job)
         #: the background computation of Fig. 4c's sliding threshold: cancelled when f changes
         self.fig4c_computation = jobs.Follower(self._show_fig4c_job)
+        self._fig4c_drawn = False  # whether Fig. 4c has been drawn (its sliding threshold is then kept current)
         self._views: dict[tuple[str, str], hv.DynamicMap] = {}  # by (plane, verdict)
         self.tap_streams: dict[tuple[str, str], hv.streams.Tap] = {}  # by (plane, verdict)
         self.progress = pn.indicators.Progress(value=0, max=1, bar_color="primary", sizing_mode="stretch_width",
@@ -389,6 +390,12 @@ class StabilityMapScene(pn.viewable.Viewer):
     # ----------------------------------------------------------------------------------------
 
     def _update_key(self, *_events) -> None:
+        """The map's and the sliding map's keys from the inputs. While a slider is held the keys wait for its
+        release: the marker and the readout follow the hand, a whole map (seconds) is computed once."""
+        if self.params.dragging:
+            return
+        if self._fig4c_drawn:  # f may have moved under a held slider: Fig. 4c's sliding threshold follows now
+            self.ensure_fig4c_sliding()
         key = key_for(self.plane, self.resolution, self.params.model_args())
         if key != self.map_key:
             self.map_key = key
@@ -697,6 +704,7 @@ class StabilityMapScene(pn.viewable.Viewer):
     # ----------------------------------------------------------------------------------------
 
     def _fig4c_curves(self, f: float, **_stream_values) -> hv.Overlay:
+        self._fig4c_drawn = True
         self.ensure_fig4c_sliding()
         d = compute_fig4c(float(f))
         beta, chi = hv.Dimension("beta", label="β = c_s/c_d"), hv.Dimension("chi", label="χ_c = γ_c f")
@@ -709,6 +717,8 @@ class StabilityMapScene(pn.viewable.Viewer):
     def ensure_fig4c_sliding(self) -> None:
         """Start computing Fig. 4c's sliding threshold at the current f unless it is shown or being computed
         (called as Fig. 4c is drawn: a render, a change of f)."""
+        if self.params.dragging:  # a held f slider: the job starts at the release (_update_key)
+            return
         f = float(self.params.f)
         job = self.fig4c_computation.job
         shown = self.fig4c_sliding is not None and self.fig4c_sliding["f"] == f
@@ -783,7 +793,7 @@ class StabilityMapScene(pn.viewable.Viewer):
 
     @param.depends("result", "map_key", "status", "sliding", "sliding_key", "sliding_status", "verdict",
                    "params.gamma", "params.log10_eta", "params.eta_infinite",
-                   "params.f", "params.beta", "params.Delta", "params.xi")
+                   "params.f", "params.beta", "params.Delta", "params.xi", "params.dragging")
     def readout(self) -> str:
         plane, n, fixed = self.map_key
         ax, ay = PLANES[plane]
@@ -824,6 +834,8 @@ class StabilityMapScene(pn.viewable.Viewer):
             cached = res.chunks_total - res.chunks_computed
             lines.append(f"**Time** {res.seconds:.2f} s ({res.chunks_total} chunks"
                          + (f", {cached} from the cache)" if cached else ")"))
+        if self.params.dragging and key_for(self.plane, self.resolution, self.params.model_args()) != self.map_key:
+            lines.append("**Slider held** the map is of the values above; it is computed again at the release")
         lines += self.sliding_lines()
         lines += self.star_cell_lines()
         _, _, notes = self.marker_position(plane)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import html
 import io
 import math
+import re
 import urllib.parse
 
 import holoviews as hv
@@ -147,8 +148,11 @@ def test_slider_values_are_the_declarations_clamps() -> None:
 # --------------------------------------------------------------------------------------------
 
 BAD = [
-    ({"H1_mm": -5.0}, ["H1 must be in (0, inf) m", "-0.005"]),
-    ({"H2_infinite": False, "H2_mm": -30.0}, ["H2 must be in (0, inf]"]),
+    # fields typed in mm, MPa, µm: their units and labels, not the model's SI ones (issue 33)
+    ({"H1_mm": -5.0}, ["H₁ must be in (0, ∞) mm", "got -5 mm"]),
+    ({"H2_infinite": False, "H2_mm": -30.0}, ["H₂ must be in (0, ∞) mm", "H₂ = ∞", "got -30 mm"]),
+    ({"sigma0_MPa": 0.0}, ["σ₀ must be in (0, ∞) MPa", "got 0 MPa"]),
+    ({"D_c_um": -1.0}, ["D_c must be in [0, ∞) µm", "got -1 µm"]),
     ({"b": 0.01}, ["0 <= b < a", "a = 0.01, b = 0.01"]),
     ({"b": 0.05}, ["0 <= b < a"]),
     ({"c_d": 1.1 * 1345.0}, ["c_d must be >= sqrt(2) c_s", "Poisson ratio"]),  # nu < 0 (and < -1 for stress)
@@ -179,6 +183,22 @@ def test_bad_input_gives_the_models_message_and_leaves_the_sliders(bad: dict, ne
     good = {k: LabParams.param[k].default for k in bad}
     scene.params.param.update(**good)
     assert scene.state().matches and scene.status().alert_type == "success"
+
+
+@pytest.mark.parametrize(("bad", "model_words", "shown"), [
+    ({"H1_mm": -5.0}, "H1 must be in (0, inf) m; got -0.005", "H₁ must be in (0, ∞) mm; got -5 mm"),
+    ({"sigma0_MPa": -2.0}, "sigma0 must be in (0, inf) Pa; got -2000000", "σ₀ must be in (0, ∞) MPa; got -2 MPa"),
+])
+def test_a_field_typed_in_other_units_is_refused_in_those_units(bad: dict, model_words: str, shown: str) -> None:
+    """Issue 33: H₁ = −5 mm was refused with the model's words, which speak of metres (H1 = -0.005 m). The panel
+    says it in the units and with the label of the field the user typed; the model's own message is unchanged."""
+    scene = _linked()
+    scene.params.param.update(**bad)
+    with pytest.raises(ValueError, match=re.escape(model_words)):
+        model.dimensionless_parameters(**_lab_si(scene.params))
+    text = html.unescape(scene.status().object)
+    assert shown in text
+    assert model_words not in text and " m;" not in text and " Pa;" not in text
 
 
 def test_unknown_material_in_the_url_is_a_message() -> None:
@@ -357,6 +377,45 @@ def test_e_folding_time_axis_shares_the_growth_rate_range() -> None:
     assert axis.y_range_name == "default" and "ms" in axis.axis_label
     assert isinstance(axis.formatter, CustomJSTickFormatter) and "1000 / tick" in axis.formatter.code
     assert type(fig.x_scale).__name__ == "LogScale" and fig.xaxis[0].axis_label == "λ [mm]"
+
+
+def _model_rates(p: LabParams) -> tuple[np.ndarray, np.ndarray, float]:
+    """λ [mm] and growth rate k Im c [1/s] of the lab setting `p` on :data:`KH`, and its peak growth rate, from
+    the model directly."""
+    d = _expected(p)
+    args = {k: d[k] for k in SpectrumParams.MODEL_ARGS}
+    H1, c_s = p.H1_mm * 1e-3, p.c_s
+    lab_units = model.spectrum_in_lab_units(kH=KH, z=model.spectrum(KH, **args), H1=H1, c_s=c_s)
+    k, z = model.fastest_growing_mode(KH, **args)
+    peak = float(model.spectrum_in_lab_units(kH=k, z=z, H1=H1, c_s=c_s)["growth_rate"])
+    return lab_units["wavelength"] * 1e3, lab_units["growth_rate"], peak
+
+
+def test_the_lab_plots_y_range_follows_the_shown_curve() -> None:
+    """Issue 33: a stable setting shown after an unstable one kept the unstable one's y range of about ±1000 1/s
+    (a DynamicMap keeps a plot option that a later frame leaves out), and its curve, decaying at up to millions per
+    second, was nearly all off the plot. The y range follows the shown curve, with zero; while a mode grows, the
+    growing part fills it (the short wavelengths' decay is cut)."""
+    scene = LabScene()  # PMMA's defaults: a Rayleigh-branch mode grows
+    fig = hv.render(scene.plot_dmap, backend="bokeh")
+    assert fig.left[0].axis_label == "growth rate k Im c [1/s]" and fig.xaxis[0].axis_label == "λ [mm]"
+
+    def assert_shows_the_growing_part() -> None:
+        _, _, peak = _model_rates(scene.params)
+        assert peak > 0
+        y0, y1 = fig.y_range.start, fig.y_range.end
+        assert y0 < 0 < peak < y1 and y1 - y0 < 3 * peak
+
+    assert_shows_the_growing_part()
+    scene.params.f = 0.3  # stable: every mode decays
+    lam, rate, peak = _model_rates(scene.params)
+    assert peak < 0 and np.nanmax(rate) < 0
+    y0, y1 = fig.y_range.start, fig.y_range.end
+    assert y0 <= np.nanmin(rate) and y1 >= 0  # the whole curve and zero
+    assert -np.nanmin(rate) >= 0.7 * (y1 - y0)  # the curve fills the plot (room above it for the legend)
+    assert fig.x_range.start <= lam.min() * (1 + 1e-9) and fig.x_range.end >= lam.max() * (1 - 1e-9)
+    scene.params.f = 0.9  # unstable again
+    assert_shows_the_growing_part()
 
 
 def test_panel_is_built_when_opened_and_shared_by_both_scenes() -> None:

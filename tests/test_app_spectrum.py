@@ -166,14 +166,20 @@ def test_widget_labels_are_the_papers_symbols() -> None:
     assert w["eta_infinite"].label == "η = ∞"
 
 
-def test_widgets_are_throttled_and_xi_disabled_when_delta_is_one() -> None:
+def test_a_held_slider_moves_its_parameter_and_says_it_is_held_and_xi_is_disabled_when_delta_is_one() -> None:
+    """Issue 33: the plots follow a dragged handle, so the parameter follows `value`; `dragging` is True until the
+    release (`value_throttled`), and a value set by the program (URL, preset) is never taken for a held slider."""
     p = SpectrumParams()
     w = p.make_widgets()
     assert w["xi"].disabled and w["log10_eta"].disabled
-    w["gamma"].value = 7.0  # dragging (not released) does not change the parameter
-    assert p.gamma == 3.0
+    w["gamma"].value = 7.0  # the handle moves, not released
+    assert p.gamma == 7.0 and p.dragging
+    w["gamma"].value = 6.5
+    assert p.gamma == 6.5 and p.dragging
     _release(w["gamma"], 7.0)
-    assert p.gamma == 7.0
+    assert p.gamma == 7.0 and not p.dragging
+    p.gamma = 4.0  # set by the program: shown, not held
+    assert w["gamma"].value == 4.0 and w["gamma"].value_throttled == 4.0 and not p.dragging
     _release(w["Delta"], 0.5)
     assert p.Delta == 0.5 and not w["xi"].disabled
     w["eta_infinite"].checked = False
@@ -340,3 +346,96 @@ def test_a_stable_set_says_sliding_is_stable_over_every_branch() -> None:
     text = scene.readout()
     assert "**Sliding stable** (every branch, Im z ≥ 1e-06, kH 0.01 to 100)" in text
     assert "**Rayleigh branch stable**" in text
+
+
+# --------------------------------------------------------------------------------------------
+# a held slider: the plots follow the hand (issue 33)
+# --------------------------------------------------------------------------------------------
+
+
+def _rendered_scene() -> tuple[SpectrumScene, list]:
+    """A scene whose three plots are rendered into a Bokeh document, and their HoloViews plots."""
+    from bokeh.document import Document
+
+    scene = SpectrumScene()
+    doc = Document()
+    panes = [scene.plot_pane(i) for i in range(3)]
+    for pane in panes:
+        pane.get_root(doc)
+    return scene, [next(iter(pane._plots.values()))[0] for pane in panes]
+
+
+def _source(plot, label: str) -> dict[str, np.ndarray]:
+    """The data of the layer `label` of a rendered overlay, as the page has it."""
+    (sub,) = [s for s in plot.subplots.values() if getattr(s.current_frame, "label", None) == label]
+    return {k: np.asarray(v) for k, v in sub.handles["source"].data.items()}
+
+
+def test_a_held_slider_moves_the_curves_on_the_page_without_a_holoviews_redraw() -> None:
+    """While γ is held the growth-rate, phase-velocity and G_y plots on the page show the model at every position of
+    the handle (written into their sources, app.live), the markers of every branch are emptied (they belong to the
+    previous γ), the readout follows, and sliding over every branch is not computed; the release lets HoloViews
+    redraw once and starts that job."""
+    scene, (im, re, gy) = _rendered_scene()
+    before = scene.inputs
+    jobs_before = calls["compute_sliding"]
+    for gamma in (4.0, 5.5, 7.25):
+        scene.params.param.update(dragging=True, gamma=gamma)
+        z = model.spectrum(KH, gamma=gamma, f=0.9, beta=0.3)
+        np.testing.assert_allclose(_source(im, "Rayleigh branch")["Im[c/c_s]"], z.imag, rtol=1e-12, atol=0)
+        np.testing.assert_allclose(_source(re, "Rayleigh branch")["Re[c/c_s]"], z.real, rtol=1e-12, atol=0)
+        assert _source(im, "fastest root, every branch")["kH"].size == 0
+        lo, hi = im.state.y_range.start, im.state.y_range.end
+        assert lo <= np.nanmin(z.imag) and np.nanmax(z.imag) <= hi  # the y range follows the curve
+        assert scene.inputs == before  # HoloViews has not redrawn
+        text = scene.readout()
+        growth = model.growth_analysis(KH, gamma=gamma, f=0.9, beta=0.3)
+        assert f"kH = {sp.fmt(float(growth.kH_at_max))}" in text and "computed when the slider is released" in text
+    assert calls["compute_sliding"] == jobs_before
+    scene.params.dragging = False  # the release
+    assert scene.inputs == scene.params.model_args() and scene.shown == scene.inputs
+    scene.wait_sliding()
+    assert scene.sliding is not None and "computed when the slider is released" not in scene.readout()
+    level = float(model.criterion_gy_level(gamma=7.25, f=0.9, beta=0.3))
+    (line,) = [s for s in gy.subplots.values() if getattr(s.current_frame, "label", "").startswith("criterion")]
+    assert line.handles["glyph"].location == pytest.approx(level, rel=1e-12)
+
+
+def test_a_held_slider_with_a_family_of_curves_redraws_through_holoviews() -> None:
+    """A preset's family of curves (other γ, Δ or kW) cannot be written by app.live (it would stay at the previous
+    inputs): the plots are then redrawn by HoloViews at every position."""
+    scene, _ = _rendered_scene()
+    scene.param.update(compare_key="Delta", compare_values=[0.5, 0.8])
+    scene.params.param.update(dragging=True, gamma=5.0)
+    assert scene.inputs == scene.params.model_args()
+
+
+@pytest.mark.ui
+def test_a_dragged_gamma_handle_moves_the_plot_with_the_hand(served_app: str, browser_page) -> None:
+    """A real mouse drag of the γ handle (30 moves over 1.5 s): the growth-rate curve changes several times before
+    the release, and after it shows the model at the slider's final value; the server log stays clean."""
+    page = browser_page
+    open_app(page, served_app)
+    page.wait_for_function(_IM_SOURCE_JS, timeout=30_000)
+    page.evaluate("""(js) => { window.__frames = 0; let last = null;
+      const poll = () => { const y = eval(js)(); const k = y === null ? null : y[100] + ':' + y[300];
+        if (k !== last) { window.__frames += 1; last = k; } setTimeout(poll, 10); }; poll(); }""", _IM_SOURCE_JS)
+    slider = page.locator(".bk-input-group", has_text="γ:").first
+    handle, track = slider.locator(".noUi-handle").first, slider.locator(".noUi-base").first
+    hb, tb = handle.bounding_box(), track.bounding_box()
+    x0, y = hb["x"] + hb["width"] / 2, hb["y"] + hb["height"] / 2
+    page.mouse.move(x0, y)
+    page.mouse.down()
+    start = page.evaluate("() => window.__frames")
+    for i in range(1, 31):
+        page.mouse.move(x0 + (tb["x"] + 0.6 * tb["width"] - x0) * i / 30, y)
+        page.wait_for_timeout(50)
+    during = page.evaluate("() => window.__frames") - start
+    page.mouse.up()
+    assert during >= 3, f"{during} new curves during the drag"
+    gamma = float(page.locator(".bk-input-group", has_text="γ:").first.locator(".bk-slider-value").inner_text())
+    want = model.spectrum(KH, gamma=gamma, f=0.9, beta=0.3).imag
+    page.wait_for_function(f"() => {{ const y = ({_IM_SOURCE_JS})(); return y !== null && "
+                           f"Math.abs(y[200] - {float(want[200])!r}) < 1e-9 * Math.max(1, Math.abs(y[200])); }}",
+                           timeout=30_000)
+    np.testing.assert_allclose(np.array(page.evaluate(_IM_SOURCE_JS), dtype=float), want, rtol=1e-9, atol=1e-12)

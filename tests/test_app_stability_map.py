@@ -628,3 +628,23 @@ def test_every_plane_revisited_shows_its_own_map(served_app: str, browser_page) 
             (xe[0], xe[-1], ye[0], ye[-1]), rel=1e-9), plane
         page.locator("p", has_text=f"Plane {plane}:").first.wait_for(timeout=30_000)  # the readout
         assert page.get_by_text("Not computed yet").count() == 0, plane
+
+
+def test_a_held_slider_moves_the_marker_and_the_map_waits_for_the_release(small) -> None:
+    """Issue 33: while f is held (off the η-γ plane) the marker and the readout follow the hand and no map is
+    computed (a whole map takes seconds); the readout says the map is of the previous values. The release computes
+    the map of the new f once."""
+    scene = StabilityMapScene()
+    first = _computed(scene)
+    key = scene.map_key
+    chunks = calls["compute_chunk"]
+    for f in (0.7, 0.5, 0.4):
+        scene.params.param.update(dragging=True, f=f)
+        assert scene.map_key == key and calls["compute_chunk"] == chunks
+        assert "Slider held" in scene.readout()
+    scene.params.gamma = 5.0  # a value on the plane: only the marker moves
+    assert scene.marker_position()[1] == 5.0 and scene.map_key == key  # γ is the plane's y
+    scene.params.dragging = False  # the release
+    assert scene.map_key != key and dict(scene.map_key[2])["f"] == 0.4
+    second = _computed(scene)
+    assert second.key == scene.map_key and second is not first and "Slider held" not in scene.readout()

@@ -380,6 +380,9 @@ GOOD = dict(rho=1180.0, c_s=1345.0, c_d=2700.0, sigma0=4.5e6, f=0.6, H1=0.1, H2=
         (L.dimensionless_parameters, dict(GOOD, b=0.02), ["a = 0.01", "b = 0.02", "0 <= b < a"]),
         (L.dimensionless_parameters, dict(GOOD, b=0.01), ["a = 0.01", "b = 0.01", "0 <= b < a"]),
         (L.dimensionless_parameters, dict(GOOD, D_c=-1e-6), ["D_c", "[0, inf)"]),
+        # the API speaks SI (the app words it in the units its fields take: issue 33)
+        (L.dimensionless_parameters, dict(GOOD, H1=-0.005), ["H1 must be in (0, inf) m", "-0.005"]),
+        (L.dimensionless_parameters, dict(GOOD, H2=-0.03), ["H2 must be in (0, inf] m", "-0.03"]),
         (L.dimensionless_parameters, dict(GOOD, f=math.nan), ["f must"]),
         (L.dimensionless_parameters, dict(GOOD, H1="0.1"), ["H1 must be numeric"]),
         (L.dimensionless_parameters, dict(GOOD, plane="3d"), ["plane must be one of"]),

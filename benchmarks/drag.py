@@ -1,0 +1,287 @@
+"""Plots that follow the hand: a slider dragged in a real browser (issue 33; targets: >= 15 redraws during a 30-move
+drag over 1.5 s, the final plot <= 200 ms after the release, ten sessions dragging at once: p95 <= 400 ms).
+
+    python benchmarks/drag.py [--drags 6] [--sessions 10]
+
+Serves the app (``asymslide serve``, the flags of ``make serve``) on a free port, opens the Spectrum tab in headless
+Chromium (/usr/bin/chromium through Playwright, the tests' launch arguments) and drags the γ slider's handle with the
+mouse: 30 moves over 1.5 s, then the release, as a hand does. Inside the page, with ``performance.now()``, a listener
+on the Im[c/c_s] data of the plotted "Rayleigh branch" curve records every new data set and the frame that painted it.
+
+- *redraws during the drag*: new data sets painted between the press and the release;
+- *after release*: from the release until the frame showing the data of the final γ is painted (the last new data
+  set; 0 when the last frame of the drag already showed it).
+
+Then `sessions` sessions drag at once (Bokeh-protocol clients, as benchmarks/load_test.py's: ten Chromium pages on
+two cores would measure Chromium, not the server; starts staggered by 150 ms, three drags each) and the time from
+each release to the last new curve is pooled over them (p95; no paint in these clients). Prints a Markdown table (benchmarks/results.md keeps the figures of record);
+exit status 0 whether or not the targets are met (timings do not gate anything; PASS/MISS is printed).
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import math
+import os
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
+from tests.conftest import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
+from tests.support.served_app import ServedApp  # noqa: E402
+
+MOVES, DRAG_MS = 30, 1500
+TARGET_REDRAWS, TARGET_LAG_MS, TARGET_P95_MS = 15, 200.0, 400.0
+QUIET_MS = 1500  # no new data for this long after the release: the last one was the final plot
+
+_READY_JS = """() => {
+  if (window.Bokeh === undefined || Bokeh.documents.length === 0 || !Bokeh.documents[0].is_idle) return false;
+  for (const m of Bokeh.documents[0].all_models)
+    if (m.name === 'Rayleigh branch' && m.data_source !== undefined &&
+        Object.keys(m.data_source.data).some(c => c.startsWith('Im'))) return true;
+  return false;
+}"""
+
+#: record every new Im data set of the Rayleigh-branch curve and when it was painted (window.__drag)
+_WATCH_JS = """() => {
+  const doc = Bokeh.documents[0];
+  const rec = {frames: [], press: null, release: null};
+  window.__drag = rec;
+  const source = () => {
+    for (const m of doc.all_models)
+      if (m.name === 'Rayleigh branch' && m.data_source !== undefined) {
+        const col = Object.keys(m.data_source.data).find(c => c.startsWith('Im'));
+        if (col !== undefined) return [m.data_source, col];
+      }
+    return null;
+  };
+  let last = null;
+  const check = () => {
+    const found = source();
+    if (found === null) return;
+    const y = found[0].data[found[1]];
+    const key = y.length + ':' + y[0] + ':' + y[Math.floor(y.length / 2)] + ':' + y[y.length - 1];
+    if (key === last) return;
+    last = key;
+    const t = performance.now();
+    requestAnimationFrame(() => setTimeout(() => rec.frames.push({data: t, paint: performance.now()}), 0));
+  };
+  check();
+  rec.frames.length = 0;
+  const [src] = source();
+  src.change.connect(check);
+  const poll = () => { check(); setTimeout(poll, 10); };
+  poll();
+  return true;
+}"""
+
+
+def _drag(page, label: str = "γ") -> None:
+    """Press the handle of the slider labelled `label`, move it 30 times over 1.5 s, release it."""
+    slider = page.locator(".bk-input-group", has_text=f"{label}:").first
+    handle = slider.locator(".noUi-handle").first
+    track = slider.locator(".noUi-base").first
+    box, hb = track.bounding_box(), handle.bounding_box()
+    x0, y = hb["x"] + hb["width"] / 2, hb["y"] + hb["height"] / 2
+    x1 = box["x"] + 0.8 * box["width"] if x0 < box["x"] + 0.5 * box["width"] else box["x"] + 0.2 * box["width"]
+    page.mouse.move(x0, y)
+    page.mouse.down()
+    page.evaluate("() => { window.__drag.press = performance.now(); }")
+    for i in range(1, MOVES + 1):
+        page.mouse.move(x0 + (x1 - x0) * i / MOVES, y)
+        page.wait_for_timeout(DRAG_MS / MOVES)
+    page.mouse.up()
+    page.evaluate("() => { window.__drag.release = performance.now(); }")
+
+
+def _collect(page) -> dict:
+    """Wait until the plot is quiet after the release; the drag's redraws and lag after release."""
+    page.wait_for_function(f"""() => {{ const r = window.__drag, f = r.frames;
+        const lastT = f.length ? f[f.length - 1].paint : r.release;
+        return performance.now() - Math.max(lastT, r.release) > {QUIET_MS}; }}""", timeout=120_000)
+    r = page.evaluate("() => window.__drag")
+    during = [f for f in r["frames"] if r["press"] <= f["paint"] <= r["release"]]
+    after = [f for f in r["frames"] if f["paint"] > r["release"]]
+    lag = (after[-1]["paint"] - r["release"]) if after else 0.0
+    page.evaluate("() => { window.__drag.frames.length = 0; }")
+    return {"redraws": len(during), "lag": lag, "after": len(after)}
+
+
+def _open(browser, url: str):
+    page = browser.new_context(viewport={"width": 1280, "height": 900}).new_page()
+    page.goto(url, wait_until="load", timeout=600_000)
+    page.wait_for_function(_READY_JS, timeout=600_000)
+    page.evaluate(_WATCH_JS)
+    return page
+
+
+def _stats(xs: Sequence[float]) -> dict[str, float]:
+    if not xs:
+        return {"median": math.nan, "p95": math.nan, "max": math.nan, "n": 0}
+    a = np.asarray(xs, dtype=float)
+    return {"median": float(np.median(a)), "p95": float(np.percentile(a, 95)), "max": float(a.max()), "n": a.size}
+
+
+def measure(drags: int = 6, sessions: int = 10, log=print) -> dict:
+    """Serve; one page drags `drags` times; then `sessions` pages drag at once (twice each)."""
+    from playwright.sync_api import sync_playwright
+
+    if not CHROMIUM.exists():
+        raise SystemExit(f"{CHROMIUM} not found (apt-get install -y chromium)")
+    load_before, host_before = os.getloadavg(), host_loop_seconds()
+    single: list[dict] = []
+    crowd: list[dict] = []
+    errors: list[str] = []
+    with ServedApp() as server:
+        with sync_playwright() as pw:
+            browser = pw.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
+            try:
+                page = _open(browser, server.url)
+                page.on("pageerror", lambda exc: errors.append(f"pageerror: {exc}"))
+                _drag(page)  # warm-up: first updates load more JavaScript paths
+                _collect(page)
+                for _ in range(drags):
+                    _drag(page)
+                    single.append(_collect(page))
+                log(f"one session: {len(single)} drags timed")
+                page.context.close()
+            finally:
+                browser.close()
+        if sessions:
+            crowd = _crowd(server, sessions, errors)
+            log(f"{sessions} sessions: {len(crowd)} drags timed")
+        errors += server.error_lines
+    return {"single": single, "crowd": crowd, "sessions": sessions, "errors": errors,
+            "load": (load_before, os.getloadavg()), "host": (host_before, host_loop_seconds())}
+
+
+async def _protocol_drag(session, lo: float, hi: float) -> dict:
+    """One drag of the γ slider by a Bokeh-protocol client (benchmarks.load_test.AppSession): 30 ``value`` patches
+    over 1.5 s (what BokehJS sends while a handle moves), then ``value`` and ``value_throttled`` (the release); new
+    Im curves are read meanwhile. Returns the curves received during the drag and the time from the release to the
+    last new curve (read until the server is quiet for QUIET_MS)."""
+    sid = session.sliders["γ"]
+    frames: list[float] = []
+
+    async def read(until: float) -> None:
+        while time.monotonic() < until:
+            try:
+                msg = await session._recv(until)
+            except Exception:  # noqa: BLE001 - the read window ended
+                return
+            if msg.msgtype == "PATCH-DOC" and session._new_curve(msg)[1] is not None:
+                frames.append(time.monotonic())
+
+    reader = asyncio.create_task(read(time.monotonic() + 120))
+    press = time.monotonic()
+    for i in range(1, MOVES + 1):
+        value = round(lo + (hi - lo) * i / MOVES, 4)
+        events = [{"kind": "ModelChanged", "model": {"id": sid}, "attr": "value", "new": value}]
+        if i == MOVES:
+            events.append({"kind": "ModelChanged", "model": {"id": sid}, "attr": "value_throttled", "new": value})
+        await session._send_events(events)
+        if i < MOVES:
+            await asyncio.sleep(DRAG_MS / MOVES / 1000)
+    release = time.monotonic()
+    while True:
+        last = max([release, *frames])
+        if time.monotonic() - last > QUIET_MS / 1000:
+            break
+        await asyncio.sleep(0.05)
+    reader.cancel()
+    during = [t for t in frames if t <= release]
+    after = [t for t in frames if t > release]
+    session.params["γ"] = hi
+    return {"redraws": len(during), "lag": (after[-1] - release) * 1000 if after else 0.0, "after": len(after),
+            "press": press}
+
+
+def _crowd(server: ServedApp, sessions: int, errors: list[str], rounds: int = 3) -> list[dict]:
+    """`sessions` Bokeh-protocol clients (benchmarks.load_test's: ten Chromium pages on two cores would measure
+    Chromium, not the server) each dragging γ `rounds` times, starts staggered by 150 ms."""
+    from benchmarks.load_test import AppSession
+
+    out: list[dict] = []
+
+    async def user(i: int, session) -> None:
+        await asyncio.sleep(0.15 * i)
+        for r in range(rounds):
+            lo, hi = (2.0, 8.0) if r % 2 == 0 else (8.0, 2.0)
+            try:
+                out.append(await _protocol_drag(session, lo + 0.01 * i, hi + 0.01 * i))
+            except Exception as exc:  # noqa: BLE001 - a failed drag is reported
+                errors.append(f"session {i} drag {r}: {type(exc).__name__}: {exc}")
+
+    async def run() -> None:
+        opened = []
+        for _ in range(sessions):
+            s = AppSession(server.url, server.ws_url)
+            await s.open(600)
+            opened.append(s)
+        try:
+            await asyncio.gather(*(user(i, s) for i, s in enumerate(opened)))
+        finally:
+            for s in opened:
+                await s.close()
+
+    asyncio.run(run())
+    return out
+
+
+def report(res: dict) -> str:
+    single, crowd = res["single"], res["crowd"]
+    redraws = _stats([r["redraws"] for r in single])
+    lag = _stats([r["lag"] for r in single])
+    crowd_lag = _stats([r["lag"] for r in crowd])
+    ok = [redraws["median"] >= TARGET_REDRAWS, lag["median"] <= TARGET_LAG_MS,
+          crowd_lag["p95"] <= TARGET_P95_MS if crowd else False, not res["errors"]]
+    (l0, _, _), (l1, _, _) = res["load"]
+    lines = [
+        "### Live while dragging (`python benchmarks/drag.py`)",
+        "",
+        f"Spectrum tab, the γ slider's handle dragged with the mouse in headless Chromium: {MOVES} moves over "
+        f"{DRAG_MS / 1000:.1f} s, then the release. A *redraw* is a new Im[c/c_s] data set of the Rayleigh-branch "
+        "curve painted during the drag; *after release*: from the release until the final plot is painted.",
+        "",
+        "| case | drags | redraws during the drag (median, min) | after release median (ms) | p95 (ms) | max (ms) |",
+        "|---|---|---|---|---|---|",
+        f"| one session | {len(single)} | {redraws['median']:.0f}, {min((r['redraws'] for r in single), default=0)} "
+        f"| {lag['median']:.0f} | {lag['p95']:.0f} | {lag['max']:.0f} |",
+        f"| {res['sessions']} sessions at once (protocol clients) | {len(crowd)} | "
+        f"{np.median([r['redraws'] for r in crowd]) if crowd else math.nan:.0f}, "
+        f"{min((r['redraws'] for r in crowd), default=0)} | {crowd_lag['median']:.0f} | {crowd_lag['p95']:.0f} | "
+        f"{crowd_lag['max']:.0f} |",
+        "",
+        f"Targets: >= {TARGET_REDRAWS} redraws during the drag: {'PASS' if ok[0] else 'MISS'}; final plot <= "
+        f"{TARGET_LAG_MS:.0f} ms after release: {'PASS' if ok[1] else 'MISS'}; {res['sessions']} sessions p95 <= "
+        f"{TARGET_P95_MS:.0f} ms: {'PASS' if ok[2] else 'MISS'}; no server or page error: "
+        f"{'PASS' if ok[3] else 'MISS'}.",
+        "",
+        f"Machine: {os.cpu_count()} CPU(s), load average {l0:.2f} before and {l1:.2f} after; the server and every "
+        "Chromium share these CPUs. " + host_line(*res["host"]),
+    ]
+    if res["errors"]:
+        lines += ["", f"Errors ({len(res['errors'])}, first 10):", "", "```", *res["errors"][:10], "```"]
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--drags", type=int, default=6, help="drags timed in one session (default 6)")
+    ap.add_argument("--sessions", type=int, default=10, help="sessions dragging at once (default 10; 0: none)")
+    args = ap.parse_args(argv)
+    text = report(measure(args.drags, args.sessions))
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
