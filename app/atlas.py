@@ -43,7 +43,6 @@ from .common import (
     COLOUR_LEGEND,
     GROWTH_LABEL,
     GROWTH_PALETTE,
-    LOG_TICKS,
     MARGINAL,
     NAN_COLOR,
     neutral_lines,
@@ -75,6 +74,16 @@ def default_name() -> str:
     plan = engine.make_plan(DEFAULT_AXES, kH=DEFAULT_KH).identity()
     key = engine.model_fingerprint() + json.dumps(plan, sort_keys=True)
     return DEFAULT_PREFIX + hashlib.sha256(key.encode()).hexdigest()[:12]
+
+
+def display_name(name: str) -> str:
+    """How the select and the titles call an atlas: its file name, but the current default atlas by what it is
+    ("default (γ-η-f-β, 4-D)") rather than by its hash. The URL and the store keep the file name
+    (default-<hash>), so shared links stay valid."""
+    if name != default_name():
+        return name
+    symbols = "-".join(model.PARAMETERS[n].symbol if n in model.PARAMETERS else n for n in DEFAULT_AXES)
+    return f"default ({symbols}, {len(DEFAULT_AXES)}-D)"
 
 
 def list_atlases(directory: Path | None = None) -> list[str]:
@@ -199,8 +208,20 @@ NOT_COMPUTABLE = ("the Rayleigh branch could not be followed at any kH, or its m
 NAN_ROWS = ("max_growth NaN: not computable (n_masked_kH = the number of kH grid points: the branch was not followed "
             "at any kH; fewer: its maximum could not be refined)")
 
-#: colour of the 3-D neutral surface
-SURFACE_COLOR = "#1f4e79"
+#: the 3-D view's pane: its width over its height, and the least and most height (px). Plotly scales a 3-D scene with
+#: the plot's height, so a tall plot on a narrow (phone's) page cut the box off at both sides: the height follows the
+#: width instead, and the figure has none of its own (autosize: the pane gives Plotly its size, nothing cut off)
+SURFACE_ASPECT = 1.45
+SURFACE_MIN_HEIGHT = 420
+SURFACE_MAX_HEIGHT = 600
+#: the colours of the 3-D neutral surface by the value of its third axis (its depth)
+SURFACE_COLORSCALE = "Viridis"
+#: the camera of the 3-D view: further out than Plotly's default eye (1.25, 1.25, 1.25), whose view of the box's near
+#: corner ran out of the bottom of the plot, and aimed a little below the box's centre, which lifts the box (its near
+#: corner, nearest the camera, is drawn largest)
+SURFACE_CAMERA = {"eye": {"x": 1.75, "y": 1.75, "z": 1.15}, "center": {"x": 0, "y": 0, "z": -0.12}}
+#: Plotly's options of the 3-D view: the wheel zooms (said in the help text; no page-dependent default) and no logo
+SURFACE_CONFIG = {"scrollZoom": True, "displaylogo": False}
 
 #: a cube cell's corners (offsets along x, y, z) and its six tetrahedra around the diagonal from corner 0 to 6
 _CORNERS = np.array([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)])
@@ -257,12 +278,56 @@ def neutral_surface(x: np.ndarray, y: np.ndarray, z: np.ndarray, values: np.ndar
     return corners.reshape(-1, 3), np.arange(corners.shape[0] * 3).reshape(-1, 3)
 
 
+def _surface_axis(title: str, plotted: np.ndarray, log: bool) -> dict:
+    """A 3-D axis over an atlas axis's grid (`plotted`: its plotted coordinates, log10 of the values on a log axis):
+    a log axis is a Plotly log axis that shows the parameter's values (whose range Plotly takes in log10 units)."""
+    lo, hi = float(plotted.min()), float(plotted.max())
+    axis = {"title": {"text": title}, "type": "log" if log else "linear", "range": [lo, hi]}
+    if log and hi - lo >= 2:  # ticks at the decades: Plotly's 2 and 5 between them overlapped on a short axis
+        axis["dtick"] = 1
+    return axis
+
+
+def _depth_colours(depth: np.ndarray, plotted: np.ndarray, title: str, log: bool) -> dict:
+    """The mesh's colours by its vertices' third coordinate (`depth`, plotted coordinates: log10 on a log axis) over
+    the axis's grid (`plotted`), with a colour bar titled by the axis that reads in the parameter's values."""
+    lo, hi = float(plotted.min()), float(plotted.max())
+    bar: dict = {"title": {"text": title}, "thickness": 14, "len": 0.7}
+    if log:  # ticks at the decades inside the range, else at its ends and middle, labelled with the values
+        ticks = np.arange(math.ceil(lo), math.floor(hi) + 1, dtype=float)
+        ticks = ticks if ticks.size >= 2 else np.linspace(lo, hi, 3)
+        bar |= {"tickmode": "array", "tickvals": ticks.tolist(), "ticktext": [fmt(10.0 ** t) for t in ticks]}
+    return {"intensity": depth, "intensitymode": "vertex", "colorscale": SURFACE_COLORSCALE, "cmin": lo, "cmax": hi,
+            "colorbar": bar}
+
+
+def _surface_layout(title: str, scene: dict) -> dict:
+    """The 3-D view's layout: the title and the legend above the scene (not over it), the scene in the rest of the
+    pane's height (autosize)."""
+    # a title of two lines anchored at its top still rose by one line out of the plot: the pad gives that line back
+    return {"title": {"text": title, "font": {"size": 13}, "x": 0.01, "xanchor": "left", "yref": "container", "y": 1,
+                      "yanchor": "top", "pad": {"t": 22}},
+            "scene": {**scene, "camera": SURFACE_CAMERA}, "autosize": True,
+            "margin": {"l": 0, "r": 0, "t": 96, "b": 0},
+            "legend": {"orientation": "h", "x": 0, "xanchor": "left", "y": 1.0, "yanchor": "bottom"}}
+
+
 # ------------------------------------------------------------------------------------------------
 # the heat map: a Bokeh figure whose sources a slice change updates in place
 # ------------------------------------------------------------------------------------------------
 
 #: height of the heat map in px
 HEIGHT = 480
+
+
+#: ticks asked of the heat map's x axis (Bokeh's default, 6, collided on a 390 px wide page, where about 200 px of
+#: plot are left between the y axis and the colour bar: issue 33)
+X_TICKS = 4
+#: the least gap (px) between two tick labels of the heat map; a label closer to its neighbour is not drawn
+TICK_GAP = 8
+#: a log axis's tick labels (the plotted coordinate is log10 of the value): the value to two significant digits,
+#: without trailing zeros ("0.1", "3.2", "1000"), narrower than app.common.LOG_TICKS's three ("0.100", "1.00e+3")
+SHORT_LOG_TICKS = "return String(Number(Math.pow(10, tick).toPrecision(2)))"
 
 
 #: the heat map's legend (HeatMap's colour mapper: growth > 0 red, as in the Stability map)
@@ -324,16 +389,15 @@ class HeatMap:
         xr = _edges(x)
         yr = _edges(y)
         fixed = ", ".join(f"{atlas.label(k)} = {'∞' if math.isinf(v) else fmt(v)}" for k, v in atlas.fixed.items())
-        title = (f"{atlas.name}: max growth rate over {atlas.label(x_axis)}-{atlas.label(y_axis) if y_axis else ''}"
+        plane = f"{atlas.label(x_axis)}-{atlas.label(y_axis) if y_axis else ''}"
+        title = (f"{display_name(atlas.name)}: max growth rate over {plane}"
                  + (f"; {fixed}" if fixed else ""))
         fig = figure(title=title, height=HEIGHT, sizing_mode="stretch_width", x_range=(xr[0], xr[-1]),
                      y_range=(yr[0], yr[-1]), tools="pan,wheel_zoom,box_zoom,reset,save,tap", toolbar_location="right",
                      x_axis_label=atlas.label(x_axis) + (" (log scale)" if atlas.log[x_axis] else ""),
                      y_axis_label=(atlas.label(y_axis) + (" (log scale)" if atlas.log[y_axis] else "")) if y_axis
                      else "")
-        for axis, name in ((fig.xaxis, x_axis), (fig.yaxis, y_axis)):
-            if name is not None and atlas.log[name]:
-                axis.formatter = CustomJSTickFormatter(code=LOG_TICKS)
+        self._readable_ticks(fig, atlas, x_axis, y_axis)
         self.mapper = LinearColorMapper(palette=list(GROWTH_PALETTE), low=-atlas.clim, high=atlas.clim,  # high: red
                                         nan_color=NAN_COLOR)
         if self.regular:
@@ -380,6 +444,18 @@ class HeatMap:
                                                              else {})})
         fig.on_event(Tap, lambda event: on_tap(x=event.x, y=event.y))
         self.figure = fig
+
+    @staticmethod
+    def _readable_ticks(fig, atlas: Atlas, x_axis: str, y_axis: str | None) -> None:
+        """Tick labels that stay apart at any width: fewer ticks on the x axis, where the labels sit side by side,
+        short labels on log axes, and labels that would still overlap (a phone's page) left out by the browser."""
+        from bokeh.models import NoOverlap
+
+        fig.xaxis.ticker.desired_num_ticks = X_TICKS
+        for axis, name in ((fig.xaxis, x_axis), (fig.yaxis, y_axis)):
+            axis.major_label_policy = NoOverlap(min_distance=TICK_GAP)
+            if name is not None and atlas.log[name]:
+                axis.formatter = CustomJSTickFormatter(code=SHORT_LOG_TICKS)
 
     @staticmethod
     def _geometry(xr: np.ndarray, yr: np.ndarray) -> dict[str, np.ndarray]:
@@ -431,8 +507,8 @@ class HeatMap:
         self.heat_renderer.visible = not sliding
         self.colorbar.visible = not sliding
         self.sliding_colorbar.visible = sliding
-        self.figure.title.text = (f"{self.atlas.name}: sliding verdict (every branch, Im z ≥ {floor:g}) over {plane}"
-                                  if sliding else self.title_rayleigh)
+        self.figure.title.text = (f"{display_name(self.atlas.name)}: sliding verdict (every branch, Im z ≥ "
+                                  f"{floor:g}) over {plane}" if sliding else self.title_rayleigh)
         if not sliding:
             self.sliding_classes.data = {k: [] for k in self.sliding_classes.data}
             self.sliding_growth.data = {k: [] for k in self.sliding_growth.data}
@@ -708,7 +784,9 @@ class AtlasScene(pn.viewable.Viewer):
         self.verdict_select = pn.widgets.RadioButtonGroup.from_param(self.param.verdict, color="light", visible=False)
         self.param.watch(lambda e: setattr(self.verdict_select, "visible", bool(e.new is not None
                                                                                 and e.new.has_sliding)), "data")
-        self.surface_pane = pn.pane.Plotly(None, sizing_mode="stretch_width", height=460)
+        self.surface_pane = pn.pane.Plotly(None, sizing_mode="scale_width", aspect_ratio=SURFACE_ASPECT,
+                                           min_height=SURFACE_MIN_HEIGHT, max_height=SURFACE_MAX_HEIGHT,
+                                           config=dict(SURFACE_CONFIG))
         self.param.watch(self._atlas_changed, "atlas")
         self.param.watch(self._axes_changed, ["x_axis", "y_axis"])
         self.param.watch(self._sync_widgets, ["atlas", "data", "x_axis", "y_axis", "surface_axes"])
@@ -856,7 +934,9 @@ class AtlasScene(pn.viewable.Viewer):
         names = getattr(self, "_names", [])
         self._syncing = True
         try:
-            self.atlas_select.param.update(options=list(names), value=self.atlas if self.atlas in names else None)
+            # readable labels, file names as values (the URL's atlas=NAME)
+            self.atlas_select.param.update(options={display_name(n): n for n in names},
+                                           value=self.atlas if self.atlas in names else None)
             self.x_select.param.update(options=labels, value=self.x_axis if self.x_axis in labels.values() else None,
                                        disabled=len(labels) < 2)
             others = {k: v for k, v in labels.items() if v != self.x_axis}
@@ -1127,8 +1207,10 @@ class AtlasScene(pn.viewable.Viewer):
 
     def surface_figure(self) -> dict | None:
         """A Plotly figure (dict) of the neutral surface growth = 0 over the three chosen axes (the others at the
-        sliders' values): a triangle mesh (:func:`neutral_surface`, none through cells with a masked corner), the
-        masked grid points as grey markers, and axes spanning the atlas's grid. None without three axes."""
+        sliders' values): a triangle mesh (:func:`neutral_surface`, none through cells with a masked corner) coloured
+        by the third axis's value (a colour bar tells the depth a flat colour hid), the masked grid points as grey
+        markers, and axes spanning the atlas's grid in the parameters' values (log axes as Plotly log axes). None
+        without three axes."""
         d = self.data
         axes = list(self.surface_axes)
         if d is None or len(axes) != 3:
@@ -1138,31 +1220,34 @@ class AtlasScene(pn.viewable.Viewer):
         cube = np.asarray(getattr(d.growth[index], "values", d.growth[index]), dtype=float)
         kept = [n for n in names if n in axes]
         cube = np.transpose(cube, [kept.index(n) for n in axes])  # to the chosen order
-        coords = [d.display(n) for n in axes]
-        vertices, triangles = neutral_surface(*coords, cube)
-        titles = [d.label(n) + (" (log10)" if d.log[n] else "") for n in axes]
+        # interpolated along the plotted coordinates (log10 on a log axis), as the heat map's neutral curve, then
+        # drawn at the parameters' values: a log axis puts them back where they were interpolated
+        plotted = [d.display(n) for n in axes]
+        vertices, triangles = neutral_surface(*plotted, cube)
+        logs = [bool(d.log[n]) for n in axes]
+        values = np.column_stack([10.0 ** vertices[:, a] if logs[a] else vertices[:, a] for a in range(3)])
         not_computable = ~np.isfinite(cube)
         if d.adaptive and d.computed is not None:  # not computed is not "not computable"
             done = np.asarray(getattr(d.computed[index], "values", d.computed[index]))
             not_computable &= np.transpose(done, [kept.index(n) for n in axes]) >= 0
         masked = np.argwhere(not_computable)
-        data = [{"type": "mesh3d", "x": vertices[:, 0], "y": vertices[:, 1], "z": vertices[:, 2],
-                 "i": triangles[:, 0], "j": triangles[:, 1], "k": triangles[:, 2], "color": SURFACE_COLOR,
-                 "opacity": 0.8, "flatshading": False, "name": "neutral surface (max growth = 0)", "showlegend": True,
-                 "hoverinfo": "skip"}]
+        data = [{"type": "mesh3d", "x": values[:, 0], "y": values[:, 1], "z": values[:, 2],
+                 "i": triangles[:, 0], "j": triangles[:, 1], "k": triangles[:, 2], "opacity": 0.9,
+                 "flatshading": False, "name": "neutral surface (max growth = 0)", "showlegend": True,
+                 "hoverinfo": "skip", **_depth_colours(vertices[:, 2], plotted[2], d.label(axes[2]), logs[2])}]
         if masked.size:
             data.append({"type": "scatter3d", "mode": "markers", "name": "not computable (masked)",
-                         "x": coords[0][masked[:, 0]], "y": coords[1][masked[:, 1]], "z": coords[2][masked[:, 2]],
-                         "marker": {"size": 3, "color": NAN_COLOR}, "hoverinfo": "skip"})
+                         "x": d.axes[axes[0]][masked[:, 0]], "y": d.axes[axes[1]][masked[:, 1]],
+                         "z": d.axes[axes[2]][masked[:, 2]], "marker": {"size": 3, "color": NAN_COLOR},
+                         "hoverinfo": "skip"})
         others = ", ".join(f"{d.label(n)} = {d.axes[n][self.indices.get(n, 0)]:.4g}" for n in names if n not in axes)
-        title = "Neutral surface (max growth = 0)" + (f" at {others}" if others else "") + "; drag to rotate"
+        # the conditions on a second line: one line of title did not fit a phone's width
+        title = "Neutral surface (max growth = 0)" + (f"<br>at {others}" if others else "")
         if not len(triangles):
-            title += " — no sign change of the growth in this cube: no surface"
-        scene = {f"{a}axis": {"title": {"text": t}, "range": [float(c.min()), float(c.max())]}
-                 for a, t, c in zip("xyz", titles, coords, strict=True)}
-        return {"data": data,
-                "layout": {"title": {"text": title, "font": {"size": 14}}, "scene": scene, "height": 460,
-                           "margin": {"l": 0, "r": 0, "t": 40, "b": 0}, "legend": {"x": 0, "y": 1}}}
+            title += "<br>no sign change of the growth in this cube: no surface"
+        scene = {f"{a}axis": _surface_axis(d.label(n), c, log)
+                 for a, n, c, log in zip("xyz", axes, plotted, logs, strict=True)}
+        return {"data": data, "layout": _surface_layout(title, scene)}
 
     def surface_key(self) -> tuple | None:
         """What the 3-D view depends on: the atlas, the three axes and the indices of the other axes."""
@@ -1266,7 +1351,9 @@ class AtlasScene(pn.viewable.Viewer):
         if d is None:
             return "**No atlas loaded yet.**"
         a = d.attrs
-        lines = [f"**Atlas** {d.name} ({', '.join(f'{d.label(n)}: {v.size}' for n, v in d.axes.items())} points)",
+        shown = display_name(d.name)
+        sizes = ", ".join(f"{d.label(n)}: {v.size}" for n, v in d.axes.items())
+        lines = [f"**Atlas** {shown}" + (f" (file {d.name}.zarr)" if shown != d.name else "") + f" ({sizes} points)",
                  "**Fixed** " + ", ".join(f"{d.label(k)} = {'∞' if math.isinf(v) else fmt(v)}"
                                            for k, v in d.fixed.items()),
                  f"**Computed** by asymslide {a.get('asymslide_version')} (git {a.get('git_revision')}) on "

@@ -217,12 +217,15 @@ def test_surface_figure_is_the_neutral_surface_over_the_atlas_ranges(atlas_dir: 
     assert mesh["type"] == "mesh3d" and len(mesh["x"]) > 0 and len(mesh["i"]) == len(mesh["x"]) // 3
     stored = xr.open_zarr(atlas_dir / "small.zarr", consolidated=False).growth
     assert (stored > 0).any() and (stored < 0).any()
-    shown = [np.log10(AXES["gamma"]), AXES["beta"], AXES["f"]]
-    for axis, values, coords in zip("xyz", shown, (mesh["x"], mesh["y"], mesh["z"]), strict=True):
+    # Plotly takes a log axis's range in log10 units, and its data in the parameter's values
+    ranges = [np.log10(AXES["gamma"]), AXES["beta"], AXES["f"]]
+    for axis, name, shown, coords in zip("xyz", ("gamma", "beta", "f"), ranges, (mesh["x"], mesh["y"], mesh["z"]),
+                                         strict=True):
         lo, hi = fig["layout"]["scene"][f"{axis}axis"]["range"]
-        assert (lo, hi) == pytest.approx((values.min(), values.max()), rel=1e-12)  # the atlas's grid, not -1..1
-        assert lo - 1e-12 <= np.min(coords) and np.max(coords) <= hi + 1e-12
-    assert fig["layout"]["scene"]["xaxis"]["title"]["text"] == "γ (log10)"
+        assert (lo, hi) == pytest.approx((shown.min(), shown.max()), rel=1e-12)  # the atlas's grid, not -1..1
+        values = AXES[name]
+        assert values.min() * (1 - 1e-12) <= np.min(coords) and np.max(coords) <= values.max() * (1 + 1e-12)
+    assert fig["layout"]["scene"]["xaxis"]["title"]["text"] == "γ"
     n_nan = int(np.isnan(stored.values).sum())
     assert len(fig["data"]) == (2 if n_nan else 1)
     if n_nan:
@@ -231,6 +234,96 @@ def test_surface_figure_is_the_neutral_surface_over_the_atlas_ranges(atlas_dir: 
     assert scene.surface_pane.object is not None
     scene.surface_axes = ["gamma", "beta"]
     assert scene.surface_figure() is None and scene.surface_pane.object is None
+
+
+def test_the_3d_view_is_whole_zooms_on_the_wheel_reads_depth_and_log_axes_in_values(atlas_dir: Path) -> None:
+    """Issue 33 item 1: the figure is as tall as its pane and seen from further out than Plotly's default camera (which
+    cut the box's near corner off at the bottom), the wheel zooms, the surface is coloured by its third axis with a
+    colour bar (it was one flat colour), and a log axis is a Plotly log axis over the parameter's values."""
+    scene = A.AtlasScene(requested="small")
+    scene.refresh()
+    fig = scene.surface_figure()
+    layout, mesh = fig["layout"], fig["data"][0]
+    # no height of its own (Plotly gets the pane's, nothing cut off), and the pane's height follows its width: Plotly
+    # scales the scene with the height, so a desktop's 600 px on a phone's 360 px wide pane cut the box at both sides
+    assert layout["autosize"] is True and "height" not in layout
+    pane = scene.surface_pane
+    assert pane.sizing_mode == "scale_width"
+
+    def height(width: float) -> float:  # Bokeh's scale_width: the aspect ratio within the least and most height
+        return min(pane.max_height, max(pane.min_height, width / pane.aspect_ratio))
+
+    assert height(360) <= 420 and height(870) >= 560
+    eye = layout["scene"]["camera"]["eye"]
+    assert math.hypot(eye["x"], eye["y"], eye["z"]) > math.hypot(1.25, 1.25, 1.25)  # Plotly's default eye
+    assert scene.surface_pane.config["scrollZoom"] is True
+    # coloured by depth: f (the z axis, linear) at every vertex, over the atlas's range of f, with its colour bar
+    assert "color" not in mesh and mesh["colorbar"]["title"]["text"] == "f"
+    assert np.array_equal(mesh["intensity"], mesh["z"]) and np.ptp(mesh["intensity"]) > 0
+    assert (mesh["cmin"], mesh["cmax"]) == (0.3, 1.5)
+    # γ on a log axis: the vertices in γ's values (0.3 ... 30; log10 would be -0.52 ... 1.48)
+    assert layout["scene"]["xaxis"]["type"] == "log" and layout["scene"]["yaxis"]["type"] == "linear"
+    assert 0.3 * (1 - 1e-12) <= np.min(mesh["x"]) and np.max(mesh["x"]) <= 30 * (1 + 1e-12)
+    assert np.max(mesh["x"]) > 1.5
+    # γ as the depth: a log colour scale whose ticks are labelled with γ's values at the decades
+    scene.surface_axes = ["beta", "f", "gamma"]
+    mesh = scene.surface_figure()["data"][0]
+    assert mesh["colorbar"]["title"]["text"] == "γ" and mesh["colorbar"]["ticktext"] == ["1", "10"]
+    assert mesh["colorbar"]["tickvals"] == [0.0, 1.0] and np.allclose(mesh["intensity"], np.log10(mesh["z"]))
+    assert (mesh["cmin"], mesh["cmax"]) == pytest.approx((math.log10(0.3), math.log10(30)), rel=1e-12)
+
+
+def test_the_default_atlas_is_named_by_what_it_is_and_its_hash_url_still_opens_it(
+        atlas_store: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 33 item 2: the select and the heat map's title call the default atlas "default (γ-η-f-β, 4-D)", not
+    default-<hash>; the store and the URL keep the file name, so a link with atlas=default-<hash> opens it."""
+    import shutil
+
+    from app.urlstate import query_string
+
+    name = A.default_name()
+    assert name.startswith("default-")
+    shutil.copytree(atlas_store / "small.zarr", tmp_path / f"{name}.zarr")  # a complete store under the default's name
+    shutil.copytree(atlas_store / "eta-gamma.zarr", tmp_path / "eta-gamma.zarr")
+    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
+    A._load.cache_clear()
+    app = build_app({"tab": ["atlas"], "atlas": [name]})  # an old link
+    scene = app.atlas
+    assert not app.messages.visible and scene.atlas == name and scene.data is not None
+    assert scene.atlas_select.options == {"default (γ-η-f-β, 4-D)": name, "eta-gamma": "eta-gamma"}
+    assert scene.atlas_select.value == name
+    assert _heat(scene).figure.title.text.startswith("default (γ-η-f-β, 4-D): max growth rate over γ-β")
+    assert scene.readout().startswith(f"**Atlas** default (γ-η-f-β, 4-D) (file {name}.zarr)")
+    assert f"atlas={name}" in query_string(app.param_objects(), "atlas", scene.url_state())
+    scene.atlas_select.value = "eta-gamma"  # another atlas keeps its file name
+    assert scene.atlas == "eta-gamma" and _heat(scene).figure.title.text.startswith("eta-gamma: max growth rate")
+
+
+def _log_tick_labels(code: str, ticks: list[float]) -> list[str]:
+    """The labels a Bokeh CustomJSTickFormatter's `code` gives the ticks (run by Node, as the browser would)."""
+    import json
+    import shutil
+    import subprocess
+
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("no node to run the tick formatter's JavaScript")
+    script = f"const f = (tick) => {{ {code} }}; console.log(JSON.stringify({json.dumps(ticks)}.map(f)));"
+    return json.loads(subprocess.run([node, "-e", script], capture_output=True, text=True, check=True).stdout)
+
+
+def test_heat_map_tick_labels_stay_apart_on_a_phone(atlas_dir: Path) -> None:
+    """Issue 33 item 3: at 390 px (about 200 px of plot) the x ticks collided: fewer ticks are asked for, labels that
+    would overlap are not drawn, and a log axis's labels are short."""
+    from bokeh.models import NoOverlap
+
+    scene = A.AtlasScene(requested="small")
+    scene.refresh()
+    fig = _heat(scene).figure
+    assert fig.xaxis[0].ticker.desired_num_ticks <= 4  # Bokeh's default is 6
+    assert all(isinstance(axis.major_label_policy, NoOverlap) for axis in (*fig.xaxis, *fig.yaxis))
+    labels = _log_tick_labels(fig.xaxis[0].formatter.code, [-1, -0.5, 0, 0.5, 1, 4])  # γ is on a log axis
+    assert labels == ["0.1", "0.32", "1", "3.2", "10", "10000"]
 
 
 def test_default_atlas_is_computed_on_first_use(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -306,7 +399,8 @@ def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects
     release.set()
     scene.wait(60)
     assert scene.data is not None and not scene.progress.visible
-    assert scene.atlas_select.value == A.default_name() and scene.atlas_select.options == [A.default_name()]
+    assert scene.atlas_select.value == A.default_name()
+    assert list(scene.atlas_select.options.values()) == [A.default_name()]
     assert (scene.x_select.value, scene.y_select.value) == ("gamma", "eta")
     assert [w.label for w in scene.sliders.objects] == ["f"]
     heat = scene.heat_map()
