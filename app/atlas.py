@@ -877,6 +877,7 @@ class AtlasScene(pn.viewable.Viewer):
         request, self._requested = self._requested, AtlasRequest()
         names = data.names
         notes: list[str] = []
+        clamped: list[str] = []
         x, y = request.x or self.x_axis, request.y or self.y_axis
         for which, axis in (("x", request.x), ("y", request.y)):
             if axis is not None and axis not in names:
@@ -888,6 +889,10 @@ class AtlasScene(pn.viewable.Viewer):
                 notes.append(f"{name} is not an axis of atlas {data.name}")
                 continue
             indices[name] = int(np.argmin(np.abs(data.axes[name] - value)))
+            lo, hi = float(np.min(data.axes[name])), float(np.max(data.axes[name]))
+            if not lo <= value <= hi:  # snapped to an end of the grid: said, as the sliders' clamps are
+                clamped.append(f"at_{name} = {value:g} is outside the atlas's {data.label(name)} range {lo:.4g} … "
+                               f"{hi:.4g}: set to {float(data.axes[name][indices[name]]):.4g}")
         surface = [n for n in request.surface if n in names]
         if len(set(surface)) != 3:
             if request.surface:
@@ -897,8 +902,9 @@ class AtlasScene(pn.viewable.Viewer):
         with param.parameterized.batch_call_watchers(self):
             self.param.update(data=data, x_axis=x, y_axis=y, surface_axes=surface, indices=indices, verdict=verdict)
         self._rebuild_sliders()
-        if notes:
-            self.message = "From the URL: " + "; ".join(notes) + " (left as they were)."
+        said = (["; ".join(notes) + " (left as they were)"] if notes else []) + clamped
+        if said:
+            self.message = "From the URL: " + "; ".join(said) + "."
 
     @staticmethod
     def _two_axes(names: list[str], x: str | None, y: str | None) -> tuple[str, str | None]:
@@ -965,7 +971,9 @@ class AtlasScene(pn.viewable.Viewer):
                                               value=self.indices.get(name, 0), disabled=len(d.axes[name]) < 2,
                                               format=CustomJSTickFormatter(code=f"return {labels}[tick] ?? ''"),
                                               sizing_mode="stretch_width")
-                slider.param.watch(lambda e, n=name: self._set_index(n, e.new), "value_throttled")
+                # on `value`: the slice follows the handle while it is dragged (it reads the stored cube, no model
+                # call: a slice costs a few ms)
+                slider.param.watch(lambda e, n=name: self._set_index(n, e.new), "value")
                 widgets.append(slider)
         self.sliders.objects = widgets
 

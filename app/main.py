@@ -162,12 +162,13 @@ class App:
 
     def _apply(self, updates: Updates) -> None:
         self.spectrum_params.param.update(**updates["spectrum"])
-        self.thin_params.param.update(**updates["thin"])
         set_with_material(self.lab_params, updates["lab"])
-        rupture = dict(updates["rupture"])
+        thin, rupture = dict(updates["thin"]), dict(updates["rupture"])
         material = updates["lab"].get("material")
-        if material not in (None, CUSTOM) and "nu" not in rupture:  # a material named alone brings its ν too
-            rupture["nu"] = RuptureParams.material_nu(material)
+        for scene in (thin, rupture):  # a material named alone brings its ν to both scenes that use one
+            if material not in (None, CUSTOM) and "nu" not in scene:
+                scene["nu"] = RuptureParams.material_nu(material)
+        self.thin_params.param.update(**thin)
         self.rupture_params.param.update(**rupture)
 
     def _refused(self, updates: Updates) -> list[str]:

@@ -258,10 +258,12 @@ class SpectrumParams(param.Parameterized):
         η = ∞ is ticked."""
         w = make_widgets(self)
         w["xi"].disabled = self.Delta == 1
-        finite_format, infinite_format = w["log10_eta"].format, CustomJSTickFormatter(code=INFINITE_TICKS)
 
-        def show_eta(infinite: bool) -> None:  # the slider reads ∞ while η = ∞ is ticked (not its last finite value)
-            w["log10_eta"].param.update(disabled=infinite, format=infinite_format if infinite else finite_format)
+        def show_eta(infinite: bool) -> None:
+            """While η = ∞ is ticked the slider is disabled and shows no number (not its last finite value; the
+            box below it says ∞). BokehJS does not redraw a slider's title for a new `format`: a formatter that read
+            ∞ kept reading ∞ after the box was unticked (issue 33), so the number is hidden instead."""
+            w["log10_eta"].param.update(disabled=infinite, show_value=not infinite)
 
         show_eta(self.eta_infinite)
         self.param.watch(lambda e: setattr(w["xi"], "disabled", e.new == 1), "Delta")
@@ -451,8 +453,6 @@ def follow_material(obj: LabParams) -> None:
 
 #: tick labels of a log10 slider show the physical value
 LOG10_TICKS = "return Math.pow(10, tick).toPrecision(3)"
-#: a disabled slider whose value is ∞ (η = ∞ ticked) reads ∞
-INFINITE_TICKS = "return '∞'"
 
 
 class LabelledCheckbox(pn.widgets.CheckBoxGroup):
@@ -518,8 +518,11 @@ def _attribute(widget: pn.widgets.Widget) -> str:
 def _set_or_restore(obj: param.Parameterized, name: str, event: param.parameterized.Event) -> None:
     """Set `name` of `obj` from a widget's event; a value the parameter refuses puts the parameter's value back into
     the widget."""
+    value = event.new
+    if isinstance(value, float) and math.isfinite(value):  # a slider's 0.9 arrives as 0.8999999999999999 (its
+        value = float(f"{value:.12g}")  # steps are added in binary): the value shown, in the URL and the CSVs
     try:
-        set_frozen(obj, name, event.new)
+        set_frozen(obj, name, value)
     except ValueError:
         event.obj.param.update({_attribute(event.obj): getattr(obj, name)})
 

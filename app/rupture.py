@@ -35,6 +35,7 @@ from .params import (
     scene_layout,
     shared_material_widgets,
 )
+from .thin_on_thick import material_readout_with_nu
 
 #: the plates of the experiment are thin: plane stress (model.PAPER_DEFAULTS.plane; Eq. dsigma's thin block is too)
 PLANE = model.PAPER_DEFAULTS.plane
@@ -51,6 +52,9 @@ V_LABEL = "v [m/s]"
 C_LABEL = "c/c_R"
 VM_LABEL = "v_m [m/s]"
 DS_LABEL = "Δσ_yy/σ₀ at v_m"
+#: the y-axis label of (c): Δσ_yy/σ₀ is a ratio; its axis is logarithmic (the curves span 10⁻² to 10⁰ at the
+#: paper's inputs, rising steeply towards c_R: a linear axis flattened them to 0; issue 33)
+DS_LOG_LABEL = "Δσ_yy/σ₀ at v_m (dimensionless, log scale)"
 
 ASSUMPTIONS = """\
 **Assumptions** (docs/physics.md §13.1; model.rupture):
@@ -173,6 +177,16 @@ def compute_stress_point(c_ratio: float, kW: float, sigma0: float, Gamma: float,
 # --------------------------------------------------------------------------------------------
 
 
+def _identity(values: np.ndarray) -> np.ndarray:
+    return values
+
+
+def _positive(values: np.ndarray) -> np.ndarray:
+    """`values` with those <= 0 as NaN: gaps on a log axis (Bokeh would otherwise draw them at the axis' end)."""
+    values = np.asarray(values, float)
+    return np.where(values > 0, values, np.nan)
+
+
 def _overlay(layers: list[hv.Element], **options: object) -> hv.Overlay:
     return hv.Overlay(layers).opts(hv.opts.Overlay(responsive=True, framewise=True, **options))
 
@@ -278,7 +292,10 @@ class RuptureScene(pn.viewable.Viewer):
                         xlabel=C_LABEL, ylabel=VM_LABEL, logy=True)
 
     def _stress_layers(self, against_vm: bool) -> list[hv.Element]:
+        """The Δσ_yy/σ₀ curves and current-c markers of (c) (against c/c_R, log y: values <= 0 become gaps, which
+        :meth:`log_note` names) or of (d) (against v_m, linear y: every value)."""
         xlabel = VM_LABEL if against_vm else C_LABEL
+        shown = _identity if against_vm else _positive
         vm = self.vm_curve()
         front = self.front()
         points = dict(self.stress_points())
@@ -290,21 +307,26 @@ class RuptureScene(pn.viewable.Viewer):
                 layers.append(hv.Curve(([], []), xlabel, DS_LABEL, label=label))
                 continue
             x = vm["v_m"] if against_vm else d["c_ratio"]
-            layers.append(hv.Curve((x, d["ds"]), xlabel, DS_LABEL, label=label).opts(color=color, line_width=2))
+            layers.append(hv.Curve((x, shown(d["ds"])), xlabel, DS_LABEL, label=label).opts(color=color,
+                                                                                            line_width=2))
             pt = points[kw]
             if "error" not in pt and "error" not in front:
                 x0 = front["v_m"] if against_vm else self.front_key[0]
                 marker_label = "current c" if i == 0 else ""  # one legend entry for the three markers
-                layers.append(hv.Scatter(([x0], [pt["ds"]]), xlabel, DS_LABEL, label=marker_label).opts(
-                    color=color, size=8, line_color="black"))
+                marker = hv.Scatter(([x0], shown(np.array([pt["ds"]]))), xlabel, DS_LABEL, label=marker_label)
+                layers.append(marker.opts(color=color, size=8, line_color="black"))
         return layers
 
     @param.depends("curve_key", "stress_key", "front_key")
     def stress_plot(self) -> hv.Overlay:
-        """(c) Δσ_yy/σ₀ at v_m vs c/c_R for the three kW."""
+        """(c) Δσ_yy/σ₀ at v_m vs c/c_R for the three kW, on a log y axis: the curves rise from ~10⁻² to ~10⁰ near
+        c_R, where v_m diverges (a linear axis showed them as flat lines at 0). (d) keeps a linear axis."""
         return _overlay(self._stress_layers(against_vm=False), height=300, legend_position="top_left",
                         title="(c) Δσ_yy/σ₀ at v_m (Eq. dsigma) vs c/c_R",
-                        xlabel=C_LABEL, ylabel=DS_LABEL)
+                        xlabel=C_LABEL, ylabel=DS_LOG_LABEL, logy=True,
+                        # not linked to (d), which has the same y dimension: Panel would give both (d)'s linear
+                        # range, which starts below 0 and so hid (c)'s log axis
+                        shared_axes=False)
 
     @param.depends("curve_key", "stress_key", "front_key")
     def stress_vm_plot(self) -> hv.Overlay:
@@ -342,13 +364,28 @@ class RuptureScene(pn.viewable.Viewer):
         return pn.pane.Alert(f"**Some values are outside the model's range:**\n\n{text}", alert_type="danger",
                              sizing_mode="stretch_width")
 
-    @param.depends("front_key", "stress_key")
+    def nonpositive_kWs(self) -> list[float]:
+        """The kW whose Δσ_yy/σ₀ curve has values <= 0 somewhere (possible at ν = 0 and large kW), which the log
+        axis of (c) cannot show."""
+        return [kw for kw, d in self.stress_curves() if "error" not in d and np.any(d["ds"] <= 0)]
+
+    @param.depends("curve_key", "stress_key")
+    def log_note(self) -> pn.viewable.Viewable:
+        """Says which values the log axis of (c) leaves out (they are in (d)), or nothing."""
+        kws = self.nonpositive_kWs()
+        if not kws:
+            return pn.pane.Markdown("", margin=0)
+        return pn.pane.Alert(f"(c) has a log axis: its values Δσ_yy/σ₀ ≤ 0 (kW = {', '.join(fmt(k) for k in kws)}) "
+                             "are gaps there; (d) shows them on a linear axis.", alert_type="info",
+                             sizing_mode="stretch_width")
+
+    @param.depends("front_key", "stress_key", "material.material")
     def readout(self) -> str:
         f = self.front()
         if "error" in f:
             return material_readout(self.material) + "\n\n**Front** — (see the message above)"
         lines = [
-            material_readout(self.material) + f", ν = {fmt(self.params.nu)}",
+            material_readout_with_nu(self.material, float(self.params.nu)),
             f"**c** = {fmt(f['c'], 5)} m/s = {fmt(self.front_key[0])} c_R, **c_R** = {fmt(f['c_R'], 5)} m/s "
             "(plane stress)",
             f"**f_II(c)** = {fmt(f['f_II'])}",
@@ -397,6 +434,7 @@ class RuptureScene(pn.viewable.Viewer):
                        pn.pane.HoloViews(self.stress_dmap, sizing_mode="stretch_width",
                                          styles={"flex": "1 1 360px", "min-width": "0"}),
                        flex_wrap="wrap", sizing_mode="stretch_width"),
+            pn.panel(self.log_note),
             pn.pane.HoloViews(self.stress_vm_dmap, sizing_mode="stretch_width"),
             pn.FlexBox(csv_download(self.csv_profile, "rupture_profile.csv", "CSV (a)"),
                        csv_download(self.csv_curves, "rupture_curves.csv", "CSV (b)-(d)"), flex_wrap="wrap"),

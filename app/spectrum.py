@@ -75,7 +75,16 @@ CRITERION_LABEL = "criterion −c_R/(c_s γ f)"
 
 #: legend entries listed only while their element holds data (the band; the families of the fastest root)
 OPTIONAL_LEGEND = {BAND_LABEL, *(f"fastest root: {v.split(' (')[0]}" for v in model.FAMILIES.values()),
-                   "max growth, every branch (sliding)", "fastest root, every branch"}
+                   "max growth, every branch (sliding)", "fastest root, every branch", "linear expansion"}
+
+
+def linear_layer(d: dict, part: str) -> tuple[np.ndarray, np.ndarray]:
+    """(kH, real or imaginary part) of the linear expansion of a :func:`compute_spectrum` result; empty where it is
+    not defined (Δ ≠ 1): no line, and no legend entry (:func:`band_legend_hook`)."""
+    linear = d["linear"]
+    if not np.isfinite(linear).any():
+        return np.array([]), np.array([])
+    return d["kH"], getattr(linear, part)
 
 
 def band_legend_hook(plot, _element) -> None:
@@ -145,7 +154,7 @@ IM_OVERLAY = dict(title="Growth rate", height=PLOT_HEIGHTS[0], legend_position="
 OVERLAYS = {
     "im": styled_overlay(**IM_OVERLAY),
     "re": styled_overlay(title="Phase velocity", height=PLOT_HEIGHTS[1], legend_position="top_right",
-                         ylabel=RE_LABEL, hooks=[fit_y_hook], **OVERLAY),
+                         ylabel=RE_LABEL, hooks=[band_legend_hook, fit_y_hook], **OVERLAY),
     "gy": styled_overlay(height=PLOT_HEIGHTS[2], legend_position="bottom_right",
                          title="Slip–normal-stress coupling at c = c_R (unstable approx. where G_y is below the "
                                "dashed line)", ylabel=GY_LABEL, hooks=[zero_line_hook, fit_y_hook], **OVERLAY),
@@ -165,7 +174,7 @@ def compute_spectrum(gamma: float, f: float, beta: float, eta: float, Delta: flo
     if Delta == 1:
         out["linear"] = model.linear_expansion(KH, gamma=gamma, f=f, beta=beta, eta=eta)
     else:
-        out["linear"] = np.full(KH.shape, np.nan + 0j)
+        out["linear"] = np.full(KH.shape, complex(np.nan, np.nan))  # none (nan + 0j would read Im = 0)
     g = model.growth_analysis(KH, **p)
     out.update(growth=float(g.growth), kH_at_max=float(g.kH_at_max), kH_min=float(g.kH_min),
                kH_max=float(g.kH_max))
@@ -346,10 +355,11 @@ class SpectrumScene(pn.viewable.Viewer):
         kH, z = d["kH"], d["z"]
         band = ([d["kH_min"]], [d["kH_max"]]) if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]) else ([], [])
         level = float(model.criterion_gy_level(gamma=gamma, f=f, beta=beta))
-        return (live.push(self.panes[0], {"Rayleigh branch": (kH, z.imag), "linear expansion": (kH, d["linear"].imag),
-                                          BAND_LABEL: band}, empty_others=True)
+        return (live.push(self.panes[0], {"Rayleigh branch": (kH, z.imag),
+                                          "linear expansion": linear_layer(d, "imag"), BAND_LABEL: band},
+                                 empty_others=True)
                 and live.push(self.panes[1], {"Rayleigh branch": (kH, z.real),
-                                              "linear expansion": (kH, d["linear"].real)})
+                                              "linear expansion": linear_layer(d, "real")})
                 and live.push(self.panes[2], {"G_y(c_R, kH)": (gy["kH"], gy["gy"]), CRITERION_LABEL: level}))
 
     def data(self) -> dict:
@@ -425,7 +435,7 @@ class SpectrumScene(pn.viewable.Viewer):
         kH, z = d["kH"], d["z"]
         band = [(d["kH_min"], d["kH_max"])] if np.isfinite(d["kH_min"]) and np.isfinite(d["kH_max"]) else []
         layers = [STYLE["band"].clone(band), *self.family("imag", IM_LABEL), STYLE["im branch"].clone((kH, z.imag)),
-                  STYLE["im linear"].clone((kH, d["linear"].imag))]
+                  STYLE["im linear"].clone(linear_layer(d, "imag"))]
         return OVERLAYS["im"].clone(layers)
 
     @param.depends("inputs", "compare_key", "compare_values")
@@ -433,7 +443,7 @@ class SpectrumScene(pn.viewable.Viewer):
         d = self.data()
         kH = d["kH"]
         return OVERLAYS["re"].clone([*self.family("real", RE_LABEL), STYLE["re branch"].clone((kH, d["z"].real)),
-                                     STYLE["re linear"].clone((kH, d["linear"].real))])
+                                     STYLE["re linear"].clone(linear_layer(d, "real"))])
 
     @param.depends("inputs")
     def gy_plot(self) -> hv.Overlay:

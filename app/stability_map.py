@@ -470,6 +470,7 @@ class StabilityMapScene(pn.viewable.Viewer):
                 self.progress.value = 0
                 self.progress.max = total
             self.progress.value = done
+            self.progress.visible = done < total  # a finished bar is not left on the page; the label says it
             preview = state.partial
             self.progress_label.object = (
                 f"Computing the sliding verdict over the {plane} map ({n} × {n} points): {done} of {total} points"
@@ -516,6 +517,7 @@ class StabilityMapScene(pn.viewable.Viewer):
             self.progress.value = 0
             self.progress.max = total
         self.progress.value = done
+        self.progress.visible = done < total  # a finished bar is not left on the page; the label says it
         self.progress_label.object = (f"Computing the {plane} map ({n} × {n} points): {done} of {total} chunks"
                                       if done < total else f"The {plane} map ({n} × {n} points)")
         if state.status == jobs.RUNNING:

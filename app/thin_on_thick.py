@@ -20,8 +20,10 @@ import param
 import model
 
 from .params import (
+    CUSTOM,
     PALETTE,
     LabParams,
+    RuptureParams,
     ThinOnThickParams,
     controls_column,
     csv_download,
@@ -50,6 +52,11 @@ Z_LABEL = "c/c_s"
 GY_LABEL = "G_y"
 V_LABEL = "v [m/s]"
 DS_LABEL = "Δσ_yy/σ₀"
+#: legend names of the reference lines of Fig. 3b (every line a user sees is named: issue 33)
+ZERO_LABEL = "G_y = 0"
+C_R_LABEL = "c_R (thin block)"
+#: relative difference below which ν counts as the material's: a shared URL holds ν to 6 digits (app/urlstate.py)
+NU_RTOL = 1e-5
 
 
 
@@ -111,6 +118,19 @@ def compute_stress_line(kW: float, nu: float, c_s: float, rho: float, sigma0: fl
     return {"v": V, "ds": ds, "slope": slope, "c": c, "mu": mu}
 
 
+def material_readout_with_nu(lab: LabParams, nu: float) -> str:
+    """:func:`~app.params.material_readout` and the ν a scene uses. ν has its own widget, so it can differ from the
+    named preset's after the material was chosen: it is then marked as not the material's (issue 33: the readout
+    named fused silica beside ν = 0.44)."""
+    line = material_readout(lab)
+    if lab.material == CUSTOM:
+        return line + f", ν = {fmt(nu)}"
+    preset = RuptureParams.material_nu(lab.material)
+    if math.isclose(nu, preset, rel_tol=NU_RTOL):
+        return line + f", ν = {fmt(nu)} ({lab.material}'s)"
+    return line + f"; **ν** = {fmt(nu)}, set here: not {lab.material}'s ν = {fmt(preset)}"
+
+
 class ThinOnThickScene(pn.viewable.Viewer):
     """Widgets, plots (Fig. 3a-c) and readout for one :class:`ThinOnThickParams`."""
 
@@ -131,10 +151,17 @@ class ThinOnThickScene(pn.viewable.Viewer):
         self._update_keys()
         self.params.param.watch(self._update_keys, list(physical_parameters(ThinOnThickParams)))
         self.material.param.watch(self._update_keys, ["c_s", "rho", "sigma0_MPa"])
+        self.material.param.watch(self._material_chosen, "material")
         self.moduli_dmap = hv.DynamicMap(self.moduli_plot)
         self.nu_eff_dmap = hv.DynamicMap(self.nu_eff_plot)
         self.gy_dmap = hv.DynamicMap(self.gy_plot)
         self.stress_dmap = hv.DynamicMap(self.stress_plot)
+
+    def _material_chosen(self, event: param.parameterized.Event) -> None:
+        """A material preset chosen (in any scene): ν becomes its ν, as ρ and c_s become its values (as in the
+        Rupture-fronts scene), so that the readout never names one material with another's ν."""
+        if event.new != CUSTOM:
+            self.params.nu = RuptureParams.material_nu(event.new)
 
     def _update_keys(self, *_events) -> None:
         p, m = self.params, self.material
@@ -182,8 +209,11 @@ class ThinOnThickScene(pn.viewable.Viewer):
     @param.depends("point_key", "compare_kW")
     def gy_plot(self) -> hv.Overlay:
         d, pt = compute_gy_curve(*self.point_key), self.point()
-        zero = hv.HLine(0.0).opts(color="black", line_width=1)
-        c_r = hv.VLine(pt["z_R"], label="c_R").opts(color="#999999", line_dash="dashed", line_width=1)
+        # the reference lines are glyphs, not Bokeh Spans (hv.HLine/VLine), which a legend cannot list; the zero line
+        # is a Curve over the plotted c/c_s so that fit_y_hook keeps 0 in the y range (G_y < 0 at the defaults)
+        zero = hv.Curve(([d["z"][0], d["z"][-1]], [0.0, 0.0]), Z_LABEL, GY_LABEL, label=ZERO_LABEL).opts(
+            color="black", line_width=1)
+        c_r = hv.VLines([pt["z_R"]], label=C_R_LABEL).opts(color="#999999", line_dash="dashed", line_width=1)
         fam = []
         for i, kw in enumerate(self.compare_kW):
             e = compute_gy_curve(kw, self.point_key[1])
@@ -193,7 +223,7 @@ class ThinOnThickScene(pn.viewable.Viewer):
             color="#1f4e79", line_width=2)
         return hv.Overlay([zero, c_r, *fam, curve]).opts(
             hv.opts.Overlay(responsive=True, height=300, title=f"(b) G_y at kW = {fmt(pt['kW'], 4)}",
-                            show_legend=bool(fam), legend_position="bottom_left", framewise=True,
+                            show_legend=True, legend_position="bottom_left", framewise=True,
                             xlabel=Z_LABEL, ylabel=GY_LABEL, hooks=[fit_y_hook]))
 
     @param.depends("stress_key")
@@ -216,14 +246,14 @@ class ThinOnThickScene(pn.viewable.Viewer):
                              f"{html.escape(d['error'], quote=False)}", alert_type="danger",
                              sizing_mode="stretch_width")
 
-    @param.depends("stress_key")
+    @param.depends("stress_key", "material.material")
     def readout(self) -> str:
         pt = self.point()
         d = compute_stress_line(*self.stress_key)
         if "error" in d:
             d = {"c": math.nan, "slope": math.nan, "mu": math.nan, "ds": np.array([math.nan])}
-        lines = [material_readout(self.material),
-            f"**kW** = {fmt(pt['kW'], 4)}, **ν** = {fmt(pt['nu'], 4)}",
+        lines = [material_readout_with_nu(self.material, float(self.params.nu)),
+            f"**kW** = {fmt(pt['kW'], 4)}",
             f"**μ_eff/μ** = {fmt(pt['mu_ratio'], 10)}",
             f"**μ_eff/μ − 1** = {pt['excess']:.6e}" if np.isfinite(pt["excess"]) else "**μ_eff/μ − 1** = —",
             f"**ν_eff** = {fmt(pt['nu_eff'], 6)}",

@@ -710,3 +710,25 @@ def test_every_plane_and_3d_axis_set_revisited_shows_what_the_controls_say(
         page.wait_for_function(
             "([el, want]) => el.layout && ['xaxis', 'yaxis', 'zaxis'].every((a, i) => "
             "el.layout.scene[a].title.text === want[i])", arg=[plot.element_handle(), want_titles], timeout=30_000)
+
+
+def test_the_slice_follows_a_dragged_slider_before_its_release(atlas_dir: Path) -> None:
+    """Issue 33: the other axes' sliders move the slice while their handle moves (`value`), not only at the release:
+    the slice is read from the stored cube."""
+    scene = build_app({"tab": ["atlas"], "atlas": ["small"]}).atlas
+    (slider,) = [s for s in scene.sliders.objects if s.label == "f"]
+    for index in (0, 3, 1):
+        slider.value = index  # the handle moves; value_throttled (the release) is unchanged
+        assert scene.indices["f"] == index
+        want = xr.open_zarr(atlas_dir / "small.zarr", consolidated=False).growth.isel(f=index)
+        shown = scene.slice2d()[2]  # growth[y, x]
+        np.testing.assert_array_equal(shown, want.transpose(scene.y_axis, scene.x_axis).values)
+
+
+def test_a_url_value_beyond_an_atlas_axis_is_said_where_it_is_snapped(atlas_dir: Path) -> None:
+    """Issue 33: at_f=99 was snapped to the end of the grid without a word (the other clamps are said)."""
+    scene = build_app({"tab": ["atlas"], "atlas": ["small"], "at_f": ["99"]}).atlas
+    assert scene.indices["f"] == len(AXES["f"]) - 1
+    assert f"at_f = 99 is outside the atlas's f range 0.3 … 1.5: set to {AXES['f'][-1]:.4g}" in scene.message
+    inside = build_app({"tab": ["atlas"], "atlas": ["small"], "at_f": ["0.7"]}).atlas
+    assert inside.indices["f"] == 1 and "outside" not in inside.message  # snapped to the nearest grid value only

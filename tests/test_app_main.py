@@ -95,7 +95,7 @@ def test_url_shows_only_what_was_used_and_reports_what_the_model_refuses() -> No
     app = build_app(_args("c_cR=1.5&H1=-5&tab=rupture"))
     text = app.messages.object
     assert "c/c_R = 1.5 is outside 0.01 … 0.999: set to 0.999" in text
-    assert "the lab values are not valid" in text and "H1 must be in (0, inf) m" in text
+    assert "the lab values are not valid" in text and "H₁ must be in (0, ∞) mm; got -5 mm" in text  # as typed
     assert app.rupture_params.c_over_cR == 0.999 and not app.rupture.errors()
     q = _args(query_string(app.param_objects(), "rupture")[1:])
     assert q["c_cR"] == ["0.999"] and q["H1"] == ["-5"]

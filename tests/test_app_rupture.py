@@ -374,3 +374,69 @@ def test_rupture_tab_renders(served_app: str, browser_page) -> None:
     page.wait_for_function("() => window.location.search.includes('tab=rupture')", timeout=30_000)
     save_screenshot(page, "screenshot_rupture.png")
     assert page.console_errors == []
+
+
+# --------------------------------------------------------------------------------------------
+# issue 33: (c) is readable at the paper's inputs
+# --------------------------------------------------------------------------------------------
+
+
+def test_plot_c_has_a_log_axis_that_shows_the_curves_at_the_papers_inputs() -> None:
+    """Issue 33 item 3: on a linear axis the curves of (c) (10⁻² ... 10⁰, steep near c_R) looked flat at 0."""
+    from bokeh.models import Plot
+
+    scene = RuptureScene()
+    # as on the page: in the scene's layout, where Panel links the axes of plots that share a dimension
+    (fig,) = [m for m in scene.__panel__().get_root().references()
+              if isinstance(m, Plot) and m.title is not None and m.title.text.startswith("(c)")]
+    assert type(fig.y_scale).__name__ == "LogScale" and type(fig.yaxis[0]).__name__ == "LogAxis"
+    assert fig.xaxis[0].axis_label == "c/c_R"
+    assert fig.yaxis[0].axis_label == "Δσ_yy/σ₀ at v_m (dimensionless, log scale)"
+    lo, hi = fig.y_range.start, fig.y_range.end
+    assert 0 < lo < hi  # a log axis' range (it was (d)'s linear one, from below 0, while the two were linked)
+
+    def height(y: np.ndarray) -> np.ndarray:
+        """Position on the (log) y axis: 0 at its bottom, 1 at its top."""
+        return np.log10(y / lo) / math.log10(hi / lo)
+
+    c = C_RATIO * _c_R()
+    ds = {kw: model.relative_normal_stress_change_at_peak_slip(c, kW=kw, sigma0=P.sigma0, Gamma=P.Gamma, X_c0=P.X_c0,
+                                                                mu=P.mu, c_s=P.c_s, nu=P.nu) for kw in P.kW}
+    for kw, y in ds.items():
+        assert 0 < height(y.min()) and height(y.max()) < 1, kw  # every curve is on the plot
+    # the three curves are apart, not one line at the bottom: kW = 3 lies above kW = 5 by more than 3 % of the
+    # axis' height at most c (a linear axis to the steep end near c_R put them 0.15 % apart, under a pixel)
+    apart = height(ds[P.kW[0]]) - height(ds[P.kW[-1]])
+    assert np.median(apart) > 0.03 and np.all(apart > 0)
+    (d,) = [r for r in hv.render(scene.stress_vm_dmap, backend="bokeh").yaxis]
+    assert type(d).__name__ == "LinearAxis"  # (d) against v_m stays linear, as Figs. 2c and 3c
+
+
+def test_values_a_log_axis_cannot_show_are_gaps_and_named() -> None:
+    """At ν = 0 and kW = 10 the model's Δσ_yy/σ₀ is <= 0 near c = 0: a gap in (c), a note, every value in (d)."""
+    scene = RuptureScene(params=RuptureParams(nu=0.0, kW1=10.0))
+    assert not isinstance(RuptureScene().log_note(), pn.pane.Alert)
+    c = C_RATIO * _c_R(nu=0.0)
+    ds = model.relative_normal_stress_change_at_peak_slip(c, kW=10.0, sigma0=P.sigma0, Gamma=P.Gamma, X_c0=P.X_c0,
+                                                          mu=P.mu, c_s=P.c_s, nu=0.0)
+    assert np.any(ds <= 0) and np.any(ds > 0)
+    shown = _el(scene.stress_dmap[()], hv.Curve, "kW = 10").dimension_values(1)
+    np.testing.assert_array_equal(shown[ds > 0], ds[ds > 0])
+    assert np.all(np.isnan(shown[ds <= 0]))
+    np.testing.assert_array_equal(_el(scene.stress_vm_dmap[()], hv.Curve, "kW = 10").dimension_values(1), ds)
+    note = scene.log_note()
+    assert isinstance(note, pn.pane.Alert) and "kW = 10" in note.object and "(d)" in note.object
+
+
+def test_the_readout_never_names_a_material_beside_another_materials_nu() -> None:
+    """Issue 33 item 1, here too: ν has its own field, so it can differ from the named material's after the choice."""
+    scene = RuptureScene()
+    follow_material(scene.material)  # as the Lab-units panel does on the page
+    assert "PMMA, ρ = 1180 kg/m³, c_s = 1345 m/s, σ₀ = 4.5 MPa, ν = 0.33 (PMMA's)" in scene.readout()
+    scene.params.nu = 0.2
+    text = scene.readout()
+    assert "**ν** = 0.2, set here: not PMMA's ν = 0.33" in text and "(PMMA's)" not in text
+    scene.material.material = "fused silica"  # a choice brings its ν
+    assert f"ν = {model.material('fused silica').nu:.4g} (fused silica's)" in scene.readout()
+    scene.material.material = CUSTOM  # the name alone changed: the readout follows it
+    assert "(shared): custom," in scene.readout() and "fused silica" not in scene.readout()

@@ -180,6 +180,8 @@ def test_a_held_slider_moves_its_parameter_and_says_it_is_held_and_xi_is_disable
     assert p.gamma == 7.0 and not p.dragging
     p.gamma = 4.0  # set by the program: shown, not held
     assert w["gamma"].value == 4.0 and w["gamma"].value_throttled == 4.0 and not p.dragging
+    _release(w["f"], 0.8999999999999999)  # what a slider sends for 0.9 (its steps are added in binary)
+    assert p.f == 0.9 and repr(p.model_args()[1]) == "0.9"  # the CSV headers read f = 0.9
     _release(w["Delta"], 0.5)
     assert p.Delta == 0.5 and not w["xi"].disabled
     w["eta_infinite"].checked = False
@@ -439,3 +441,16 @@ def test_a_dragged_gamma_handle_moves_the_plot_with_the_hand(served_app: str, br
                            f"Math.abs(y[200] - {float(want[200])!r}) < 1e-9 * Math.max(1, Math.abs(y[200])); }}",
                            timeout=30_000)
     np.testing.assert_allclose(np.array(page.evaluate(_IM_SOURCE_JS), dtype=float), want, rtol=1e-9, atol=1e-12)
+
+
+def test_no_linear_expansion_line_or_legend_entry_where_it_is_not_defined() -> None:
+    """Issue 33: at Δ ≠ 1 the linear expansion (defined at Δ = 1 only) was drawn as a dashed line at Im = 0 with its
+    legend entry, which reads as neutral growth. Now neither plot draws it or lists it; at Δ = 1 both do."""
+    for delta, shown in ((0.5, False), (1.0, True)):
+        scene = SpectrumScene(params=SpectrumParams(Delta=delta, xi=1.0))
+        for dmap in (scene.im_dmap, scene.re_dmap):
+            fig = hv.render(dmap, backend="bokeh")
+            (item,) = [i for i in fig.legend[0].items if i.label.value == "linear expansion"]
+            data = item.renderers[0].data_source.data
+            assert item.visible is shown and (len(data["kH"]) > 0) is shown, (delta, dmap)
+    assert np.isnan(sp.compute_spectrum(3.0, 0.9, 0.3, math.inf, 0.5, 1.0)["linear"].imag).all()

@@ -543,10 +543,11 @@ def test_the_progress_bar_is_labelled(small, monkeypatch) -> None:
     assert held.wait(30)
     scene.computation.update()  # headless: show the job's state now (served: the session's next tick does)
     assert scene.progress_label.object == "Computing the f-γ map (8 × 8 points): 1 of 4 chunks"
-    assert (scene.progress.value, scene.progress.max, scene.status) == (1, 4, "computing")
+    assert (scene.progress.value, scene.progress.max, scene.status) == (1, 4, "computing") and scene.progress.visible
     go_on.set()
     scene.wait()
     assert scene.progress_label.object == "The f-γ map (8 × 8 points)" and scene.progress.value == scene.progress.max
+    assert not scene.progress.visible  # issue 33: a finished bar stayed on the page as a plain blue bar
 
 
 @pytest.mark.ui

@@ -207,8 +207,8 @@ def test_widget_labels_and_throttling() -> None:
     assert set(w) == {"log10_kW", "nu"}  # c_s, ρ, σ₀: the shared material constants (test_app_rupture)
     assert (w["log10_kW"].start, w["log10_kW"].end) == (-2, 2)
     assert (w["nu"].start, w["nu"].end, w["nu"].value) == (0.0, 0.49, 0.33)
-    w["log10_kW"].value = 1.0  # dragging (not released) does not change the parameter
-    assert p.kW == 5.0
+    w["log10_kW"].value = 0.5  # the handle moves (not released): the plots follow it (issue 33)
+    assert p.kW == pytest.approx(10**0.5, rel=1e-12)
     _release(w["log10_kW"], 1.0)
     assert p.kW == 10.0
     p.nu = 0.2
@@ -268,3 +268,68 @@ def test_shared_lab_values_the_model_refuses_are_a_message() -> None:
     assert len(_el(scene.stress_dmap[()], hv.Curve, "Δσ_yy/σ₀")) == 0 and "**Lab values used**" in scene.readout()
     scene.material.c_s = 1345.0
     assert not isinstance(scene.messages(), pn.pane.Alert)
+
+
+# --------------------------------------------------------------------------------------------
+# issue 33: ν follows the chosen material; every line of (b) is named
+# --------------------------------------------------------------------------------------------
+
+
+def test_choosing_a_material_sets_its_nu_and_the_readout_never_mixes_them() -> None:
+    """Issue 33 item 1: ν stayed 0.44 after fused silica was chosen, while the readout named fused silica."""
+    from app.params import follow_material
+
+    scene = ThinOnThickScene(params=ThinOnThickParams(nu=0.44))
+    follow_material(scene.material)  # as the Lab-units panel does on the page
+    scene.material.material = "fused silica"
+    silica = model.material("fused silica")  # no reported ν: the one of its bulk speeds
+    assert scene.params.nu == pytest.approx(silica.nu, rel=1e-15) and scene.point_key[1] == scene.params.nu
+    text = scene.readout()
+    assert "fused silica" in text and f"ν = {silica.nu:.4g} (fused silica's)" in text and "0.44" not in text
+    scene.material.material = "Homalite-100"  # a source that reports ν: that one
+    assert scene.params.nu == 0.35 and "ν = 0.35 (Homalite-100's)" in scene.readout()
+    scene.params.nu = 0.44  # ν set by hand afterwards: the readout says it is not the material's
+    text = scene.readout()
+    assert "Homalite-100" in text and "**ν** = 0.44" in text and "not Homalite-100's ν = 0.35" in text
+    assert "(Homalite-100's)" not in text
+
+
+def test_every_line_of_plot_b_has_a_legend_entry() -> None:
+    """Issue 33 item 2: the dashed c_R line of (b) was a Bokeh Span, which no legend lists."""
+    from bokeh.models import GlyphRenderer, Span
+
+    for compare in ([], [0.5, 2.0]):
+        scene = ThinOnThickScene(compare_kW=compare)
+        fig = hv.render(scene.gy_dmap, backend="bokeh")
+        # a Bokeh Span (hv.HLine, hv.VLine; in fig.renderers or fig.center) is a line no legend can name
+        assert not [a for a in [*fig.renderers, *fig.center] if isinstance(a, Span) and a.visible]
+        shown = [r for r in fig.renderers if isinstance(r, GlyphRenderer) and r.visible]
+        assert len(shown) == 3 + len(compare)  # G_y = 0, c_R, current kW and the family
+        (legend,) = fig.legend
+        assert legend.visible
+        labelled = {id(r): item.label.value for item in legend.items for r in item.renderers}
+        assert all(labelled.get(id(r)) for r in shown)
+        assert set(labelled.values()) == {"G_y = 0", "c_R (thin block)", "current kW",
+                                          *(f"kW = {k:g}" for k in compare)}
+        c_r = [r for r in shown if labelled[id(r)] == "c_R (thin block)"][0]
+        assert type(c_r.glyph).__name__ == "VSpan" and c_r.glyph.line_dash == "dashed"
+        assert list(c_r.data_source.data[c_r.glyph.x]) == pytest.approx([_z_R(0.33)], rel=1e-12)
+
+
+@pytest.mark.parametrize(("query", "own"), [
+    ("tab=thin&material=fused+silica&nu=0.16974", True),  # a link the page wrote after fused silica was chosen
+    ("tab=thin&material=fused+silica&nu=0.44", False),
+])
+def test_a_shared_link_keeps_the_readout_and_nu_consistent(query: str, own: bool) -> None:
+    import urllib.parse
+
+    from tests.support.headless import build_app
+
+    app = build_app(urllib.parse.parse_qs(query))
+    nu = float(urllib.parse.parse_qs(query)["nu"][0])
+    assert (app.lab_params.material, app.thin_params.nu) == ("fused silica", nu)
+    text = app.thin.readout()
+    if own:
+        assert "(fused silica's)" in text and "not fused silica's" not in text
+    else:
+        assert f"**ν** = {nu:g}, set here: not fused silica's ν = {model.material('fused silica').nu:.4g}" in text

@@ -287,3 +287,14 @@ ZeroDivisionError: division by zero
     app._read(io.StringIO(log))
     assert app.error_lines == ["Traceback (most recent call last):", '  File "app/spectrum.py", line 1, in f',
                                "ZeroDivisionError: division by zero", "2026-11-27 16:35:03,000 ERROR: something failed"]
+
+
+def test_make_serve_listens_on_this_machine_only_unless_asked() -> None:
+    """Issue 33: `make serve` bound every interface (0.0.0.0) while the README says localhost."""
+
+    def serve_command(*args: str) -> str:
+        return subprocess.run(["make", "-n", "--no-print-directory", "serve", *args], cwd=ROOT, check=True,
+                              capture_output=True, text=True).stdout
+
+    assert "--address 127.0.0.1" in serve_command() and "0.0.0.0" not in serve_command()
+    assert "--address 0.0.0.0" in serve_command("ADDRESS=0.0.0.0")
