@@ -13,7 +13,8 @@ LOCK     := requirements.lock
 EXTRAS   := atlas,app,test,bench,dev
 CHROMIUM := /usr/bin/chromium
 PORT     ?= 5006
-ADDRESS  ?= 0.0.0.0
+# the interface the server listens on: this machine only unless asked (make serve ADDRESS=0.0.0.0: every interface)
+ADDRESS  ?= 127.0.0.1
 # hosts whose pages may open the app's websocket (never '*')
 ALLOWED_ORIGIN ?= localhost:$(PORT)
 # server processes (at most one per core; see README "Docker")
