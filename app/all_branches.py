@@ -28,6 +28,7 @@ import model
 from .common import FAMILY_NAMES
 from .docs import reference_card
 from .params import (
+    EQUATION_STYLES,
     Physical,
     SpectrumParams,
     csv_download,
@@ -531,7 +532,7 @@ class AllBranchesScene(pn.viewable.Viewer):
             width=360,
         )
         plots = pn.Column(
-            pn.pane.LaTeX(EQUATION, renderer="katex", styles={"font-size": "1.15em"}),
+            pn.pane.LaTeX(EQUATION, renderer="katex", styles=EQUATION_STYLES),
             # linked_axes=False: the kH axis of the Spectrum tab (same page, same dimension name) must not
             # impose its range here
             pn.pane.HoloViews(self.zplane_dmap, sizing_mode="stretch_width", linked_axes=False),

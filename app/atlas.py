@@ -883,16 +883,7 @@ class AtlasScene(pn.viewable.Viewer):
             if axis is not None and axis not in names:
                 notes.append(f"{which} axis {axis} is not an axis of atlas {data.name}")
         x, y = self._two_axes(names, x, y)
-        indices = {n: len(v) // 2 for n, v in data.axes.items()}
-        for name, value in request.at.items():
-            if name not in names:
-                notes.append(f"{name} is not an axis of atlas {data.name}")
-                continue
-            indices[name] = int(np.argmin(np.abs(data.axes[name] - value)))
-            lo, hi = float(np.min(data.axes[name])), float(np.max(data.axes[name]))
-            if not lo <= value <= hi:  # snapped to an end of the grid: said, as the sliders' clamps are
-                clamped.append(f"at_{name} = {value:g} is outside the atlas's {data.label(name)} range {lo:.4g} … "
-                               f"{hi:.4g}: set to {float(data.axes[name][indices[name]]):.4g}")
+        indices = self._requested_indices(data, request.at, notes, clamped)
         surface = [n for n in request.surface if n in names]
         if len(set(surface)) != 3:
             if request.surface:
@@ -905,6 +896,23 @@ class AtlasScene(pn.viewable.Viewer):
         said = (["; ".join(notes) + " (left as they were)"] if notes else []) + clamped
         if said:
             self.message = "From the URL: " + "; ".join(said) + "."
+
+    @staticmethod
+    def _requested_indices(data: Atlas, at: dict[str, float], notes: list[str], clamped: list[str]) -> dict[str, int]:
+        """The grid index of every axis: the requested values (`at`, from the URL) snapped to the grid, the others
+        mid-way. Axes the atlas lacks go into `notes`; values beyond an axis's ends into `clamped` (said, as the
+        sliders' clamps are)."""
+        indices = {n: len(v) // 2 for n, v in data.axes.items()}
+        for name, value in at.items():
+            if name not in data.names:
+                notes.append(f"{name} is not an axis of atlas {data.name}")
+                continue
+            indices[name] = int(np.argmin(np.abs(data.axes[name] - value)))
+            lo, hi = float(np.min(data.axes[name])), float(np.max(data.axes[name]))
+            if not lo <= value <= hi:
+                clamped.append(f"at_{name} = {value:g} is outside the atlas's {data.label(name)} range {lo:.4g} … "
+                               f"{hi:.4g}: set to {float(data.axes[name][indices[name]]):.4g}")
+        return indices
 
     @staticmethod
     def _two_axes(names: list[str], x: str | None, y: str | None) -> tuple[str, str | None]:

@@ -8,15 +8,26 @@ Tests build the same page through :func:`create_app`.
 from __future__ import annotations
 
 import html
+from functools import partial
 
 import panel as pn
 import param
 from bokeh.models import Tooltip
 
+from app import jobs
 from app.all_branches import AllBranchesScene
 from app.atlas import AtlasRequest, AtlasScene
 from app.lab import LabScene
-from app.params import CUSTOM, NARROW_PX, LabParams, RuptureParams, SpectrumParams, set_with_material
+from app.params import (
+    CUSTOM,
+    NARROW_PX,
+    PLACEHOLDER,
+    LabParams,
+    RuptureParams,
+    SpectrumParams,
+    placeholder,
+    set_with_material,
+)
 from app.paths import CSS, FAVICON, LOGO
 from app.presets import Preset, load_presets, preset_args
 from app.rupture import RuptureScene
@@ -133,7 +144,7 @@ class App:
         for index, key in enumerate(TABS):
             if key not in LAZY_TABS or index == self.tabs.active:
                 self._build_tab(index)
-        self.tabs.param.watch(lambda e: self._build_tab(e.new), "active")
+        self.tabs.param.watch(lambda e: self._build_tab(e.new, later=True), "active")
         self.presets = load_presets()
         messages += self._refused(updates)
         self.show_messages(messages, "Some values in the URL were not used as given")
@@ -154,10 +165,24 @@ class App:
         self.branches.active = self.tabs.active == branches_tab
         self.tabs.param.watch(lambda e: setattr(self.branches, "active", e.new == branches_tab), "active")
 
-    def _build_tab(self, index: int) -> None:
-        """Fill the tab `index` with its scene's panel the first time it is shown."""
+    def _build_tab(self, index: int, later: bool = False) -> None:
+        """Fill the tab `index` with its scene's panel the first time it is shown. `later` (a tab the user opens on a
+        served page): a labelled placeholder is sent at once and the scene is built on the next turn of the event
+        loop (building and rendering it takes 1-5 s; the tab was blank meanwhile)."""
         content = self._tab_content[TABS[index]]
-        if not content.objects:
+        if content.objects:
+            return
+        doc = jobs.served_document()
+        if not later or doc is None:
+            content.objects = [self._scenes[TABS[index]].__panel__()]
+            return
+        content.objects = [placeholder(f"Opening the {TAB_TITLES[index]} tab…")]
+        doc.add_next_tick_callback(partial(self._fill_tab, index))
+
+    def _fill_tab(self, index: int) -> None:
+        """Replace the placeholder of tab `index` by its scene's panel."""
+        content = self._tab_content[TABS[index]]
+        if len(content.objects) == 1 and getattr(content.objects[0], "name", "") == PLACEHOLDER:
             content.objects = [self._scenes[TABS[index]].__panel__()]
 
     def _apply(self, updates: Updates) -> None:

@@ -452,7 +452,13 @@ def follow_material(obj: LabParams) -> None:
 
 
 #: tick labels of a log10 slider show the physical value
-LOG10_TICKS = "return Math.pow(10, tick).toPrecision(3)"
+LOG10_TICKS = """
+const v = Math.pow(10, tick);
+if (v >= 0.01 && v < 1e4) return String(Number(v.toPrecision(3)));  // 0.0501, 3.98, 100, 5000
+const e = Math.floor(Math.log10(v) + 1e-9), m = Number((v / Math.pow(10, e)).toPrecision(3));
+const sup = String(e).replace(/./g, c => '⁻⁰¹²³⁴⁵⁶⁷⁸⁹'['-0123456789'.indexOf(c)]);
+return (m === 1 ? '' : m + '×') + '10' + sup;  // 10⁸, 2.5×10⁵, 10⁻³: one style, not 1.00e+4 beside 100 and 1.00
+"""
 
 
 class LabelledCheckbox(pn.widgets.CheckBoxGroup):
@@ -579,6 +585,21 @@ def bind_two_way(obj: param.Parameterized, widgets: dict[str, pn.widgets.Widget]
             setattr(widget, _attribute(widget), event.new)
 
     obj.param.watch(to_widget, list(widgets))
+
+
+#: a displayed equation (KaTeX): it scrolls sideways within the page on a phone instead of overflowing it (458 px
+#: wide at 390)
+EQUATION_STYLES = {"font-size": "1.15em", "overflow-x": "auto", "overflow-y": "hidden", "max-width": "100%"}
+
+#: the name of a placeholder (what replaces it checks that it is still there)
+PLACEHOLDER = "placeholder"
+
+
+def placeholder(text: str, min_height: int = 0) -> pn.Row:
+    """What a part of the page shows until it is drawn: a spinner and `text` (a blank area read as broken)."""
+    return pn.Row(pn.indicators.LoadingSpinner(value=True, size=22, margin=(8, 6)),
+                  pn.pane.Markdown(f"*{text}*", margin=(4, 4)), name=PLACEHOLDER, min_height=min_height,
+                  sizing_mode="stretch_width")
 
 
 #: a section heading's size, whatever the page's theme: the Bootstrap design gives the components of a tab

@@ -23,6 +23,7 @@ import model
 from . import jobs, live
 from .common import FAMILY_NAMES
 from .params import (
+    EQUATION_STYLES,
     PALETTE,
     SpectrumParams,
     controls_column,
@@ -30,6 +31,7 @@ from .params import (
     csv_table,
     fit_y_hook,
     fmt,
+    placeholder,
     scene_layout,
     zero_line_hook,
 )
@@ -298,6 +300,7 @@ class SpectrumScene(pn.viewable.Viewer):
         self.inputs = self.shown = self.params.model_args()
         #: the plot panes (growth rate, phase velocity, G_y) once built
         self.panes: list[pn.pane.HoloViews] = []
+        self._following = False  # the plots follow a held slider (app.live) until HoloViews redraws them
         self._gy_curve: tuple[tuple[float, float], hv.Curve] | None = None
         self.params.param.watch(self._update_inputs, list(self.params.param))
         #: the background computation of sliding over every branch (app.jobs): cancelled when the inputs change
@@ -317,11 +320,15 @@ class SpectrumScene(pn.viewable.Viewer):
         sliding over every branch. A plot that cannot follow is redrawn at once."""
         args = self.params.model_args()
         held = self.params.dragging
-        if args != self.shown and self._follow(args):
+        # only a slider's own events (held, or its release): they run with the session's document locked, which
+        # writing into Bokeh models needs (a preset's or a link's change may not: HoloViews redraws those)
+        if (held or self._following) and args != self.shown and self._follow(args):
+            self._following = held
             self.param.update(shown=args, sliding_progress=HELD if held else self.sliding_progress)
             if not held:
                 pn.state.execute(self._redraw, schedule=True)
             return
+        self._following = held
         self._redraw()
 
     def _redraw(self) -> None:
@@ -555,7 +562,9 @@ class SpectrumScene(pn.viewable.Viewer):
         in between. Outside a server session they are rendered at once.
         """
         controls = controls_column(self.params.make_widgets(), self.readout)
-        slots = [pn.Column(sizing_mode="stretch_width", min_height=h) for h in PLOT_HEIGHTS]
+        names = ("growth-rate", "phase-velocity", "G_y")
+        slots = [pn.Column(placeholder(f"Drawing the {name} plot…"), sizing_mode="stretch_width", min_height=h)
+                 for name, h in zip(names, PLOT_HEIGHTS, strict=True)]
         doc = pn.state.curdoc
         if doc is not None and doc.session_context is not None:
             pn.state.onload(partial(self._load_plots, slots))
@@ -564,7 +573,7 @@ class SpectrumScene(pn.viewable.Viewer):
                 slot.objects = [self.plot_pane(index)]
         plots = pn.Column(
             *([self.lab.panel(with_plot=True)] if self.lab is not None else []),
-            pn.pane.LaTeX(EQUATION, renderer="katex", styles={"font-size": "1.15em"}, sizing_mode="stretch_width"),
+            pn.pane.LaTeX(EQUATION, renderer="katex", styles=EQUATION_STYLES, sizing_mode="stretch_width"),
             *(w for pair in zip(slots, self.downloads(), strict=True) for w in pair),
             sizing_mode="stretch_width",
         )

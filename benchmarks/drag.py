@@ -14,8 +14,9 @@ on the Im[c/c_s] data of the plotted "Rayleigh branch" curve records every new d
 
 Then `sessions` sessions drag at once (Bokeh-protocol clients, as benchmarks/load_test.py's: ten Chromium pages on
 two cores would measure Chromium, not the server; starts staggered by 150 ms, three drags each) and the time from
-each release to the last new curve is pooled over them (p95; no paint in these clients). Prints a Markdown table (benchmarks/results.md keeps the figures of record);
-exit status 0 whether or not the targets are met (timings do not gate anything; PASS/MISS is printed).
+each release to the last new curve is pooled over them (p95; no paint in these clients). Prints a Markdown table
+(benchmarks/results.md keeps the figures of record); exit status 0 whether or not the targets are met (timings do
+not gate anything; PASS/MISS is printed).
 """
 
 from __future__ import annotations

@@ -706,7 +706,7 @@ def test_every_plane_and_3d_axis_set_revisited_shows_what_the_controls_say(
         labels = [next(o for o in ("γ (log)", "β", "f", "Δ") if o.split(" ")[0] == SYMBOL[n]) for n in axes]
         page.wait_for_function(_SURFACE_JS, arg=labels, timeout=30_000)  # the tab's widgets exist once it is shown
         plot = page.locator(".js-plotly-plot").first
-        want_titles = [SYMBOL[n] + (" (log10)" if n == "gamma" else "") for n in axes]
+        want_titles = [SYMBOL[n] for n in axes]  # log axes in physical values (issue 33)
         page.wait_for_function(
             "([el, want]) => el.layout && ['xaxis', 'yaxis', 'zaxis'].every((a, i) => "
             "el.layout.scene[a].title.text === want[i])", arg=[plot.element_handle(), want_titles], timeout=30_000)

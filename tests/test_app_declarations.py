@@ -109,16 +109,19 @@ def test_sliders_show_as_many_decimals_as_their_step() -> None:
     assert SpectrumParams().make_widgets()["beta"].format == "0.000"
 
 
-def test_the_eta_slider_reads_infinity_while_eta_is_infinite() -> None:
-    """Issue 23 item 12: with η = ∞ ticked the slider still read 1.00e+8 (its last finite value)."""
+def test_the_eta_slider_shows_no_stale_number_while_eta_is_infinite() -> None:
+    """Issue 23 item 12: with η = ∞ ticked the slider still read 1.00e+8 (its last finite value); issue 33: a
+    formatter reading ∞ kept reading ∞ after the box was unticked (BokehJS does not redraw the title for a new
+    format). While η = ∞ the slider is disabled and shows no number (the ticked box below says ∞); unticked, it shows
+    its value again."""
     p = SpectrumParams()
     w = p.make_widgets()
-    assert w["log10_eta"].disabled and w["log10_eta"].format.code == "return '∞'"
+    assert w["log10_eta"].disabled and not w["log10_eta"].show_value
     w["eta_infinite"].checked = False
-    assert not p.eta_infinite and not w["log10_eta"].disabled
-    assert "Math.pow(10, tick)" in w["log10_eta"].format.code  # the finite value again
+    assert not p.eta_infinite and not w["log10_eta"].disabled and w["log10_eta"].show_value
+    assert "Math.pow(10, tick)" in w["log10_eta"].format.code  # the finite value
     p.eta_infinite = True
-    assert w["eta_infinite"].value == ["η = ∞"] and w["log10_eta"].format.code == "return '∞'"
+    assert w["eta_infinite"].value == ["η = ∞"] and not w["log10_eta"].show_value and w["log10_eta"].disabled
 
 
 def test_references_to_the_physics_notes_open_their_section() -> None:
@@ -135,3 +138,14 @@ def test_references_to_the_physics_notes_open_their_section() -> None:
         card.collapsed = False
         assert card.objects[0].object == body and len(body) > 200
     assert "Dieterich" in section("12.3")[1] or "rate-and-state" in section("12.3")[1].lower()
+
+
+@pytest.mark.ui
+def test_log_slider_values_read_in_one_style(browser_page) -> None:
+    """Issue 33: the η slider read "1.00e+4", "100" and "1.00" (toPrecision(3)); now plain numbers from 0.01 to
+    10⁴ and powers of ten beyond, in one style (the formatter run in Chromium as BokehJS runs it)."""
+    from app.params import LOG10_TICKS
+
+    shown = browser_page.evaluate("([code, ticks]) => ticks.map(t => new Function('tick', code)(t))",
+                                  [LOG10_TICKS, [8, 5.4, 4, 2, 0, -1, -1.3, -2, -2.5, 0.6]])
+    assert shown == ["10⁸", "2.51×10⁵", "10⁴", "100", "1", "0.1", "0.0501", "0.01", "3.16×10⁻³", "3.98"]

@@ -367,3 +367,26 @@ def test_tabs_opened_later_keep_the_pages_styles(served_app: str, browser_page) 
     assert float(next(iter(sizes["Rupture fronts"])).removesuffix("px")) < 20, sizes
     assert not [url for url in requested if "cdn.holoviz.org" in url]
     assert page.console_errors == []
+
+
+def test_a_tab_opened_on_a_served_page_shows_a_labelled_placeholder_first(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 33: the first open of a tab was blank for 2.5-6 s (its scene is built and rendered then). On a served
+    page the tab shows a spinner and "Opening the … tab…" at once; the scene replaces it on the next turn of the
+    event loop."""
+    from app import main
+
+    app = build_app({})
+    scheduled = []
+
+    class Served:  # what jobs.served_document returns in a session: the callbacks are run by its event loop
+        def add_next_tick_callback(self, callback):
+            scheduled.append(callback)
+
+    monkeypatch.setattr(main.jobs, "served_document", lambda: Served())
+    index = main.TABS.index("branches")
+    app.tabs.active = index
+    (shown,) = app._tab_content["branches"].objects
+    assert "Opening the All branches tab" in shown.objects[1].object and len(scheduled) == 1
+    scheduled[0]()
+    (shown,) = app._tab_content["branches"].objects
+    assert shown.name != main.PLACEHOLDER and "Opening" not in str(getattr(shown, "object", ""))

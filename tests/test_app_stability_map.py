@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import io
+import math
 import threading
 
 import holoviews as hv
@@ -172,7 +173,7 @@ def test_plane_parameters_move_only_the_marker(small) -> None:
     scene.view()[()]
     scene.wait()
     assert fired == [] and calls["compute_chunk"] == n_chunks and scene.status == "done"
-    marker = _layer(scene.view()[()], hv.Points)
+    marker = _layer(scene.view()[()], hv.Points, "current parameters")
     np.testing.assert_allclose(marker.array()[0], [1e3, 5.0])
 
 
@@ -649,3 +650,36 @@ def test_a_held_slider_moves_the_marker_and_the_map_waits_for_the_release(small)
     assert scene.map_key != key and dict(scene.map_key[2])["f"] == 0.4
     second = _computed(scene)
     assert second.key == scene.map_key and second is not first and "Slider held" not in scene.readout()
+
+
+def test_the_neutral_curve_is_drawn_through_the_models_certified_thresholds(small) -> None:
+    """Issue 33: the neutral curve of a plane with γ is no longer the contour of the grid (a staircase) but passes
+    through every certified threshold γ_c of each column (model.critical_gammas, computed here independently);
+    between the grid's rows around each, the grid's growth changes sign."""
+    scene = StabilityMapScene(plane="f-γ")
+    res = _computed(scene)
+    n = res.x.size
+    edges = PLANES["f-γ"][1].edges(n)
+    want = model.critical_gammas(f=res.x, beta=0.3, eta=math.inf, Delta=1.0, xi=0.0, kH=KH,
+                                 gamma_range=(float(edges[0]), float(edges[-1])), max_crossings=4)
+    overlay = scene._neutral("f-γ")
+    path, dots, crosses = overlay.values()
+    ok = np.isin(want.reason, (0, 1)) & np.isfinite(want.value)
+    assert ok.sum() >= n // 2  # the threshold crosses most of this plane
+    np.testing.assert_allclose(np.sort(dots.dimension_values(1)), np.sort(want.value[ok]), rtol=1e-12)
+    for i in range(n):
+        for g in want.value[i][ok[i]]:
+            below, above = np.searchsorted(res.y, g) - 1, np.searchsorted(res.y, g)
+            if 0 <= below and above < n and np.isfinite(res.growth[[below, above], i]).all():
+                assert np.sign(res.growth[below, i]) != np.sign(res.growth[above, i]) or abs(
+                    res.growth[below, i]) <= sm.MARGINAL or abs(res.growth[above, i]) <= sm.MARGINAL
+    segments = path.split()
+    assert segments and all(set(np.round(seg.dimension_values(1), 12)) <= set(np.round(want.value[ok], 12))
+                            for seg in segments)
+    assert "exact in γ" in scene.readout()
+
+
+def test_a_plane_without_gamma_keeps_the_grid_contour_and_says_so(small) -> None:
+    scene = StabilityMapScene(plane="Δ-ξ")
+    res = _computed(scene)
+    assert res.crossings is None and "contour of the grid" in scene.readout()

@@ -368,7 +368,8 @@ def test_opening_the_lab_panel_leaves_the_spectrum_axes_unchanged(served_app: st
     idle(page)
     assert spectrum_ranges() == before
     (lab,) = [f for f in figures(page) if f["title"].startswith("Growth rate vs wavelength")]
-    assert lab["x"][0] > 0.5 and lab["x"][1] < 1e5  # λ in mm around the band, not the kH range
+    # λ in mm (its grid: 0.06 mm to 63 m; the whole of it where no mode grows, issue 33), not the kH range
+    assert lab["x"][0] >= 0.05 and lab["x"][1] < 1e5 and lab["x"] != pytest.approx([1e-3, 1e3])
 
 
 def test_a_shared_url_restores_the_map_plane_atlas_slices_and_window(atlas_with_small: Path, served_app: str,
@@ -449,6 +450,10 @@ def test_phone_layout_reflows_at_390_px(served_app: str, browser_context) -> Non
     plot = page.locator(".bk-Figure").first.bounding_box()
     assert slider["y"] + slider["height"] <= plot["y"]  # the controls above the plots
     assert plot["x"] >= 0 and plot["x"] + plot["width"] <= 390 and plot["width"] >= 0.8 * 390  # the full width
+    equation = page.locator(".katex-display, .katex").first.evaluate(  # issue 33: it ran 458 px wide
+        "el => { let p = el; while (p && getComputedStyle(p).overflowX !== 'auto') p = p.parentElement ?? "
+        "p.getRootNode().host; const r = (p ?? el).getBoundingClientRect(); return [r.left, r.right]; }")
+    assert equation[0] >= 0 and equation[1] <= 390, equation
     page.locator(".bk-tab", has_text="Spectrum").first.scroll_into_view_if_needed()
     save_screenshot(page, "screenshot_phone.png", full_page=False)
 
@@ -576,3 +581,18 @@ def test_a_lost_server_is_said_on_the_page(free_port: int, browser_context) -> N
     page.wait_for_timeout(4000)  # it stays (a toast of the default duration would be gone after 3 s)
     assert note.is_visible()
     save_screenshot(page, "screenshot_connection_lost.png", full_page=False)
+
+
+@pytest.mark.ui
+def test_the_eta_slider_reads_its_value_once_eta_is_finite(served_app: str, browser_page) -> None:
+    """Issue 33: after "η = ∞" was unticked the slider still read "η: ∞" (its value was then 10⁸), also when the lab
+    link set η = 4. Ticked it shows no number; unticked it reads its value, and follows a move."""
+    page = browser_page
+    open_app(page, served_app)
+    title = page.locator(".bk-input-group", has_text="η:").first
+    assert "∞" not in title.inner_text() and "10" not in title.inner_text()
+    page.get_by_text("η = ∞").first.click()
+    page.wait_for_function("(el) => el.innerText.includes('10⁸')", arg=title.element_handle(), timeout=WAIT)
+    assert set_slider(page, "η", math.log10(4.0))
+    page.wait_for_function("(el) => el.innerText.includes('4')", arg=title.element_handle(), timeout=WAIT)
+    assert "∞" not in title.inner_text()
