@@ -301,6 +301,7 @@ class SpectrumScene(pn.viewable.Viewer):
         #: the plot panes (growth rate, phase velocity, G_y) once built
         self.panes: list[pn.pane.HoloViews] = []
         self._following = False  # the plots follow a held slider (app.live) until HoloViews redraws them
+        self._follow_scheduled = False  # a follow of the latest values is scheduled on the session's event loop
         self._gy_curve: tuple[tuple[float, float], hv.Curve] | None = None
         self.params.param.watch(self._update_inputs, list(self.params.param))
         #: the background computation of sliding over every branch (app.jobs): cancelled when the inputs change
@@ -318,10 +319,24 @@ class SpectrumScene(pn.viewable.Viewer):
         """New model arguments: the plots on the page follow at once (:meth:`_follow`, a few ms); unless a slider is
         still held, HoloViews then redraws them once (:meth:`_redraw`, after the followed frame has been sent), with
         sliding over every branch. A plot that cannot follow is redrawn at once."""
+        held = self.params.dragging
+        if held and self.panes and jobs.served_document() is not None:
+            # served: follow on the next turn of the event loop, at the values then current; the handle's moves
+            # that arrive meanwhile (a busy server) are each a cheap parameter change, and only the latest is drawn
+            # (no backlog of stale frames)
+            if not self._follow_scheduled:
+                self._follow_scheduled = True
+                pn.state.execute(self._follow_latest, schedule=True)
+            return
+        self._follow_latest()
+
+    def _follow_latest(self) -> None:
+        """Draw the current arguments: written into the plots while a slider is held or at its release (a slider's
+        own events run with the session's document locked, which writing into Bokeh models needs; a preset's or a
+        link's change may not: HoloViews redraws those), then, unless still held, redrawn by HoloViews once."""
+        self._follow_scheduled = False
         args = self.params.model_args()
         held = self.params.dragging
-        # only a slider's own events (held, or its release): they run with the session's document locked, which
-        # writing into Bokeh models needs (a preset's or a link's change may not: HoloViews redraws those)
         if (held or self._following) and args != self.shown and self._follow(args):
             self._following = held
             self.param.update(shown=args, sliding_progress=HELD if held else self.sliding_progress)
