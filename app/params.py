@@ -525,8 +525,11 @@ def _set_or_restore(obj: param.Parameterized, name: str, event: param.parameteri
     """Set `name` of `obj` from a widget's event; a value the parameter refuses puts the parameter's value back into
     the widget."""
     value = event.new
-    if isinstance(value, float) and math.isfinite(value):  # a slider's 0.9 arrives as 0.8999999999999999 (its
-        value = float(f"{value:.12g}")  # steps are added in binary): the value shown, in the URL and the CSVs
+    # a slider's 0.9 arrives as 0.8999999999999999 (its steps are added in binary): the value shown, in the URL and
+    # the CSVs. Not a log10 slider's value: the parameter is 10**value (rounded by from_log10), and rounding its
+    # exponent would move it by ~1e-12 relative
+    if isinstance(value, float) and math.isfinite(value) and not getattr(obj.param[name], "log10", False):
+        value = float(f"{value:.12g}")
     try:
         set_frozen(obj, name, value)
     except ValueError:
