@@ -708,7 +708,7 @@ def test_every_plane_and_3d_axis_set_revisited_shows_what_the_controls_say(
         plot = page.locator(".js-plotly-plot").first
         want_titles = [SYMBOL[n] for n in axes]  # log axes in physical values (issue 33)
         page.wait_for_function(
-            "([el, want]) => el.layout && ['xaxis', 'yaxis', 'zaxis'].every((a, i) => "
+            "([el, want]) => el.layout && el.layout.scene && ['xaxis', 'yaxis', 'zaxis'].every((a, i) => "
             "el.layout.scene[a].title.text === want[i])", arg=[plot.element_handle(), want_titles], timeout=30_000)
 
 
