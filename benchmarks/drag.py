@@ -36,20 +36,13 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
+from benchmarks.latency import _READY_JS  # noqa: E402 - the same page-ready check as the release latency
 from tests.conftest import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 from tests.support.served_app import ServedApp  # noqa: E402
 
 MOVES, DRAG_MS = 30, 1500
 TARGET_REDRAWS, TARGET_LAG_MS, TARGET_P95_MS = 15, 200.0, 400.0
 QUIET_MS = 1500  # no new data for this long after the release: the last one was the final plot
-
-_READY_JS = """() => {
-  if (window.Bokeh === undefined || Bokeh.documents.length === 0 || !Bokeh.documents[0].is_idle) return false;
-  for (const m of Bokeh.documents[0].all_models)
-    if (m.name === 'Rayleigh branch' && m.data_source !== undefined &&
-        Object.keys(m.data_source.data).some(c => c.startsWith('Im'))) return true;
-  return false;
-}"""
 
 #: record every new Im data set of the Rayleigh-branch curve and when it was painted (window.__drag)
 _WATCH_JS = """() => {
