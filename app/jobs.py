@@ -21,6 +21,11 @@ Served (``panel serve``, one or several processes) that is all. Without a server
 scene built headless) nothing is scheduled: :meth:`Follower.update` shows the job's current state, and
 :meth:`Follower.wait` waits for its end and shows it.
 
+A job's work may hand its heaviest pieces to a worker process (:meth:`Job.call`, served only): the server's own
+process then keeps its share of the GIL for the sessions' events (the Spectrum's sliding job held it part of the
+time, and ten sessions dragging sliders at once saturated the one process; benchmarks/results.md "Live while
+dragging").
+
 Why threads and not Panel's async callbacks (``pn.state.execute`` of a coroutine awaiting ``asyncio.to_thread``):
 an async callback runs without the document lock (the Atlas tab updates Bokeh models directly), needs a running
 event loop (tests build scenes without one), and belongs to one session, while the default atlas is shared by every
@@ -29,7 +34,9 @@ session of a process.
 
 from __future__ import annotations
 
+import concurrent.futures
 import logging
+import multiprocessing
 import threading
 import time
 from collections.abc import Callable, Hashable, Mapping
@@ -47,6 +54,36 @@ log = logging.getLogger(__name__)
 UPDATE_INTERVAL = 0.15
 
 RUNNING, DONE, FAILED, CANCELLED = "running", "done", "failed", "cancelled"
+
+#: worker processes beside a served process for :meth:`Job.call` (the machine this was measured on has 2 cores: the
+#: server's process on one, the worker on the other)
+PROCESS_WORKERS = 1
+#: how often (s) a job waiting for its worker process looks whether it has been cancelled
+CALL_POLL = 0.05
+
+_pool: concurrent.futures.ProcessPoolExecutor | None = None
+_pool_lock = threading.Lock()
+
+
+def process_pool() -> concurrent.futures.ProcessPoolExecutor:
+    """The process's pool of :data:`PROCESS_WORKERS` spawned workers, started at its first use (spawned, not
+    forked: the server has threads; a worker imports only what the calls need, e.g. app.sliding_work and model).
+    It lives as long as the server's process; ``asymslide serve`` stops its whole process group, workers included."""
+    global _pool
+    with _pool_lock:
+        if _pool is None:
+            _pool = concurrent.futures.ProcessPoolExecutor(PROCESS_WORKERS,
+                                                           mp_context=multiprocessing.get_context("spawn"))
+        return _pool
+
+
+def _drop_pool(pool: concurrent.futures.ProcessPoolExecutor) -> None:
+    """Forget a broken pool (a worker died): the next call starts a new one."""
+    global _pool
+    with _pool_lock:
+        if _pool is pool:
+            _pool = None
+    pool.shutdown(wait=False, cancel_futures=True)
 
 
 class Cancelled(Exception):  # noqa: N818 (not an error: how a cancelled job's work stops)
@@ -137,6 +174,27 @@ class Job:
         """Raise :class:`Cancelled` if the job has been cancelled (call it between chunks)."""
         if self._cancelled.is_set():
             raise Cancelled(self.name)
+
+    def call(self, fn: Callable[..., Any], *args: Any, in_process: bool = True) -> Any:
+        """``fn(*args)`` in a worker process of :func:`process_pool` (`fn` and its arguments must pickle), or here
+        when not `in_process`. Cancelling the job withdraws a call not started yet and raises :class:`Cancelled`;
+        a call already running finishes in its process and its result is dropped. A worker that died fails the
+        job (the next call starts a new pool)."""
+        if not in_process:
+            self.check()
+            return fn(*args)
+        pool = process_pool()
+        future = pool.submit(fn, *args)
+        while True:
+            try:
+                return future.result(timeout=CALL_POLL)
+            except concurrent.futures.TimeoutError:
+                if self._cancelled.is_set():
+                    future.cancel()
+                    raise Cancelled(self.name) from None
+            except concurrent.futures.process.BrokenProcessPool as exc:
+                _drop_pool(pool)
+                raise Failed(f"the worker process stopped ({exc})") from exc
 
     def set_totals(self, totals: Mapping[str, int]) -> None:
         """The size of each phase (grid points, chunks, ...), in the order the phases run."""

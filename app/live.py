@@ -3,8 +3,10 @@
 A HoloViews update of one of the Spectrum's overlays costs 80-170 ms on the server (ranges, options and legends of
 every layer are computed again; benchmarks/results.md "Live while dragging"), so a plot redrawn that way follows a
 dragged slider at a few frames per second. While a slider is held, a scene instead writes the few arrays that
-change into the data sources of the glyphs already on the page (a few ms) and fits the y range; at the release it
-lets HoloViews redraw the plot once, which makes everything (legends, ranges, every layer) consistent again.
+change into the data sources of the glyphs already on the page (a few ms) and runs the plot's own hooks again (the
+y range fitted to what is drawn, the legend listing only the layers that show something): the page then shows what
+a HoloViews redraw of the same inputs would show. At the release the scene needs no redraw when the last values
+written are the released ones (app.spectrum.SpectrumScene._redraw).
 
 This reads ``pn.pane.HoloViews._plots`` (the rendered plot of each root), which is not public Panel API: the tests
 of the live path (tests/test_app_spectrum.py) fail if that changes, and :func:`push` then returns False and the
@@ -17,8 +19,6 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import panel as pn
-
-from .params import fit_y_hook
 
 #: what a layer is given: its columns in the order of its data source (a curve: x, y; spans: start, end), or a
 #: number (a horizontal line's level; NaN hides it)
@@ -47,10 +47,11 @@ def _write(subplot, layer: Layer) -> bool:
 
 
 def push(pane: pn.pane.HoloViews, layers: Mapping[str, Layer], *, empty_others: bool = False) -> bool:
-    """Write `layers` (by legend label) into every rendered copy of the overlay in `pane`, then fit its y range to
-    what is drawn (:func:`app.params.fit_y_hook`). `empty_others`: the other layers with a data source are emptied
-    (they belong to inputs no longer shown). False if nothing is rendered or a layer was not found: the caller then
-    redraws through HoloViews."""
+    """Write `layers` (by legend label) into every rendered copy of the overlay in `pane`, then run the overlay's
+    hooks on what is drawn (e.g. :func:`app.params.fit_y_hook`, :func:`app.spectrum.band_legend_hook`: HoloViews runs
+    them after each of its own updates; they read the Bokeh models, so they fit the data written here).
+    `empty_others`: the other layers with a data source are emptied (they belong to inputs no longer shown). False
+    if nothing is rendered or a layer was not found: the caller then redraws through HoloViews."""
     plots = rendered_plots(pane)
     if not plots:
         return False
@@ -67,5 +68,6 @@ def push(pane: pn.pane.HoloViews, layers: Mapping[str, Layer], *, empty_others: 
                 source.data = {name: np.array([]) for name in source.data}
         if found != set(layers):
             return False
-        fit_y_hook(plot, None)
+        for hook in plot.hooks:
+            hook(plot, None)
     return True

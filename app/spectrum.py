@@ -20,7 +20,7 @@ import param
 
 import model
 
-from . import jobs, live
+from . import jobs, live, sliding_work
 from .common import FAMILY_NAMES
 from .params import (
     EQUATION_STYLES,
@@ -209,29 +209,25 @@ SLIDING_CACHE: dict[tuple, dict] = {}
 SLIDING_CACHE_SIZE = 64
 
 
-def compute_sliding(args: tuple, job: jobs.Job) -> dict:
+#: kH of the fastest roots computed per call (app.sliding_work.fastest_roots): progress steps, and how soon a
+#: cancelled job stops
+KH_PER_CALL = 4
+
+
+def compute_sliding(args: tuple, job: jobs.Job, *, in_process: bool = False) -> dict:
     """Sliding over every branch at the model arguments `args` (SpectrumParams.MODEL_ARGS), on a job's thread: the
     maximum over kH (model.sliding_analysis, with the Rayleigh branch's beside it), then the fastest root at each kH
-    of :data:`KH_ALL` (model.fastest_mode; the job stops between two kH once cancelled)."""
+    of :data:`KH_ALL` (model.fastest_mode), :data:`KH_PER_CALL` at a time (the job stops between two calls once
+    cancelled). `in_process`: each piece runs in the worker process of app.jobs (served sessions), not here."""
     p = dict(zip(SpectrumParams.MODEL_ARGS, args, strict=True))
-    r = model.sliding_analysis(**p)
+    out: dict = {"kH": KH_ALL, **job.call(sliding_work.sliding_maximum, p, in_process=in_process)}
     job.advance("maximum")
-    growth = np.full(KH_ALL.shape, np.nan)
-    z = np.full(KH_ALL.shape, complex(np.nan, np.nan))
-    family = np.full(KH_ALL.shape, -1, np.int8)
-    status = np.full(KH_ALL.shape, -1, np.int8)
-    for i, k in enumerate(KH_ALL):
-        job.check()
-        m = model.fastest_mode(float(k), **p, count=False)
-        status[i] = int(m.status)
-        if int(m.status) == 0:
-            growth[i], z[i], family[i] = float(m.growth), complex(m.z), int(m.family)
-        job.advance("kH")
-    out = {"kH": KH_ALL, "growth": growth, "z": z, "family": family, "status": status, "floor": float(r.floor),
-           "max": float(r.growth), "kH_at_max": float(r.kH_at_max), "z_at_max": complex(r.z_at_max),
-           "family_at_max": int(r.family), "verdict": int(r.verdict), "reason": int(r.verdict_reason),
-           "at_end": bool(r.max_at_end), "lower_bound": bool(r.lower_bound), "range": r.kH_range,
-           "rayleigh_max": float(r.rayleigh.growth), "rayleigh_verdict": int(r.rayleigh.verdict)}
+    parts = []
+    for start in range(0, KH_ALL.size, KH_PER_CALL):
+        kH = tuple(float(k) for k in KH_ALL[start:start + KH_PER_CALL])
+        parts.append(job.call(sliding_work.fastest_roots, p, kH, in_process=in_process))
+        job.advance("kH", len(kH))
+    out.update({name: np.concatenate([part[name] for part in parts]) for name in ("growth", "z", "family", "status")})
     SLIDING_CACHE[args] = out
     while len(SLIDING_CACHE) > SLIDING_CACHE_SIZE:
         SLIDING_CACHE.pop(next(iter(SLIDING_CACHE)))
@@ -284,6 +280,12 @@ class SpectrumScene(pn.viewable.Viewer):
     inputs = param.Tuple(default=None, length=6, allow_None=True)
     #: the inputs the plots show: `inputs`, or while a slider is held the values its curves follow (app.live)
     shown = param.Tuple(default=None, length=6, allow_None=True)
+    #: counts HoloViews' redraws of the Rayleigh-branch plots (they depend on it, not on `inputs`): at the release of
+    #: a held slider whose values the plots already show (written by app.live), `inputs` changes without a redraw
+    drawn = param.Integer(default=0)
+    #: counts HoloViews' redraws of the markers of every branch: where the plots are on the page, a new `sliding` is
+    #: written into them (app.live) instead
+    sliding_drawn = param.Integer(default=0)
     #: a family of curves drawn behind the current one (set by the paper-figure presets)
     compare_key = param.Selector(default="", objects=["", *FAMILY])
     compare_values = param.List(default=[], item_type=float)
@@ -302,10 +304,12 @@ class SpectrumScene(pn.viewable.Viewer):
         self.panes: list[pn.pane.HoloViews] = []
         self._following = False  # the plots follow a held slider (app.live) until HoloViews redraws them
         self._follow_scheduled = False  # a follow of the latest values is scheduled on the session's event loop
+        self._written: tuple | None = None  # the inputs app.live last wrote into the plots (None: HoloViews drew)
         self._gy_curve: tuple[tuple[float, float], hv.Curve] | None = None
         self.params.param.watch(self._update_inputs, list(self.params.param))
         #: the background computation of sliding over every branch (app.jobs): cancelled when the inputs change
         self.sliding_job = jobs.Follower(self._show_sliding)
+        self.param.watch(self._draw_sliding, ["sliding"])
         self.ensure_sliding()
         # the fastest roots of every branch in a DynamicMap of their own: their arrival (a background job) re-sends
         # their few points, not the Rayleigh branch's curves; the overlay's options are set on the product (the
@@ -324,6 +328,7 @@ class SpectrumScene(pn.viewable.Viewer):
             # served: follow on the next turn of the event loop, at the values then current; the handle's moves
             # that arrive meanwhile (a busy server) are each a cheap parameter change, and only the latest is drawn
             # (no backlog of stale frames)
+            self._following = True  # also when the release comes before the scheduled follow has run
             if not self._follow_scheduled:
                 self._follow_scheduled = True
                 pn.state.execute(self._follow_latest, schedule=True)
@@ -338,7 +343,7 @@ class SpectrumScene(pn.viewable.Viewer):
         args = self.params.model_args()
         held = self.params.dragging
         if (held or self._following) and args != self.shown and self._follow(args):
-            self._following = held
+            self._following, self._written = held, args
             self.param.update(shown=args, sliding_progress=HELD if held else self.sliding_progress)
             if not held:
                 pn.state.execute(self._redraw, schedule=True)
@@ -349,7 +354,12 @@ class SpectrumScene(pn.viewable.Viewer):
     def _redraw(self) -> None:
         """The plots drawn by HoloViews at the current arguments, and with them sliding over every branch (in one
         update: the growth-rate plot is redrawn once; if not computed before, it is computed in the background and
-        drawn when done). While a slider is held the job waits for the release (it takes ~0.1-1 s)."""
+        drawn when done). While a slider is held the job waits for the release (it takes ~0.1-1 s).
+
+        At the release of a held slider the plots on the page already show the released values when app.live wrote
+        them last (with the plots' hooks run: ranges and legends as a redraw would make them): then HoloViews does
+        not redraw them (~0.3 s of server time a release; the curves are not sent again), and only the markers of
+        every branch, emptied while the slider was held, are drawn again."""
         args = self.params.model_args()
         held = self.params.dragging
         if held and args == self.shown:  # a drag began meanwhile: the plots follow it (_follow)
@@ -357,12 +367,23 @@ class SpectrumScene(pn.viewable.Viewer):
         if args != self.inputs:
             self.sliding_job.cancel()
             hit = SLIDING_CACHE.get(tuple(args))
+            written = not held and args == self._written and not self.compare_values
+            previous = self.sliding
             self.param.update(inputs=args, shown=args, sliding=hit,
-                              sliding_progress=HELD if hit is None and held else "")
+                              sliding_progress=HELD if hit is None and held else "",
+                              **({} if written else {"drawn": self.drawn + 1}))
+            if written and hit is not None and hit is previous:  # the emptied markers: drawn again
+                self.param.trigger("sliding")
+            if not held:
+                self._written = None
             if hit is None and not held:
                 self.ensure_sliding()
         elif not held and self.sliding is None and self.sliding_progress == HELD:  # released: its job starts now
             self.ensure_sliding()
+        elif not held and self._written == args:  # released where the drag began: its markers, emptied, come back
+            self._written = None
+            self.sliding_progress = ""
+            self.param.trigger("sliding")
 
     def _follow(self, args: tuple) -> bool:
         """A held slider: write the curves of `args` into the plots on the page (:mod:`app.live`, a few ms) instead
@@ -401,7 +422,8 @@ class SpectrumScene(pn.viewable.Viewer):
             return
         if self.sliding is not None or self.sliding_progress:
             self.param.update(sliding=None, sliding_progress="")
-        self.sliding_job.run(partial(compute_sliding, args), name="sliding", key=args,
+        self.sliding_job.run(partial(compute_sliding, args, in_process=jobs.served_document() is not None),
+                             name="sliding", key=args,
                              totals={"maximum": 1, "kH": len(KH_ALL)})
 
     def _show_sliding(self, job: jobs.Job, state: jobs.JobState) -> None:
@@ -421,20 +443,32 @@ class SpectrumScene(pn.viewable.Viewer):
         """Block until sliding at the current inputs is computed and shown (tests, scripts)."""
         self.sliding_job.wait(timeout)
 
-    def sliding_layers(self) -> list[hv.Element]:
-        """The fastest root of every branch at each kH of :data:`KH_ALL` (markers coloured by family, a dotted line
-        through them) and the sliding maximum (a star); empty while it is computed."""
+    def sliding_points(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """(kH, Im[c/c_s]) of each marker layer, by its style key: the fastest root of every branch at each kH of
+        :data:`KH_ALL` (by family, and a dotted line through them) and the sliding maximum; empty while computed."""
+        keys = ["all line", *(f"all {k}" for k in model.FAMILIES), "all max"]
         d = self.sliding
         if d is None:
-            return [STYLE["all line"].clone(([], [])), *(STYLE[f"all {k}"].clone(([], [])) for k in model.FAMILIES),
-                    STYLE["all max"].clone(([], []))]
-        layers = [STYLE["all line"].clone((d["kH"], d["growth"]))]
+            return {key: (np.array([]), np.array([])) for key in keys}
+        points = {"all line": (d["kH"], d["growth"])}
         for k in model.FAMILIES:
             sel = d["family"] == k
-            layers.append(STYLE[f"all {k}"].clone((d["kH"][sel], d["growth"][sel])))
-        star = ([d["kH_at_max"]], [d["max"]]) if math.isfinite(d["max"]) else ([], [])
-        layers.append(STYLE["all max"].clone(star))
-        return layers
+            points[f"all {k}"] = (d["kH"][sel], d["growth"][sel])
+        points["all max"] = ((np.array([d["kH_at_max"]]), np.array([d["max"]])) if math.isfinite(d["max"])
+                             else (np.array([]), np.array([])))
+        return points
+
+    def sliding_layers(self) -> list[hv.Element]:
+        """The markers of :meth:`sliding_points` as the growth-rate plot's layers (coloured by family)."""
+        return [STYLE[key].clone(xy) for key, xy in self.sliding_points().items()]
+
+    def _draw_sliding(self, *_events) -> None:
+        """A new `sliding` (or the same, its markers emptied by a held slider): written into the growth-rate plot on
+        the page (app.live, a few ms: a HoloViews update of the whole overlay took ~0.1 s a release, twice: the
+        markers emptied, then the job's result); HoloViews redraws them where the plot is not on a page."""
+        layers = {STYLE[key].label: xy for key, xy in self.sliding_points().items()}
+        if not (self.panes and live.push(self.panes[0], layers)):
+            self.sliding_drawn += 1
 
     def family(self, part: str, ylabel: str) -> list[hv.Curve]:
         """The preset's family of curves (real or imaginary part), each a cached model call."""
@@ -446,12 +480,12 @@ class SpectrumScene(pn.viewable.Viewer):
                                          label=family_label(self.compare_key, value)))
         return curves
 
-    @param.depends("sliding")
+    @param.depends("sliding_drawn")
     def sliding_plot(self) -> hv.Overlay:
         """The fastest root of every branch and the sliding maximum (empty while they are computed)."""
         return hv.Overlay(self.sliding_layers())
 
-    @param.depends("inputs", "compare_key", "compare_values")
+    @param.depends("drawn", "compare_key", "compare_values")
     def im_plot(self) -> hv.Overlay:
         d = self.data()
         kH, z = d["kH"], d["z"]
@@ -460,14 +494,14 @@ class SpectrumScene(pn.viewable.Viewer):
                   STYLE["im linear"].clone(linear_layer(d, "imag"))]
         return OVERLAYS["im"].clone(layers)
 
-    @param.depends("inputs", "compare_key", "compare_values")
+    @param.depends("drawn", "compare_key", "compare_values")
     def re_plot(self) -> hv.Overlay:
         d = self.data()
         kH = d["kH"]
         return OVERLAYS["re"].clone([*self.family("real", RE_LABEL), STYLE["re branch"].clone((kH, d["z"].real)),
                                      STYLE["re linear"].clone(linear_layer(d, "real"))])
 
-    @param.depends("inputs")
+    @param.depends("drawn")
     def gy_plot(self) -> hv.Overlay:
         gamma, f, beta, eta = self.inputs[:4]
         layers = [self.gy_curve(beta, eta)]

@@ -37,11 +37,13 @@ sys.path.insert(0, str(ROOT))
 
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 from benchmarks.latency import _READY_JS  # noqa: E402 - the same page-ready check as the release latency
+from benchmarks.load_test import model_args  # noqa: E402 - a session's widget values as model keywords
 from tests.conftest import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 from tests.support.served_app import ServedApp  # noqa: E402
 
 MOVES, DRAG_MS = 30, 1500
 TARGET_REDRAWS, TARGET_LAG_MS, TARGET_P95_MS = 15, 200.0, 400.0
+FINAL_TIMEOUT_S = 60.0  # a crowd drag's final curve must arrive within this (else: an error, not a figure)
 QUIET_MS = 1500  # no new data for this long after the release: the last one was the final plot
 
 #: record every new Im data set of the Rayleigh-branch curve and when it was painted (window.__drag)
@@ -151,31 +153,19 @@ def measure(drags: int = 6, sessions: int = 10, log=print) -> dict:
                 browser.close()
         if sessions:
             crowd = _crowd(server, sessions, errors)
+            bad = sum(not r["final"] for r in crowd)
+            if bad:
+                errors.append(f"{bad} of {len(crowd)} drags did not end on the model's curve at the released γ "
+                              f"(within {FINAL_TIMEOUT_S:.0f} s)")
             log(f"{sessions} sessions: {len(crowd)} drags timed")
         errors += server.error_lines
     return {"single": single, "crowd": crowd, "sessions": sessions, "errors": errors,
             "load": (load_before, os.getloadavg()), "host": (host_before, host_loop_seconds())}
 
 
-async def _protocol_drag(session, lo: float, hi: float) -> dict:
-    """One drag of the γ slider by a Bokeh-protocol client (benchmarks.load_test.AppSession): 30 ``value`` patches
-    over 1.5 s (what BokehJS sends while a handle moves), then ``value`` and ``value_throttled`` (the release); new
-    Im curves are read meanwhile. Returns the curves received during the drag and the time from the release to the
-    last new curve (read until the server is quiet for QUIET_MS)."""
-    sid = session.sliders["γ"]
-    frames: list[float] = []
-
-    async def read(until: float) -> None:
-        while time.monotonic() < until:
-            try:
-                msg = await session._recv(until)
-            except Exception:  # noqa: BLE001 - the read window ended
-                return
-            if msg.msgtype == "PATCH-DOC" and session._new_curve(msg)[1] is not None:
-                frames.append(time.monotonic())
-
-    reader = asyncio.create_task(read(time.monotonic() + 120))
-    press = time.monotonic()
+async def _send_drag(session, sid: str, lo: float, hi: float) -> None:
+    """30 ``value`` patches over 1.5 s (what BokehJS sends while a handle moves); the last with ``value_throttled``
+    (the release)."""
     for i in range(1, MOVES + 1):
         value = round(lo + (hi - lo) * i / MOVES, 4)
         events = [{"kind": "ModelChanged", "model": {"id": sid}, "attr": "value", "new": value}]
@@ -184,18 +174,50 @@ async def _protocol_drag(session, lo: float, hi: float) -> dict:
         await session._send_events(events)
         if i < MOVES:
             await asyncio.sleep(DRAG_MS / MOVES / 1000)
+
+
+async def _protocol_drag(session, lo: float, hi: float) -> dict:
+    """One drag of the γ slider by a Bokeh-protocol client (benchmarks.load_test.AppSession, :func:`_send_drag`);
+    new Im curves are read meanwhile, each compared with model.spectrum at the released γ (rtol 1e-12). After the
+    release it waits until that curve has arrived (at most FINAL_TIMEOUT_S) and the server has then been quiet for
+    QUIET_MS. Returns the curves received during the drag, the time from the release to the last new curve, and
+    whether the last curve is the released γ's."""
+    import model
+
+    params = {**session.params, "γ": hi}
+    expected = model.spectrum(session.kH, **model_args(params)).imag
+    frames: list[tuple[float, bool]] = []  # (arrival, equal to the released γ's curve)
+    curves: list[np.ndarray] = []  # the Im data received, in order (to tell which γ a wrong one is of)
+
+    async def read(until: float) -> None:
+        while time.monotonic() < until:
+            try:
+                msg = await session._recv(until)
+            except Exception:  # noqa: BLE001 - the read window ended
+                return
+            kH, im = session._new_curve(msg) if msg.msgtype == "PATCH-DOC" else (None, None)
+            if im is not None:
+                same = (kH is None or np.array_equal(kH, session.kH)) and im.shape == expected.shape
+                frames.append((time.monotonic(), bool(same and np.allclose(im, expected, rtol=1e-12, atol=0,
+                                                                          equal_nan=True))))
+                curves.append(im)
+
+    reader = asyncio.create_task(read(time.monotonic() + FINAL_TIMEOUT_S + 5))
+    press = time.monotonic()
+    await _send_drag(session, session.sliders["γ"], lo, hi)
     release = time.monotonic()
-    while True:
-        last = max([release, *frames])
-        if time.monotonic() - last > QUIET_MS / 1000:
+    while time.monotonic() - release < FINAL_TIMEOUT_S:
+        arrived = any(ok for _, ok in frames)
+        if arrived and time.monotonic() - max(t for t, _ in frames) > QUIET_MS / 1000:
             break
         await asyncio.sleep(0.05)
     reader.cancel()
-    during = [t for t in frames if t <= release]
-    after = [t for t in frames if t > release]
     session.params["γ"] = hi
-    return {"redraws": len(during), "lag": (after[-1] - release) * 1000 if after else 0.0, "after": len(after),
-            "press": press}
+    during = [t for t, _ in frames if t <= release]
+    after = [t for t, _ in frames if t > release]
+    return {"redraws": len(during), "lag": (after[-1] - release) * 1000 if after else math.nan, "after": len(after),
+            "press": press, "final": bool(frames) and frames[-1][1], "matched": sum(ok for _, ok in frames),
+            "received": len(frames), "curves": curves, "lo": lo, "hi": hi}
 
 
 def _crowd(server: ServedApp, sessions: int, errors: list[str], rounds: int = 3) -> list[dict]:
@@ -234,7 +256,7 @@ def report(res: dict) -> str:
     single, crowd = res["single"], res["crowd"]
     redraws = _stats([r["redraws"] for r in single])
     lag = _stats([r["lag"] for r in single])
-    crowd_lag = _stats([r["lag"] for r in crowd])
+    crowd_lag = _stats([r["lag"] for r in crowd if math.isfinite(r["lag"])])
     ok = [redraws["median"] >= TARGET_REDRAWS, lag["median"] <= TARGET_LAG_MS,
           crowd_lag["p95"] <= TARGET_P95_MS if crowd else False, not res["errors"]]
     (l0, _, _), (l1, _, _) = res["load"]

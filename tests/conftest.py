@@ -392,3 +392,17 @@ _SET_SLIDER_JS = """([title, value]) => {
 def set_slider(page, title: str, value: float) -> bool:
     """Set the Bokeh slider labelled `title` as a release of its handle would (value and value_throttled)."""
     return page.evaluate(_SET_SLIDER_JS, [title, value])
+
+
+@pytest.fixture
+def worker_pool():
+    """Shut the app's worker pool (app.jobs.process_pool) that a test started: a pool left running would keep pytest
+    from exiting."""
+    from app import jobs
+
+    yield
+    pool, jobs._pool = jobs._pool, None
+    if pool is not None:
+        for process in list((pool._processes or {}).values()):  # a call still running (a cancelled job's) ends now
+            process.terminate()
+        pool.shutdown(wait=True, cancel_futures=True)

@@ -123,3 +123,36 @@ def test_a_job_outlives_the_destroyed_document_of_its_session() -> None:
     state = job.wait(30)
     assert (state.status, state.error) == (jobs.DONE, "")
     assert shown == [jobs.RUNNING]  # nothing reached the destroyed document
+
+
+@pytest.mark.usefixtures("worker_pool")
+def test_a_call_in_process_runs_in_another_process_and_returns_its_result() -> None:
+    """Job.call runs its function in the worker process (served sessions' sliding job; keeps the server's GIL)."""
+    import os
+
+    job = jobs.Job(lambda job: (job.call(os.getpid), job.call(os.getpid, in_process=False)), name="pid").start()
+    state = job.wait(120)
+    assert state.status == jobs.DONE, state.error
+    worker, here = state.result
+    assert here == os.getpid() and worker != here
+
+
+@pytest.mark.usefixtures("worker_pool")
+def test_a_cancelled_call_in_process_ends_the_job_without_waiting_for_the_worker() -> None:
+    """A job cancelled while its call runs in the worker ends at once as cancelled (the call's result is dropped)."""
+    import time
+
+    started = threading.Event()
+
+    def work(job: jobs.Job) -> None:
+        job.call(time.sleep, 0.0)  # the worker process has started
+        started.set()
+        job.call(time.sleep, 30.0)
+
+    job = jobs.Job(work, name="sleep").start()
+    assert started.wait(120)
+    time.sleep(0.5)  # the 30 s call runs in the worker
+    t0 = time.monotonic()
+    job.cancel()
+    assert job.wait(10).status == jobs.CANCELLED
+    assert time.monotonic() - t0 < 5

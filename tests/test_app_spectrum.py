@@ -329,6 +329,28 @@ def test_the_fastest_root_of_every_branch_is_drawn_and_read_out_as_the_model_giv
     assert "Sliding unstable" in scene.csv_growth().getvalue().splitlines()[0]
 
 
+@pytest.mark.usefixtures("worker_pool")
+def test_sliding_computed_in_the_worker_process_is_the_same_as_here() -> None:
+    """Served sessions compute sliding over every branch in the worker process (app.jobs.Job.call): the same
+    numbers, bit for bit, as computed in the job's own thread."""
+    from app import jobs
+
+    args = SpectrumParams(gamma=2.0).model_args()
+    results = []
+    for in_process in (True, False):
+        job = jobs.Job(lambda job, p=in_process: sp.compute_sliding(args, job, in_process=p), name="sliding").start()
+        state = job.wait(300)
+        assert state.status == jobs.DONE, state.error
+        results.append(state.result)
+    there, here = results
+    assert set(there) == set(here)
+    for name, value in here.items():
+        if isinstance(value, np.ndarray):
+            np.testing.assert_array_equal(there[name], value)
+        else:
+            assert there[name] == value or (value != value and there[name] != there[name]), name
+
+
 def test_new_inputs_cancel_the_sliding_job_and_a_set_seen_before_shows_at_once() -> None:
     scene = SpectrumScene()
     first = scene.sliding_job.job
@@ -401,6 +423,65 @@ def test_a_held_slider_moves_the_curves_on_the_page_without_a_holoviews_redraw()
     level = float(model.criterion_gy_level(gamma=7.25, f=0.9, beta=0.3))
     (line,) = [s for s in gy.subplots.values() if getattr(s.current_frame, "label", "").startswith("criterion")]
     assert line.handles["glyph"].location == pytest.approx(level, rel=1e-12)
+
+
+def _band_item_visible(plot) -> bool:
+    (item,) = [i for legend in plot.state.legend for i in legend.items if i.label.value == "unstable band"]
+    return bool(item.visible)
+
+
+@pytest.mark.parametrize("gamma", [1.0, 7.25, None])
+def test_a_release_where_the_plots_already_show_the_held_values_needs_no_redraw(gamma: float | None) -> None:
+    """At the release of a held slider whose last position the page already shows (written by app.live with the
+    plots' hooks run), HoloViews does not redraw the curves (~0.3 s of server time a release): the page keeps the
+    model's curves of the released values, the legend lists the unstable band only when there is one (γ = 1 is
+    below the threshold 2.41: no band), and the markers of every branch, emptied while held, come back with the
+    sliding job's result, without the curves going back to the previous values. None: released where the drag
+    began (the sliding result shown before the drag is the one shown after it)."""
+    scene, (im, re, gy) = _rendered_scene()
+    scene.wait_sliding()
+    gamma = scene.params.gamma if gamma is None else gamma
+    drawn, markers_drawn = scene.drawn, scene.sliding_drawn
+    for g in (4.0, gamma):
+        scene.params.param.update(dragging=True, gamma=g)
+        band = model.growth_analysis(KH, gamma=g, f=0.9, beta=0.3)
+        assert _band_item_visible(im) == bool(np.isfinite(band.kH_min))  # the legend follows while held
+    scene.params.dragging = False  # the release, at the last held position
+    assert scene.drawn == drawn and scene.inputs == scene.shown == scene.params.model_args()
+    scene.wait_sliding()
+    assert "computed when the slider is released" not in scene.readout()
+    z = model.spectrum(KH, gamma=gamma, f=0.9, beta=0.3)
+    np.testing.assert_allclose(_source(im, "Rayleigh branch")["Im[c/c_s]"], z.imag, rtol=1e-12, atol=0)
+    np.testing.assert_allclose(_source(re, "Rayleigh branch")["Re[c/c_s]"], z.real, rtol=1e-12, atol=0)
+    band = model.growth_analysis(KH, gamma=gamma, f=0.9, beta=0.3)
+    assert _band_item_visible(im) == bool(np.isfinite(band.kH_min))
+    markers = _source(im, "fastest root, every branch")
+    assert markers["kH"].size == sp.KH_ALL.size
+    assert scene.sliding_drawn == markers_drawn  # written into the page, not redrawn by HoloViews
+    for k in model.FAMILIES:  # each family's markers as the model's fastest roots give them
+        sel = scene.sliding["family"] == k
+        np.testing.assert_array_equal(_source(im, f"fastest root: {sp.FAMILY_NAMES[k]}")["kH"], sp.KH_ALL[sel])
+    np.testing.assert_array_equal(markers["Im[c/c_s]"], scene.sliding["growth"])
+    lo, hi = im.state.y_range.start, im.state.y_range.end
+    shown = np.concatenate([z.imag[np.isfinite(z.imag)], scene.sliding["growth"][np.isfinite(scene.sliding["growth"])]])
+    assert lo <= shown.min() and shown.max() <= hi
+    level = float(model.criterion_gy_level(gamma=gamma, f=0.9, beta=0.3))
+    (line,) = [s for s in gy.subplots.values() if getattr(s.current_frame, "label", "").startswith("criterion")]
+    assert line.handles["glyph"].location == pytest.approx(level, rel=1e-12)
+
+
+def test_a_release_elsewhere_than_the_last_held_position_is_redrawn() -> None:
+    """A release at values the page does not show yet (moved by a program while held, or the plots not rendered)
+    is drawn by HoloViews as before."""
+    scene, (im, _re, _gy) = _rendered_scene()
+    drawn = scene.drawn
+    scene.params.param.update(dragging=True, gamma=4.0)
+    scene.params.param.update(dragging=False, gamma=6.0)  # released elsewhere in one change
+    z = model.spectrum(KH, gamma=6.0, f=0.9, beta=0.3)
+    np.testing.assert_allclose(_source(im, "Rayleigh branch")["Im[c/c_s]"], z.imag, rtol=1e-12, atol=0)
+    scene.params.gamma = 1.0  # then a change without a held slider: HoloViews redraws
+    assert scene.drawn > drawn
+    assert not _band_item_visible(im)
 
 
 def test_a_held_slider_with_a_family_of_curves_redraws_through_holoviews() -> None:
