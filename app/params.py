@@ -10,7 +10,7 @@ from __future__ import annotations
 import io
 import math
 from collections.abc import Callable, Mapping
-from typing import Any
+from typing import Any, ClassVar
 
 import holoviews as hv
 import numpy as np
@@ -494,8 +494,20 @@ def make_widget(p: param.Parameter, value: Any) -> pn.widgets.Widget:
     lo, hi = p.softbounds if p.softbounds is not None else p.bounds
     options: dict[str, Any] = {"format": CustomJSTickFormatter(code=LOG10_TICKS) if getattr(p, "log10", False)
                                else "0." + "0" * decimals(p.step) if decimals(p.step) else "0"}
-    return pn.widgets.FloatSlider(label=p.label, start=min(lo, value), end=max(hi, value), step=p.step, value=value,
-                                  sizing_mode="stretch_width", **options)
+    return FollowedSlider(label=p.label, start=min(lo, value), end=max(hi, value), step=p.step, value=value,
+                          sizing_mode="stretch_width", **options)
+
+
+class FollowedSlider(pn.widgets.FloatSlider):
+    """A FloatSlider whose handle's moves (``value``, ~20 a second while held) do not raise Panel's busy flag.
+
+    Panel counts every widget event as busy work in one process-wide flag, and every session's busy indicator
+    (the header spinner) follows it: each move of a held handle sent two updates to every open session, which
+    took ~18 % of the server's time with ten sessions dragging (py-spy, benchmarks/drag.py). Panel exempts events
+    in the same way (``_busy__ignore``, e.g. a layout's scroll position). The release (``value_throttled``) still
+    counts as busy."""
+
+    _busy__ignore: ClassVar[list[str]] = ["value"]
 
 
 def make_widgets(obj: param.Parameterized, names: tuple[str, ...] | None = None) -> dict[str, pn.widgets.Widget]:

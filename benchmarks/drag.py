@@ -126,7 +126,7 @@ def _stats(xs: Sequence[float]) -> dict[str, float]:
     return {"median": float(np.median(a)), "p95": float(np.percentile(a, 95)), "max": float(a.max()), "n": a.size}
 
 
-def measure(drags: int = 6, sessions: int = 10, log=print) -> dict:
+def measure(drags: int = 6, sessions: int = 10, log=print, procs: int = 1) -> dict:
     """Serve; one page drags `drags` times; then `sessions` pages drag at once (twice each)."""
     from playwright.sync_api import sync_playwright
 
@@ -136,7 +136,7 @@ def measure(drags: int = 6, sessions: int = 10, log=print) -> dict:
     single: list[dict] = []
     crowd: list[dict] = []
     errors: list[str] = []
-    with ServedApp() as server:
+    with ServedApp(num_procs=procs) as server:
         with sync_playwright() as pw:
             browser = pw.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
             try:
@@ -159,7 +159,7 @@ def measure(drags: int = 6, sessions: int = 10, log=print) -> dict:
                               f"(within {FINAL_TIMEOUT_S:.0f} s)")
             log(f"{sessions} sessions: {len(crowd)} drags timed")
         errors += server.error_lines
-    return {"single": single, "crowd": crowd, "sessions": sessions, "errors": errors,
+    return {"single": single, "crowd": crowd, "sessions": sessions, "procs": procs, "errors": errors,
             "load": (load_before, os.getloadavg()), "host": (host_before, host_loop_seconds())}
 
 
@@ -254,6 +254,7 @@ def _crowd(server: ServedApp, sessions: int, errors: list[str], rounds: int = 3)
 
 def report(res: dict) -> str:
     single, crowd = res["single"], res["crowd"]
+    procs = f"{res.get('procs', 1)} server process" + ("es" if res.get("procs", 1) > 1 else "")
     redraws = _stats([r["redraws"] for r in single])
     lag = _stats([r["lag"] for r in single])
     crowd_lag = _stats([r["lag"] for r in crowd if math.isfinite(r["lag"])])
@@ -271,7 +272,7 @@ def report(res: dict) -> str:
         "|---|---|---|---|---|---|",
         f"| one session | {len(single)} | {redraws['median']:.0f}, {min((r['redraws'] for r in single), default=0)} "
         f"| {lag['median']:.0f} | {lag['p95']:.0f} | {lag['max']:.0f} |",
-        f"| {res['sessions']} sessions at once (protocol clients) | {len(crowd)} | "
+        f"| {res['sessions']} sessions at once (protocol clients, {procs}) | {len(crowd)} | "
         f"{np.median([r['redraws'] for r in crowd]) if crowd else math.nan:.0f}, "
         f"{min((r['redraws'] for r in crowd), default=0)} | {crowd_lag['median']:.0f} | {crowd_lag['p95']:.0f} | "
         f"{crowd_lag['max']:.0f} |",
@@ -293,8 +294,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--drags", type=int, default=6, help="drags timed in one session (default 6)")
     ap.add_argument("--sessions", type=int, default=10, help="sessions dragging at once (default 10; 0: none)")
+    ap.add_argument("--procs", type=int, default=1, help="server processes (panel serve --num-procs; default 1)")
     args = ap.parse_args(argv)
-    text = report(measure(args.drags, args.sessions))
+    text = report(measure(args.drags, args.sessions, procs=args.procs))
     print(text)
     return 0
 
