@@ -43,11 +43,12 @@ from .common import (
     COLOUR_LEGEND,
     GROWTH_LABEL,
     GROWTH_PALETTE,
+    LOG_COORDINATE_TICKS,
     MARGINAL,
     NAN_COLOR,
     neutral_lines,
 )
-from .params import SpectrumParams, csv_table, fmt, heading, scene_layout
+from .params import SpectrumParams, csv_table, fmt, heading, readable_ticks, scene_layout
 from .workarounds import frozen_document
 
 log = logging.getLogger(__name__)
@@ -325,9 +326,6 @@ HEIGHT = 480
 X_TICKS = 4
 #: the least gap (px) between two tick labels of the heat map; a label closer to its neighbour is not drawn
 TICK_GAP = 8
-#: a log axis's tick labels (the plotted coordinate is log10 of the value): the value to two significant digits,
-#: without trailing zeros ("0.1", "3.2", "1000"), narrower than app.common.LOG_TICKS's three ("0.100", "1.00e+3")
-SHORT_LOG_TICKS = "return String(Number(Math.pow(10, tick).toPrecision(2)))"
 
 
 #: the heat map's legend (HeatMap's colour mapper: growth > 0 red, as in the Stability map)
@@ -434,7 +432,7 @@ class HeatMap:
                               line_color=REFUSED_COLOR, legend_label="sign change, not a threshold")
         fig.add_tools(HoverTool(renderers=[crosses], tooltips=[("not a threshold", "@why")]))
         self._legend_style(fig)
-        self.colorbar = ColorBar(color_mapper=self.mapper, title=GROWTH_LABEL)
+        self.colorbar = ColorBar(color_mapper=self.mapper, title=GROWTH_LABEL, formatter=readable_ticks())
         fig.add_layout(self.colorbar, "right")
         self.heat_renderer, self.title_rayleigh = heat, title
         self.sliding_classes = self.sliding_growth = self.sliding_colorbar = None
@@ -448,14 +446,15 @@ class HeatMap:
     @staticmethod
     def _readable_ticks(fig, atlas: Atlas, x_axis: str, y_axis: str | None) -> None:
         """Tick labels that stay apart at any width: fewer ticks on the x axis, where the labels sit side by side,
-        short labels on log axes, and labels that would still overlap (a phone's page) left out by the browser."""
+        labels in the app's style (log axes: 10ⁿ, app.common.LOG_COORDINATE_TICKS; linear ones: app.params.TICKS_JS),
+        and labels that would still overlap (a phone's page) left out by the browser."""
         from bokeh.models import NoOverlap
 
         fig.xaxis.ticker.desired_num_ticks = X_TICKS
         for axis, name in ((fig.xaxis, x_axis), (fig.yaxis, y_axis)):
             axis.major_label_policy = NoOverlap(min_distance=TICK_GAP)
-            if name is not None and atlas.log[name]:
-                axis.formatter = CustomJSTickFormatter(code=SHORT_LOG_TICKS)
+            axis.formatter = (CustomJSTickFormatter(code=LOG_COORDINATE_TICKS) if name is not None and atlas.log[name]
+                              else readable_ticks())
 
     @staticmethod
     def _geometry(xr: np.ndarray, yr: np.ndarray) -> dict[str, np.ndarray]:
@@ -766,7 +765,12 @@ class AtlasScene(pn.viewable.Viewer):
         self.atlas_select = pn.widgets.Select(label="Atlas", options=[], sizing_mode="stretch_width")
         self.x_select = pn.widgets.Select(label="x axis", options={}, sizing_mode="stretch_width")
         self.y_select = pn.widgets.Select(label="y axis", options={}, sizing_mode="stretch_width")
-        self.surface_select = pn.widgets.MultiChoice(label="3-D axes (three)", options={}, max_items=3, width=400)
+        # a MultiChoice: the order of the picks is the order of the 3-D view's axes (and of the URL's surface=). Its
+        # Choices.js box logs "Deprecation warning: allowHTML will default to false" in the console: Bokeh creates it
+        # without that option (bokeh-widgets.js, MultiChoiceView.render) and the model has no property to pass it
+        # (tests/test_phone_layout.py ALLOWED_CONSOLE).
+        self.surface_select = pn.widgets.MultiChoice(label="3-D axes (three)", options={}, max_items=3,
+                                                     sizing_mode="stretch_width", max_width=400)
         self._syncing = False
         self.atlas_select.param.watch(lambda e: self._from_widget("atlas", e.new), "value")
         self.x_select.param.watch(lambda e: self._from_widget("x", e.new), "value")

@@ -37,8 +37,19 @@ COLOUR_LEGEND = ("Red: unstable (max growth > 0), blue: stable, white: nearly ne
                  "where it is stable (sliding over every branch: the Spectrum and All-branches tabs, asymslide sweep "
                  "--sliding)")
 
-#: tick labels of an axis (or slider) holding log10 of a value: the value
-LOG_TICKS = "return Math.pow(10, tick).toPrecision(3)"
+#: tick labels of a linear axis whose coordinate is log10 of a value (the Atlas heat map's log axes): a power of ten
+#: as 10ⁿ, as Bokeh's log axes write it (10⁻¹, 10⁰, 10³), a value between two to two significant digits, plain from
+#: 0.01 to 10⁴ ("0.32", "3.2", "320") and with its power of ten outside ("3.2×10⁴"). The app's linear axes:
+#: :data:`app.params.TICKS_JS`; its log10 sliders: :data:`app.params.LOG10_TICKS`.
+LOG_COORDINATE_TICKS = """
+const sup = n => String(n).replace(/./g, c => '⁻⁰¹²³⁴⁵⁶⁷⁸⁹'['-0123456789'.indexOf(c)]);
+const n = Math.round(tick);
+if (Math.abs(tick - n) < 1e-9) return '10' + sup(n);
+const v = Math.pow(10, tick);
+if (v >= 0.01 && v < 1e4) return String(Number(v.toPrecision(2)));
+const e = Math.floor(tick + 1e-9);
+return String(Number((v / Math.pow(10, e)).toPrecision(2))) + '×10' + sup(e);
+"""
 
 
 def neutral_lines(x: np.ndarray, y: np.ndarray, z: np.ndarray, *, log_x: bool = False,

@@ -56,8 +56,11 @@ MATCH_RTOL = 1e-5
 #: the e-folding-time axis of the lab plot: the growth-rate axis's own range, each tick labelled with the time
 #: 1/rate in ms (the definition of model.e_folding_time; "∞" at rate 0, "—" where the mode decays)
 E_FOLDING_AXIS = "e-folding time"
-E_FOLDING_TICKS = ("if (tick > 0) { const t = 1000 / tick; return t >= 100 ? t.toFixed(0) : t.toPrecision(3); }"
-                   " return tick == 0 ? '∞' : '—';")
+#: (three significant digits without trailing zeros, as the app's other axes: "2.5", not "2.50")
+E_FOLDING_TICKS = ("const step = ticks.length > 1 ? Math.abs(ticks[1] - ticks[0]) : 1;"
+                   " if (Math.abs(tick) <= step * 1e-9) return '∞';"
+                   " if (tick < 0) return '—';"
+                   " const t = 1000 / tick; return t >= 100 ? t.toFixed(0) : String(Number(t.toPrecision(3)));")
 
 RATE_LABEL = "growth rate k Im c [1/s]"
 WAVELENGTH_LABEL = "λ [mm]"

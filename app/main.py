@@ -22,6 +22,7 @@ from app.params import (
     CUSTOM,
     NARROW_PX,
     PLACEHOLDER,
+    FitPlots,
     LabParams,
     RuptureParams,
     SpectrumParams,
@@ -286,7 +287,7 @@ class App:
             title=TITLE,
             logo=str(LOGO),
             favicon=str(FAVICON),
-            main=[intro, self.messages, self.preset_bar(), self.tabs],
+            main=[intro, self.messages, self.preset_bar(), self.tabs, FitPlots()],  # FitPlots: titles, legends
             header_background="#1f4e79",
             meta_viewport="width=device-width, initial-scale=1",  # phones lay the page out at their own width
         )

@@ -16,7 +16,8 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 import param
-from bokeh.models import CustomJSTickFormatter, GlyphRenderer, Span
+from bokeh.models import BasicTickFormatter, ColorBar, CustomJSTickFormatter, GlyphRenderer, LogColorMapper, Span
+from panel.custom import JSComponent
 from param.parameterized import Undefined
 
 import model
@@ -36,11 +37,57 @@ pn.extension("plotly", "katex",  # katex: the equations of the Spectrum and All-
 # the canvas (software GL without a GPU) was most of a browser update in Chromium's profile
 # (benchmarks/design_measurements.md). Image-based plots are unaffected.
 hv.renderer("bokeh").webgl = False
+
+#: tick labels of a linear axis or colour bar (a CustomJSTickFormatter's code: `tick` and all the axis's `ticks`), one
+#: style on every plot: zero as "0" (Bokeh's default wrote "0.000e+0" beside "5.000e-4"), plain numbers with the
+#: fewest digits that tell the ticks apart ("0.05", "0.15", "120"), and where the largest |tick| is 10⁴ or more or
+#: below 10⁻³ one power of ten for the axis ("2×10⁻⁵", "1.5×10⁵"). Log axes keep Bokeh's 10ⁿ labels.
+TICKS_JS = """
+const finite = ticks.filter(t => Number.isFinite(t));
+const step = finite.length > 1 ? Math.abs(finite[1] - finite[0]) : (Math.abs(tick) || 1);
+if (!Number.isFinite(tick)) return '';
+if (Math.abs(tick) <= step * 1e-9) return '0';
+const big = Math.max(...finite.map(t => Math.abs(t)));
+const sci = big >= 1e4 || big < 1e-3;
+const e = sci ? Math.floor(Math.log10(big) + 1e-9) : 0;
+const scale = Math.pow(10, e);
+let d = 0;  // the fewest decimals (of the mantissas, with a power of ten) that write every tick to 1e-6 of the step
+while (d < 12 && !finite.every(t => Math.abs(Number((t / scale).toFixed(d)) * scale - t) <= step * 1e-6)) d++;
+const m = String(Number((tick / scale).toFixed(d))).replace('-', '−');
+if (!sci) return m;
+const sup = String(e).replace(/./g, c => '⁻⁰¹²³⁴⁵⁶⁷⁸⁹'['-0123456789'.indexOf(c)]);
+return m + '×10' + sup;
+"""
+
+
+def readable_ticks() -> CustomJSTickFormatter:
+    """A new formatter with :data:`TICKS_JS` (a Bokeh model belongs to one document: one per axis)."""
+    return CustomJSTickFormatter(code=TICKS_JS)
+
+
+def readable_ticks_hook(plot, _element) -> None:
+    """HoloViews plot hook (every element's by default, below): the figure's linear axes and linear colour bars
+    label their ticks with :data:`TICKS_JS` instead of Bokeh's BasicTickFormatter. Formatters set on purpose (log
+    axes, the Lab panel's wavelength axis) are kept."""
+    fig = plot.state
+    for axis in fig.axis:
+        if type(axis.formatter) is BasicTickFormatter:
+            axis.formatter = readable_ticks()
+    for bar in (m for m in (*fig.right, *fig.left, *fig.above, *fig.below) if isinstance(m, ColorBar)):
+        if (type(bar.formatter) is BasicTickFormatter or bar.formatter == "auto") and not isinstance(
+                bar.color_mapper, LogColorMapper):
+            bar.formatter = readable_ticks()
+
+
+#: the elements the app draws (and a few more), for the defaults below
+ELEMENT_KINDS = ("Curve", "Scatter", "Points", "Path", "QuadMesh", "HLine", "VLine", "VLines", "VSpans", "Bounds",
+                 "Area", "Spread", "Image", "HSpans", "Segments", "Rectangles")
 # Axes follow the data when the parameters change. HoloViews takes `framewise` from each element's
 # options: set on the Overlays only (as before), every plot kept the ranges of its first frame and a
-# curve that grew beyond them was cut off (tests/test_app_ranges.py).
-hv.opts.defaults(*(getattr(hv.opts, kind)(framewise=True) for kind in (
-    "Curve", "Scatter", "Points", "Path", "QuadMesh", "HLine", "VLine", "VLines", "VSpans", "Bounds")))
+# curve that grew beyond them was cut off (tests/test_app_ranges.py). Every element's plot also runs
+# readable_ticks_hook: the hooks of an element's plot run even when it is overlaid, and the app sets hooks on
+# Overlays only, so none replaces it.
+hv.opts.defaults(*(getattr(hv.opts, kind)(framewise=True, hooks=[readable_ticks_hook]) for kind in ELEMENT_KINDS))
 
 #: colours of families of curves (colour-blind safe, Okabe-Ito)
 PALETTE = ("#E69F00", "#56B4E9", "#009E73", "#CC79A7", "#D55E00", "#0072B2", "#999999", "#F0E442")
@@ -655,3 +702,182 @@ def scene_layout(controls: pn.layout.ListLike, plots: pn.layout.ListLike, name: 
     plots.styles = {**plots.styles, "flex": "1 1 440px", "min-width": "0"}
     return pn.FlexBox(controls, plots, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width",
                       name=name)
+
+
+#: the browser side of :class:`FitPlots` (an ES module): every Bokeh figure of the page, checked when its size or
+#: content changes and a few times a second for new ones. A title wider than the figure's canvas wraps onto more
+#: lines (Bokeh draws a title on one line, cut at the canvas's edge); on a page narrower than `narrow_px` a legend
+#: beside the frame or wider than it moves below the plot, in as many columns as fit, and the figure grows by its
+#: height (it stays where HoloViews put it on a wider page, and goes back there when the page widens). The figures'
+#: models are changed as a user's tool would change them (the server learns the new title, legend place and height);
+#: HoloViews sets a title's text only when its own title changes, and this module wraps the new one.
+FIT_PLOTS_JS = """
+const SIDES = ["above", "below", "left", "right", "center"];
+// figure id -> {title: {original, wrapped}, legends: Map(legend id -> where it was), base: its height without the
+// legends moved below, set: the height this module gave it}
+const state = new Map();
+let measure = null;
+
+function textWidth(text, font) {
+  measure ??= document.createElement("canvas").getContext("2d");
+  measure.font = font;
+  return Math.max(...text.split("\\n").map(line => measure.measureText(line).width));
+}
+
+// `text` broken at spaces into lines at most `width` wide (a longer word stays whole on its own line)
+function wrapText(text, font, width) {
+  const lines = [];
+  for (const paragraph of text.split("\\n")) {
+    let line = "";
+    for (const word of paragraph.split(" ")) {
+      const next = line ? `${line} ${word}` : word;
+      if (line && textWidth(next, font) > width) {
+        lines.push(line);
+        line = word;
+      } else {
+        line = next;
+      }
+    }
+    lines.push(line);
+  }
+  return lines.join("\\n");
+}
+
+function fitTitle(view, s) {
+  const title = view.model.title;
+  const tv = title ? Bokeh.index.find_one(title) : null;
+  if (!title || !title.text || !tv || !tv.visuals) return;
+  if (s.title === undefined || title.text !== s.title.wrapped) s.title = {original: title.text, wrapped: null};
+  const width = view.canvas_view.bbox.width - view.frame.bbox.left - 4;  // the title starts at the frame's left
+  const font = tv.visuals.text.font_value();
+  const original = s.title.original.replace(/\\n/g, " ");
+  const wanted = textWidth(s.title.original, font) > width ? wrapText(original, font, width) : s.title.original;
+  s.title.wrapped = wanted;
+  if (s.relayout) {  // Bokeh keeps a title's old height until the plot is laid out again (its new text is set
+    s.relayout = false;  // asynchronously: the next round)
+    view.request_layout(true);
+  }
+  if (title.text !== wanted) {
+    title.text = wanted;
+    s.relayout = true;
+  }
+}
+
+// the smallest font a legend's labels are given to fit a phone's width (px)
+const MIN_LABEL_PX = 10;
+
+// a CSS font size in px ("13px", "10pt", "1em" as 16px)
+function fontPx(size) {
+  const value = parseFloat(size);
+  return size.endsWith("pt") ? value * 4 / 3 : size.endsWith("em") ? value * 16 : value;
+}
+
+// one change of both panels (two would leave the legend out of the figure in between: BokehJS drops its view)
+function move(fig, legend, from, to) {
+  fig.setv({[from]: fig[from].filter(m => m !== legend), [to]: [...fig[to], legend]});
+}
+
+function fitLegends(view, s, narrow) {
+  const fig = view.model;
+  let extra = 0;
+  for (const legend of SIDES.flatMap(p => fig[p]).filter(m => m.type === "Legend")) {
+    const lv = Bokeh.index.find_one(legend);
+    if (!lv || !lv.el) continue;
+    const panel = SIDES.find(p => fig[p].includes(legend));
+    const saved = s.legends.get(legend.id);
+    if (!narrow) {  // a wide page: the legend where it was
+      if (saved !== undefined && panel === "below" && saved.panel !== "below") {
+        move(fig, legend, "below", saved.panel);
+        legend.setv({ncols: saved.ncols, location: saved.location});
+        if (saved.font !== undefined) legend.label_text_font_size = saved.font;
+      }
+      s.legends.delete(legend.id);
+      continue;
+    }
+    if (saved === undefined) {
+      const frame = view.frame.bbox, box = lv.bbox;
+      if (panel === "left" || panel === "right" ||
+          (panel === "center" && (box.left < frame.left - 1 || box.right > frame.right + 1))) {
+        s.legends.set(legend.id, {panel, ncols: legend.ncols, location: legend.location});
+        move(fig, legend, panel, "below");  // its columns fitted once it is laid out there
+        legend.location = "top_left";  // not a side legend's offset (it ran past the figure's bottom)
+      }
+      continue;
+    }
+    if (panel !== "below") {  // put back by the server (HoloViews places side legends at each update)
+      s.legends.delete(legend.id);
+      continue;
+    }
+    const entries = (lv.entries ?? []).filter(e => e.el.isConnected && e.item.visible !== false);
+    if (entries.length > 0) {
+      // below the frame, from its left edge to the canvas's right edge
+      const room = view.canvas_view.bbox.width - view.frame.bbox.left - legend.margin - 2 * legend.padding - 2;
+      const widest = Math.max(...entries.map(e => e.el.getBoundingClientRect().width));
+      if (widest > room) {  // a label wider than the room: a smaller font, down to MIN_LABEL_PX
+        const px = fontPx(legend.label_text_font_size);
+        const smaller = `${Math.max(MIN_LABEL_PX, Math.floor(px * room / widest))}px`;
+        if (px > MIN_LABEL_PX && smaller !== legend.label_text_font_size) {
+          saved.font ??= legend.label_text_font_size;
+          legend.label_text_font_size = smaller;
+          continue;  // measured again once drawn in it
+        }
+      }
+      const ncols = Math.max(1, Math.min(entries.length,
+                                         Math.floor((room + legend.spacing) / (widest + legend.spacing))));
+      if (legend.ncols !== ncols) legend.ncols = ncols;
+    }
+    extra += Math.max(lv.bbox.height, lv.el.getBoundingClientRect().height) + 2 * legend.margin;
+  }
+  if (s.base === undefined || fig.height !== s.set) s.base = fig.height;  // first seen, or set by the server
+  const height = Math.round(s.base + extra);
+  if (fig.height !== height) fig.height = height;
+  s.set = height;
+}
+
+function fit(view, narrow) {
+  if (!view.el.isConnected || !view.canvas_view || !view.frame) return;
+  let s = state.get(view.model.id);
+  if (s === undefined) {
+    s = {legends: new Map()};
+    state.set(view.model.id, s);
+  }
+  fitTitle(view, s);
+  if (view.model.height != null) fitLegends(view, s, narrow);
+}
+
+function fitAll(narrowPx) {
+  if (window.Bokeh === undefined || Bokeh.index === undefined) return;
+  const narrow = window.matchMedia(`(max-width: ${narrowPx}px)`).matches;
+  for (const view of Bokeh.index.all_views()) {
+    if (view.model.type === "Figure" || view.model.type === "Plot") {
+      try {
+        fit(view, narrow);
+      } catch (error) {
+        console.debug("asymslide: a figure could not be fitted", error);
+      }
+    }
+  }
+}
+
+export function render({ model }) {
+  if (window.asymslideFitPlots === undefined) {  // once per page, whatever the number of renders
+    window.asymslideFitPlots = () => fitAll(model.narrow_px);
+    setInterval(window.asymslideFitPlots, 300);
+    window.addEventListener("resize", window.asymslideFitPlots);
+  }
+  return document.createElement("span");
+}
+"""
+
+
+class FitPlots(JSComponent):
+    """Keeps every plot's title and legends inside the page on a phone (:data:`FIT_PLOTS_JS`). Bokeh knows the
+    width a figure gets only in the browser, so the fitting happens there; one instance per page (it takes no
+    space)."""
+
+    narrow_px = param.Integer(default=NARROW_PX, doc="below this page width legends move below their plots")
+
+    _esm = FIT_PLOTS_JS
+
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**{"width": 0, "height": 0, "margin": 0, "sizing_mode": "fixed", **params})

@@ -235,9 +235,10 @@ def server_log(request: pytest.FixtureRequest) -> Iterator[ServerLog]:
 
 
 @pytest.fixture
-def served_app(free_port: int, server_log: ServerLog) -> Iterator[str]:
+def served_app(free_port: int, server_log: ServerLog, worker_pool: None) -> Iterator[str]:
     """Serve ``app.main.create_app`` on a background thread; yield its URL; stop it afterwards. The test fails on
-    any error the server logs meanwhile (:func:`server_log`)."""
+    any error the server logs meanwhile (:func:`server_log`). The worker pool its sessions start (app.jobs) is shut
+    afterwards (:func:`worker_pool`)."""
     import panel as pn
 
     from app.main import create_app

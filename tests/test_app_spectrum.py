@@ -535,3 +535,18 @@ def test_no_linear_expansion_line_or_legend_entry_where_it_is_not_defined() -> N
             data = item.renderers[0].data_source.data
             assert item.visible is shown and (len(data["kH"]) > 0) is shown, (delta, dmap)
     assert np.isnan(sp.compute_spectrum(3.0, 0.9, 0.3, math.inf, 0.5, 1.0)["linear"].imag).all()
+
+
+def test_a_held_handle_does_not_raise_the_busy_flag_of_every_session_but_its_release_does() -> None:
+    """Panel's busy flag is one per process and every session's spinner follows it: the ~20 moves a second of a
+    held handle must not set it (each set sent an update to every open session); the release still does."""
+    w = SpectrumParams().make_widgets()["gamma"]
+    seen: list[bool] = []
+    watcher = pn.state.param.watch(lambda e: seen.append(e.new), "busy")
+    try:
+        w._process_events({"value": 5.0})  # what BokehJS sends while the handle moves
+        assert seen == [] and w.value == 5.0
+        w._process_events({"value_throttled": 5.0})  # the release
+        assert seen == [True, False]
+    finally:
+        pn.state.param.unwatch(watcher)
