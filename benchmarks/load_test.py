@@ -171,6 +171,7 @@ class AppSession:
         self.sliders: dict[str, str] = {}  # title -> model id
         self.params: dict[str, float] = {}
         self.cds_id = ""
+        self.renderer_id = ""  # the "Rayleigh branch" curve's GlyphRenderer (its data source may be replaced)
         self.kH = np.empty(0)
         self.im = np.empty(0)
 
@@ -208,7 +209,7 @@ class AppSession:
                 src = objs.get(attrs["data_source"]["id"], {})
                 im = _column(src.get("attributes", {}).get("data"), "Im", buffers)
                 if im is not None:
-                    self.cds_id = src["id"]
+                    self.cds_id, self.renderer_id = src["id"], o.get("id", "")
                     self.im = im
                     self.kH = _column(src["attributes"]["data"], "kH", buffers)
                     return
@@ -257,7 +258,10 @@ class AppSession:
                 if ev.get("kind") == "ModelChanged" and ev.get("attr") != "data":
                     continue
                 return _column(data, "kH", msg.buffers), _column(data, "Im", msg.buffers)
-            if ev.get("kind") == "ModelChanged" and ev.get("attr") == "data_source" and isinstance(ev.get("new"), dict):
+            # a new source of the curve's own renderer (not of another layer with an Im column: the markers of every
+            # branch have one too; following theirs read the wrong curve)
+            if (ev.get("kind") == "ModelChanged" and ev.get("attr") == "data_source" and target == self.renderer_id
+                    and isinstance(ev.get("new"), dict)):
                 src = _objects(ev["new"], {}).get(ev["new"].get("id", ""), {})
                 im = _column(src.get("attributes", {}).get("data"), "Im", msg.buffers)
                 if im is not None:
