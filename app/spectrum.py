@@ -466,6 +466,16 @@ class SpectrumScene(pn.viewable.Viewer):
         """A new `sliding` (or the same, its markers emptied by a held slider): written into the growth-rate plot on
         the page (app.live, a few ms: a HoloViews update of the whole overlay took ~0.1 s a release, twice: the
         markers emptied, then the job's result); HoloViews redraws them where the plot is not on a page."""
+        doc = jobs.served_document()
+        if doc is None:
+            self._write_sliding()
+        else:  # a preset's or the URL's change runs without the document's lock, which writing into it needs: a
+            # next-tick callback has it (Bokeh), and reads the latest `sliding` then
+            doc.add_next_tick_callback(self._write_sliding)
+
+    def _write_sliding(self) -> None:
+        """The markers of `sliding` written into the growth-rate plot; HoloViews redraws them where it is not on a
+        page."""
         layers = {STYLE[key].label: xy for key, xy in self.sliding_points().items()}
         if not (self.panes and live.push(self.panes[0], layers)):
             self.sliding_drawn += 1
