@@ -34,9 +34,11 @@ session of a process.
 
 from __future__ import annotations
 
+import atexit
 import concurrent.futures
 import logging
 import multiprocessing
+import signal
 import threading
 import time
 from collections.abc import Callable, Hashable, Mapping
@@ -72,9 +74,24 @@ def process_pool() -> concurrent.futures.ProcessPoolExecutor:
     global _pool
     with _pool_lock:
         if _pool is None:
+            # a stop signal goes to the server's whole process group (asymslide serve, Ctrl-C): the workers ignore
+            # SIGINT and end when the server shuts the pool down (at its exit: :func:`_shutdown_pool`)
             _pool = concurrent.futures.ProcessPoolExecutor(PROCESS_WORKERS,
-                                                           mp_context=multiprocessing.get_context("spawn"))
+                                                           mp_context=multiprocessing.get_context("spawn"),
+                                                           initializer=signal.signal,
+                                                           initargs=(signal.SIGINT, signal.SIG_IGN))
         return _pool
+
+
+@atexit.register
+def _shutdown_pool() -> None:
+    """Stop the worker processes and drop the pool while the interpreter is whole (a pool collected during the
+    interpreter's teardown logs "Exception ignored in ... weakref_cb" from concurrent.futures)."""
+    global _pool
+    with _pool_lock:
+        pool, _pool = _pool, None
+    if pool is not None:
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _drop_pool(pool: concurrent.futures.ProcessPoolExecutor) -> None:

@@ -46,6 +46,26 @@ def _wait_until_serving(proc: subprocess.Popen, port: int, workers: int, timeout
     raise RuntimeError(f"server on port {port} did not come up with {workers} workers")
 
 
+def _open_a_page(proc: subprocess.Popen, port: int, timeout: float = 120.0) -> list[int]:
+    """GET the app's page (the session it creates computes sliding in the worker process of app.jobs) and wait
+    for that spawned worker; return every process under `proc` then."""
+    with urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=timeout) as response:
+        assert response.status == 200
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        tree = descendants(proc.pid)
+        if any("spawn_main" in _cmdline(p) for p in tree):
+            return tree
+        time.sleep(0.2)
+    raise RuntimeError("no worker process was spawned for the page's sliding computation")
+
+
+def _assert_no_traceback(log: Path) -> None:
+    """The server's output after the stop holds no Traceback (CI's Docker smoke test fails on one)."""
+    text = log.read_text(errors="replace")
+    assert "Traceback" not in text, text[-3000:]
+
+
 def _cmdline(pid: int) -> str:
     try:
         return Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode()
@@ -69,18 +89,21 @@ def _assert_all_gone(proc: subprocess.Popen, tree: list[int]) -> None:
     assert not left, f"left behind: {[_cmdline(p) for p in left]}"
 
 
-def test_sigterm_to_the_launcher_stops_every_worker() -> None:
+def test_sigterm_to_the_launcher_stops_every_worker(tmp_path: Path) -> None:
     """What docker stop and systemd do: SIGTERM to the process the image's CMD execs."""
     port = _find_free_port()
-    proc = subprocess.Popen([sys.executable, "-m", "asymslide", "serve", "--port", str(port), "--address",
-                             "127.0.0.1", "--num-procs", "2"], cwd=ROOT, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
+    log = tmp_path / "server.log"
+    with log.open("wb") as out:
+        proc = subprocess.Popen([sys.executable, "-m", "asymslide", "serve", "--port", str(port), "--address",
+                                 "127.0.0.1", "--num-procs", "2"], cwd=ROOT, stdout=out, stderr=subprocess.STDOUT)
     try:
-        tree = _wait_until_serving(proc, port, workers=2)
+        _wait_until_serving(proc, port, workers=2)
         assert len(children(children(proc.pid)[0])) == 2  # launcher -> panel -> two workers
+        tree = _open_a_page(proc, port)
         proc.send_signal(signal.SIGTERM)
         _assert_all_gone(proc, tree)
         assert proc.returncode == 0  # a stop that was asked for and done is a clean exit (docker stop: "Exited (0)")
+        _assert_no_traceback(log)
     finally:
         if proc.poll() is None:
             proc.kill()
@@ -88,16 +111,20 @@ def test_sigterm_to_the_launcher_stops_every_worker() -> None:
 
 
 @pytest.mark.skipif(not (ROOT / ".venv" / "bin" / "asymslide").exists(), reason="make serve needs the .venv")
-def test_ctrl_c_on_make_serve_stops_every_worker() -> None:
+def test_ctrl_c_on_make_serve_stops_every_worker(tmp_path: Path) -> None:
     """What a terminal does on Ctrl-C: SIGINT to the whole foreground process group of `make serve`."""
     port = _find_free_port()
-    proc = subprocess.Popen(["make", "--no-print-directory", "serve", f"PORT={port}", "ADDRESS=127.0.0.1",
-                             "NUM_PROCS=2"], cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                            start_new_session=True)  # its own group, as a terminal's foreground job
+    log = tmp_path / "server.log"
+    with log.open("wb") as out:
+        proc = subprocess.Popen(["make", "--no-print-directory", "serve", f"PORT={port}", "ADDRESS=127.0.0.1",
+                                 "NUM_PROCS=2"], cwd=ROOT, stdout=out, stderr=subprocess.STDOUT,
+                                start_new_session=True)  # its own group, as a terminal's foreground job
     try:
-        tree = _wait_until_serving(proc, port, workers=2)
+        _wait_until_serving(proc, port, workers=2)
+        tree = _open_a_page(proc, port)
         os.killpg(proc.pid, signal.SIGINT)
         _assert_all_gone(proc, tree)
+        _assert_no_traceback(log)
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
