@@ -602,6 +602,8 @@ def _slider_moved(obj: param.Parameterized, name: str, events: tuple[param.param
     held = slider.value != slider.value_throttled
     tracked = DRAGGING in obj.param
     moved = [e for e in events if e.name == "value" and getattr(obj, name) != e.new]
+    if not moved and any(e.name == "value" for e in events):
+        return  # the echo of the parameter into a second slider bound to it (another tab's): neither move nor release
     if moved:
         if tracked and held and not obj.dragging:
             obj.param.update(dragging=True)  # before the value: its watchers see a drag in progress

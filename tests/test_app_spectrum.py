@@ -159,6 +159,24 @@ def _release(slider, value: float) -> None:
         slider.value_throttled = value
 
 
+def test_a_held_slider_stays_held_while_a_second_set_of_sliders_bound_to_the_same_parameters_follows_it() -> None:
+    """The Spectrum and Stability map tabs show two slider sets of one SpectrumParams. Moving a handle of one set
+    writes each value into the other set's slider (value and value_throttled at once: set, not dragged); that echo
+    is not a release: `dragging` stays True at every move until the held slider is released (before, it flipped
+    at every move and the map started a full computation per move)."""
+    p = SpectrumParams()
+    held, mirror = p.make_widgets(), p.make_widgets()
+    seen: list[bool] = []
+    p.param.watch(lambda e: seen.append(e.new), "dragging")
+    for g in (6.0, 6.5, 7.0):
+        held["gamma"].value = g
+        assert p.gamma == g and p.dragging
+        assert mirror["gamma"].value == g and mirror["gamma"].value_throttled == g
+    _release(held["gamma"], 7.0)
+    assert not p.dragging
+    assert seen == [True, False]
+
+
 def test_widget_labels_are_the_papers_symbols() -> None:
     w = SpectrumParams().make_widgets()
     labels = [w[n].label for n in ("gamma", "f", "beta", "log10_eta", "Delta", "xi")]
