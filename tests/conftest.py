@@ -11,6 +11,7 @@ import hashlib
 import logging
 import os
 import re
+import shutil
 import socket
 import subprocess
 import time
@@ -407,3 +408,22 @@ def worker_pool():
         for process in list((pool._processes or {}).values()):  # a call still running (a cancelled job's) ends now
             process.terminate()
         pool.shutdown(wait=True, cancel_futures=True)
+
+
+@pytest.fixture(scope="session")
+def small_atlas(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The small atlas (tests/support/atlases.py: SMALL over KH), stored once per test session."""
+    from atlas_engine import sweep
+    from tests.support.atlases import KH, SMALL
+
+    path = tmp_path_factory.mktemp("small-atlas") / "small.zarr"
+    sweep.sweep(SMALL, kH=KH, store=path)
+    return path
+
+
+@pytest.fixture
+def atlas_with_small(small_atlas: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A fresh atlas directory holding a copy of the small atlas (the Atlas tab opens it as atlas=small)."""
+    shutil.copytree(small_atlas, tmp_path / "small.zarr")
+    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
+    return tmp_path

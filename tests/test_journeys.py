@@ -11,7 +11,6 @@ from __future__ import annotations
 import logging
 import math
 import re
-import shutil
 import threading
 import time
 import urllib.parse
@@ -23,7 +22,6 @@ import xarray as xr
 
 from app import atlas as A
 from app.presets import load_presets
-from atlas_engine import sweep as S
 from tests.conftest import (
     ServerLog,
     clear_patched_curdocs,
@@ -33,10 +31,8 @@ from tests.conftest import (
     unexpected,
     watch_errors,
 )
+from tests.support.atlases import KH, SMALL
 
-KH = np.logspace(-3, 3, 33)
-#: a small 3-axis atlas for the Atlas journeys (γ, β, f at η = ∞)
-SMALL = {"gamma": np.geomspace(0.3, 30, 8), "beta": np.linspace(0.1, 0.6, 5), "f": np.linspace(0.3, 1.5, 4)}
 #: the default atlas of the first-use journey, small so that it computes in seconds (the code path is the real one)
 TINY_DEFAULT = {"gamma": np.geomspace(0.3, 30, 6), "eta": np.geomspace(2, 1e3, 3), "f": np.array([0.6, 1.2]),
                 "beta": np.array([0.2, 0.4])}
@@ -176,21 +172,6 @@ def download(page, label: str) -> str:
 # --------------------------------------------------------------------------------------------
 # atlases
 # --------------------------------------------------------------------------------------------
-
-
-@pytest.fixture(scope="module")
-def small_atlas(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    path = tmp_path_factory.mktemp("journey-atlases") / "small.zarr"
-    S.sweep(SMALL, kH=KH, store=path)
-    return path
-
-
-@pytest.fixture
-def atlas_with_small(small_atlas: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    """A fresh atlas directory holding the small atlas."""
-    shutil.copytree(small_atlas, tmp_path / "small.zarr")
-    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
-    return tmp_path
 
 
 @pytest.fixture

@@ -11,27 +11,20 @@
 from __future__ import annotations
 
 import re
-import shutil
 from pathlib import Path
 
 import holoviews as hv
-import numpy as np
 import pytest
 from bokeh.models import CustomJSTickFormatter, LogTickFormatter
 
 from app.common import LOG_COORDINATE_TICKS
 from app.main import TAB_TITLES
 from app.params import TICKS_JS
-from atlas_engine import sweep as S
 from tests.conftest import open_app, unexpected
 
 #: a phone's screen (CSS px)
 PHONE = {"width": 390, "height": 844}
 WAIT = 90_000
-
-#: a small 3-axis atlas for the Atlas tab (as tests/test_journeys.py's)
-SMALL = {"gamma": np.geomspace(0.3, 30, 8), "beta": np.linspace(0.1, 0.6, 5), "f": np.linspace(0.3, 1.5, 4)}
-KH = np.logspace(-3, 3, 33)
 
 #: per tab, the beginnings of the titles of the plots it shows once drawn (line breaks read as spaces)
 TAB_PLOTS = {
@@ -156,27 +149,12 @@ def clipped_plots(page, width: int, settle_ms: int = 20_000) -> list[str]:
     return page.evaluate(_CLIPPED_JS, width)
 
 
-@pytest.fixture(scope="module")
-def small_atlas(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    path = tmp_path_factory.mktemp("phone-atlases") / "small.zarr"
-    S.sweep(SMALL, kH=KH, store=path)
-    return path
-
-
-@pytest.fixture
-def atlas_dir(small_atlas: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    """A fresh atlas directory holding the small atlas (the Atlas tab opens it from the URL's atlas=small)."""
-    shutil.copytree(small_atlas, tmp_path / "small.zarr")
-    monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
-    return tmp_path
-
-
 # --------------------------------------------------------------------------------------------
 # a phone's screen
 # --------------------------------------------------------------------------------------------
 
 
-def test_every_tab_fits_a_phone_screen(atlas_dir: Path, served_app: str, browser_context) -> None:
+def test_every_tab_fits_a_phone_screen(atlas_with_small: Path, served_app: str, browser_context) -> None:
     """At 390 x 844 every tab's plot titles and legends stay inside their plots (titles longer than the plot
     wrap, legends that do not fit move below the plot), no figure runs off the screen, and nothing on the page
     (nor inside Panel's shadow roots) makes it scroll sideways. Before: "Slip–normal-stress coupling at c = c_R (…"
@@ -275,7 +253,7 @@ def test_every_plot_uses_the_readable_tick_labels(logy: bool) -> None:
 # --------------------------------------------------------------------------------------------
 
 
-def test_opening_every_tab_logs_no_console_warning(atlas_dir: Path, served_app: str,
+def test_opening_every_tab_logs_no_console_warning(atlas_with_small: Path, served_app: str,
                                                    browser_context) -> None:
     """Every tab, and the Atlas tab's 3-D view, opened one after the other: the console holds no warning or error
     but the libraries' own (:data:`ALLOWED_CONSOLE`, each with the reason it cannot be silenced from the app)."""

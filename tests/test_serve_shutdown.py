@@ -46,18 +46,17 @@ def _wait_until_serving(proc: subprocess.Popen, port: int, workers: int, timeout
     raise RuntimeError(f"server on port {port} did not come up with {workers} workers")
 
 
-def _open_a_page(proc: subprocess.Popen, port: int, timeout: float = 120.0) -> list[int]:
-    """GET the app's page (the session it creates computes sliding in the worker process of app.jobs) and wait
-    for that spawned worker; return every process under `proc` then."""
+def _sliding_workers_then_a_page(proc: subprocess.Popen, port: int, panels: int, timeout: float = 120.0) -> list[int]:
+    """Each of the `panels` Panel processes starts its worker for the sliding computation at start-up (app.jobs,
+    asymslide/panel_setup.py), before any page is asked for; then GET the app's page (its session computes in that
+    worker). Return every process under `proc`."""
+    deadline = time.monotonic() + timeout
+    while sum("spawn_main" in _cmdline(p) for p in descendants(proc.pid)) < panels:
+        assert time.monotonic() < deadline, "no worker process for the sliding computation was started"
+        time.sleep(0.2)
     with urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=timeout) as response:
         assert response.status == 200
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        tree = descendants(proc.pid)
-        if any("spawn_main" in _cmdline(p) for p in tree):
-            return tree
-        time.sleep(0.2)
-    raise RuntimeError("no worker process was spawned for the page's sliding computation")
+    return descendants(proc.pid)
 
 
 def _assert_no_traceback(log: Path) -> None:
@@ -99,7 +98,7 @@ def test_sigterm_to_the_launcher_stops_every_worker(tmp_path: Path) -> None:
     try:
         _wait_until_serving(proc, port, workers=2)
         assert len(children(children(proc.pid)[0])) == 2  # launcher -> panel -> two workers
-        tree = _open_a_page(proc, port)
+        tree = _sliding_workers_then_a_page(proc, port, panels=2)
         proc.send_signal(signal.SIGTERM)
         _assert_all_gone(proc, tree)
         assert proc.returncode == 0  # a stop that was asked for and done is a clean exit (docker stop: "Exited (0)")
@@ -121,7 +120,7 @@ def test_ctrl_c_on_make_serve_stops_every_worker(tmp_path: Path) -> None:
                                 start_new_session=True)  # its own group, as a terminal's foreground job
     try:
         _wait_until_serving(proc, port, workers=2)
-        tree = _open_a_page(proc, port)
+        tree = _sliding_workers_then_a_page(proc, port, panels=2)
         os.killpg(proc.pid, signal.SIGINT)
         _assert_all_gone(proc, tree)
         _assert_no_traceback(log)
