@@ -37,3 +37,16 @@ def fastest_roots(p: Mapping[str, float], kH: Sequence[float]) -> dict[str, np.n
         if int(m.status) == 0:
             out["growth"][i], out["z"][i], out["family"][i] = float(m.growth), complex(m.z), int(m.family)
     return out
+
+
+def sliding_gamma_crossings(x_name: str, x: Sequence[float], fixed: Sequence[tuple[str, float]], floor: float,
+                            gamma_range: tuple[float, float], max_crossings: int) -> dict[str, np.ndarray]:
+    """Every crossing in γ (within `gamma_range`) of the max growth over every branch at the x values `x` of the
+    parameter `x_name`, the others `fixed`, the growth floor `floor`, at most `max_crossings` per x
+    (:func:`model.critical_gammas` with branches="all": app.sliding_boundary)."""
+    args = {**dict(fixed), x_name: np.asarray(x, float)}
+    c = model.critical_gammas(**args, gamma_range=gamma_range, branches="all", floor=floor,
+                              max_crossings=max_crossings, workers=1)
+    return {"value": np.asarray(c.value, float), "location": np.asarray(c.location, float),
+            "direction": np.asarray(c.direction, np.int8), "reason": np.asarray(c.reason, np.int8),
+            "count": np.asarray(c.count, int)}
