@@ -3,7 +3,8 @@
 A HoloViews update of one of the Spectrum's overlays costs 80-170 ms on the server (ranges, options and legends of
 every layer are computed again; benchmarks/results.md "Live while dragging"), so a plot redrawn that way follows a
 dragged slider at a few frames per second. While a slider is held, a scene instead writes the few arrays that
-change into the data sources of the glyphs already on the page (a few ms) and runs the plot's own hooks again (the
+change into the data sources of the glyphs already on the page (a few ms; only the columns that changed are sent:
+the kH column of a curve, or G_y(c_R) while γ or f moves, is not sent again) and runs the plot's own hooks again (the
 y range fitted to what is drawn, the legend listing only the layers that show something): the page then shows what
 a HoloViews redraw of the same inputs would show. At the release the scene needs no redraw when the last values
 written are the released ones (app.spectrum.SpectrumScene._redraw).
@@ -42,8 +43,25 @@ def _write(subplot, layer: Layer) -> bool:
     source = subplot.handles.get("source")
     if source is None or len(source.data) != len(layer):
         return False
-    source.data = {name: np.asarray(column) for name, column in zip(source.data, layer, strict=True)}
+    new = {name: np.asarray(column) for name, column in zip(source.data, layer, strict=True)}
+    if any(len(source.data[name]) != len(column) for name, column in new.items()):
+        source.data = new  # a new length: every column at once (the page never sees columns of unequal lengths)
+        return True
+    changed = {name: column for name, column in new.items() if not _same(source.data[name], column)}
+    if changed:  # only the columns that changed are sent (the kH column of a curve stays on the page)
+        source.data.update(changed)
     return True
+
+
+def _same(shown, column: np.ndarray) -> bool:
+    """Whether a column on the page already holds `column` (NaN equal to NaN)."""
+    shown = np.asarray(shown)
+    if shown.shape != column.shape:
+        return False
+    try:
+        return bool(np.array_equal(shown, column, equal_nan=True))
+    except TypeError:  # not numbers (labels): compared as they are
+        return bool(np.array_equal(shown, column))
 
 
 def push(pane: pn.pane.HoloViews, layers: Mapping[str, Layer], *, empty_others: bool = False) -> bool:
