@@ -57,49 +57,58 @@ UPDATE_INTERVAL = 0.15
 
 RUNNING, DONE, FAILED, CANCELLED = "running", "done", "failed", "cancelled"
 
-#: worker processes beside a served process for :meth:`Job.call` (the machine this was measured on has 2 cores: the
-#: server's process on one, the worker on the other)
+#: worker processes beside a served process for :meth:`Job.call`, per pool (the machine this was measured on has 2
+#: cores: the server's process on one, the workers on the other)
 PROCESS_WORKERS = 1
 #: how often (s) a job waiting for its worker process looks whether it has been cancelled
 CALL_POLL = 0.05
+#: the pools: work a user waits for at a release (the Spectrum's sliding markers: ~0.5 s), and long background work
+#: (a map's exact sliding boundary: seconds a call) that must not queue in front of it
+INTERACTIVE, BACKGROUND = "interactive", "background"
 
-_pool: concurrent.futures.ProcessPoolExecutor | None = None
+_pools: dict[str, concurrent.futures.ProcessPoolExecutor] = {}
 _pool_lock = threading.Lock()
 
 
-def process_pool() -> concurrent.futures.ProcessPoolExecutor:
-    """The process's pool of :data:`PROCESS_WORKERS` spawned workers, started at its first use (spawned, not
-    forked: the server has threads; a worker imports only what the calls need, e.g. app.sliding_work and model).
-    It lives as long as the server's process; ``asymslide serve`` stops its whole process group, workers included."""
-    global _pool
+def process_pool(kind: str = INTERACTIVE) -> concurrent.futures.ProcessPoolExecutor:
+    """The process's pool `kind` (:data:`INTERACTIVE`, :data:`BACKGROUND`) of :data:`PROCESS_WORKERS` spawned
+    workers, started at its first use (spawned, not forked: the server has threads; a worker imports only what the
+    calls need, e.g. app.sliding_work and model). It lives as long as the server's process; ``asymslide serve``
+    stops its whole process group, workers included."""
+    if kind not in (INTERACTIVE, BACKGROUND):
+        raise ValueError(f"kind must be {INTERACTIVE!r} or {BACKGROUND!r}, not {kind!r}")
     with _pool_lock:
-        if _pool is None:
+        if kind not in _pools:
             # a stop signal goes to the server's whole process group (asymslide serve, Ctrl-C): the workers ignore
-            # SIGINT and end when the server shuts the pool down (at its exit: :func:`_shutdown_pool`)
-            _pool = concurrent.futures.ProcessPoolExecutor(PROCESS_WORKERS,
-                                                           mp_context=multiprocessing.get_context("spawn"),
-                                                           initializer=signal.signal,
-                                                           initargs=(signal.SIGINT, signal.SIG_IGN))
-        return _pool
+            # SIGINT and end when the server shuts the pool down (at its exit: :func:`shutdown_pools`)
+            _pools[kind] = concurrent.futures.ProcessPoolExecutor(PROCESS_WORKERS,
+                                                                  mp_context=multiprocessing.get_context("spawn"),
+                                                                  initializer=signal.signal,
+                                                                  initargs=(signal.SIGINT, signal.SIG_IGN))
+        return _pools[kind]
 
 
 @atexit.register
-def _shutdown_pool() -> None:
-    """Stop the worker processes and drop the pool while the interpreter is whole (a pool collected during the
-    interpreter's teardown logs "Exception ignored in ... weakref_cb" from concurrent.futures)."""
-    global _pool
+def shutdown_pools(*, terminate: bool = False) -> None:
+    """Stop the worker processes and drop the pools while the interpreter is whole (a pool collected during the
+    interpreter's teardown logs "Exception ignored in ... weakref_cb" from concurrent.futures). `terminate`: a call
+    still running ends now (tests), rather than being waited for."""
     with _pool_lock:
-        pool, _pool = _pool, None
-    if pool is not None:
+        pools = list(_pools.values())
+        _pools.clear()
+    for pool in pools:
+        if terminate:
+            for process in list((pool._processes or {}).values()):
+                process.terminate()
         pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _drop_pool(pool: concurrent.futures.ProcessPoolExecutor) -> None:
     """Forget a broken pool (a worker died): the next call starts a new one."""
-    global _pool
     with _pool_lock:
-        if _pool is pool:
-            _pool = None
+        for kind, p in list(_pools.items()):
+            if p is pool:
+                del _pools[kind]
     pool.shutdown(wait=False, cancel_futures=True)
 
 
@@ -192,16 +201,16 @@ class Job:
         if self._cancelled.is_set():
             raise Cancelled(self.name)
 
-    def call(self, fn: Callable[..., Any], *args: Any, in_process: bool = True) -> Any:
-        """``fn(*args)`` in a worker process of :func:`process_pool` (`fn` and its arguments must pickle), or here
-        when not `in_process`. Cancelling the job withdraws a call not started yet and raises :class:`Cancelled`;
-        a call already running finishes in its process and its result is dropped. A worker that died fails the
-        job (the next call starts a new pool)."""
+    def call(self, fn: Callable[..., Any], *args: Any, in_process: bool = True, pool: str = INTERACTIVE) -> Any:
+        """``fn(*args)`` in a worker process of :func:`process_pool` `pool` (`fn` and its arguments must pickle), or
+        here when not `in_process`. Cancelling the job withdraws a call not started yet and raises
+        :class:`Cancelled`; a call already running finishes in its process and its result is dropped. A worker that
+        died fails the job (the next call starts a new pool)."""
         if not in_process:
             self.check()
             return fn(*args)
-        pool = process_pool()
-        future = pool.submit(fn, *args)
+        executor = process_pool(pool)
+        future = executor.submit(fn, *args)
         while True:
             try:
                 return future.result(timeout=CALL_POLL)
@@ -210,7 +219,7 @@ class Job:
                     future.cancel()
                     raise Cancelled(self.name) from None
             except concurrent.futures.process.BrokenProcessPool as exc:
-                _drop_pool(pool)
+                _drop_pool(executor)
                 raise Failed(f"the worker process stopped ({exc})") from exc
 
     def set_totals(self, totals: Mapping[str, int]) -> None:

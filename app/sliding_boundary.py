@@ -55,7 +55,7 @@ def compute_boundary(key: tuple, x: np.ndarray, x_name: str, gamma_range: tuple[
         part = cache_get(ckey)
         if part is None:
             part = job.call(sliding_work.sliding_gamma_crossings, x_name, cols, fixed, floor, gamma_range,
-                            MAX_CROSSINGS, in_process=in_process)
+                            MAX_CROSSINGS, in_process=in_process, pool=jobs.BACKGROUND)
             cache_put(ckey, part)
         b = a + len(cols)
         for name in (*FIELDS, "count"):

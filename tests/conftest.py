@@ -398,16 +398,12 @@ def set_slider(page, title: str, value: float) -> bool:
 
 @pytest.fixture
 def worker_pool():
-    """Shut the app's worker pool (app.jobs.process_pool) that a test started: a pool left running would keep pytest
+    """Shut the app's worker pools (app.jobs.process_pool) that a test started: a pool left running would keep pytest
     from exiting."""
     from app import jobs
 
     yield
-    pool, jobs._pool = jobs._pool, None
-    if pool is not None:
-        for process in list((pool._processes or {}).values()):  # a call still running (a cancelled job's) ends now
-            process.terminate()
-        pool.shutdown(wait=True, cancel_futures=True)
+    jobs.shutdown_pools(terminate=True)  # a call still running (a cancelled job's) ends now
 
 
 @pytest.fixture(scope="session")

@@ -138,6 +138,37 @@ def test_a_call_in_process_runs_in_another_process_and_returns_its_result() -> N
 
 
 @pytest.mark.usefixtures("worker_pool")
+def test_background_work_runs_in_its_own_worker_and_never_queues_in_front_of_interactive_work() -> None:
+    """A long call in the background pool (a map's sliding boundary) leaves the interactive pool (the Spectrum's
+    sliding markers) free: its call runs at once, in another process."""
+    import os
+    import time
+
+    started = threading.Event()
+
+    def long(job: jobs.Job) -> int:
+        started.set()
+        job.call(time.sleep, 20.0, pool=jobs.BACKGROUND)
+        return 0
+
+    background = jobs.Job(long, name="long").start()
+    assert started.wait(30)
+    time.sleep(1.0)  # the 20 s call runs in the background worker
+    interactive = jobs.Job(lambda job: job.call(os.getpid), name="pid").start().wait(30)
+    assert interactive.status == jobs.DONE, interactive.error
+    assert not background.state().finished  # it ran while the long call was running
+    behind = jobs.Job(lambda job: job.call(os.getpid, pool=jobs.BACKGROUND), name="pid").start()
+    time.sleep(1.0)
+    assert not behind.state().finished  # the background pool's next call waits for the long one
+    background.cancel()
+    behind.cancel()
+    assert background.wait(10).status == jobs.CANCELLED and behind.wait(10).status == jobs.CANCELLED
+    assert len({interactive.result, os.getpid()}) == 2
+    with pytest.raises(ValueError, match="kind must be"):
+        jobs.process_pool("fast")
+
+
+@pytest.mark.usefixtures("worker_pool")
 def test_a_cancelled_call_in_process_ends_the_job_without_waiting_for_the_worker() -> None:
     """A job cancelled while its call runs in the worker ends at once as cancelled (the call's result is dropped)."""
     import time
