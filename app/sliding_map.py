@@ -70,12 +70,12 @@ FIELDS = {"growth": (float, np.nan), "kH_at_max": (float, np.nan), "re_z": (floa
           "family": (np.int8, -1), "verdict": (np.int8, -1), "reason": (np.int8, -1), "lower_bound": (bool, False)}
 
 
-def passes(n: int) -> list[np.ndarray]:
-    """The flat indices (row-major, n × n) computed by each pass, coarsest first: the points on the stride's
-    subgrid that no coarser pass computed. Together they are every point once."""
+def passes(n: int, strides: tuple[int, ...] = STRIDES) -> list[np.ndarray]:
+    """The flat indices (row-major, n × n) computed by each pass of `strides` (the last 1), coarsest first: the
+    points on the stride's subgrid that no coarser pass computed. Together they are every point once."""
     done = np.zeros((n, n), bool)
     out = []
-    for s in STRIDES:
+    for s in strides:
         grid = np.zeros((n, n), bool)
         grid[::s, ::s] = True
         new = grid & ~done
@@ -84,9 +84,9 @@ def passes(n: int) -> list[np.ndarray]:
     return out
 
 
-def chunks(n: int) -> list[tuple[int, np.ndarray]]:
-    """(pass, flat indices) of every chunk of an n × n map, in the order they are computed."""
-    return [(k, idx[a:a + CHUNK_POINTS]) for k, idx in enumerate(passes(n)) for a in range(0, idx.size, CHUNK_POINTS)]
+def chunks(n: int, strides: tuple[int, ...] = STRIDES, size: int = CHUNK_POINTS) -> list[tuple[int, np.ndarray]]:
+    """(pass, flat indices) of every chunk (up to `size` points) of an n × n map, in the order they are computed."""
+    return [(k, idx[a:a + size]) for k, idx in enumerate(passes(n, strides)) for a in range(0, idx.size, size)]
 
 
 def preview_index(n: int, stride: int) -> np.ndarray:
@@ -128,10 +128,12 @@ class SlidingMap:
         return self.stride == 1
 
     def shown(self) -> dict[str, np.ndarray]:
-        """The fields as drawn: every cell the value of its preview point (itself once complete)."""
+        """The fields as drawn: a computed cell its own value, every other cell the value of its preview point (the
+        lower-left point of its block of `stride`; not computed yet in a pass published chunk by chunk)."""
         n = self.x.size
         iy, ix = preview_index(self.y.size, self.stride), preview_index(n, self.stride)
-        return {k: v[np.ix_(iy, ix)] for k, v in self.fields.items()}
+        exact = self.exact()
+        return {k: np.where(exact, v, v[np.ix_(iy, ix)]) for k, v in self.fields.items()}
 
     def exact(self) -> np.ndarray:
         """Where a cell shows its own value (n × n bool)."""
@@ -140,15 +142,21 @@ class SlidingMap:
 
 def compute_sliding_map(key: tuple, x: np.ndarray, y: np.ndarray, names: tuple[str, str],
                         cache_get: Callable[[tuple], dict | None], cache_put: Callable[[tuple, dict], None],
-                        job: jobs.Job) -> SlidingMap:
-    """The sliding map of `key` = (plane, n, fixed, floor), pass by pass (each pass's end published as the job's
-    partial result, a :class:`SlidingMap` preview), chunk by chunk from the cache when there; the work of a job."""
+                        job: jobs.Job, *, strides: tuple[int, ...] = STRIDES, chunk_points: int = CHUNK_POINTS,
+                        publish: Callable[[SlidingMap], None] | None = None,
+                        every_chunk: bool = False) -> SlidingMap:
+    """The sliding map of `key` = (plane, n, fixed, floor), pass by pass of `strides` (each pass's end published as
+    a :class:`SlidingMap` preview: to `publish`, by default as the job's partial result), chunk by chunk of
+    `chunk_points` from the cache when there; the work of a job. `every_chunk`: also publish after every chunk within
+    a pass (a small map that should show something after its first chunk: the Stability map's preview while a
+    slider is held), its cells not computed yet shown by the last complete pass (none yet in the first pass)."""
     plane, n, fixed, floor = key
     t0 = time.perf_counter()
     fields = {k: np.full((n, n), fill, dtype) for k, (dtype, fill) in FIELDS.items()}
-    plan = chunks(n)
+    plan = chunks(n, strides, chunk_points)
     computed = 0
     kH = model.SLIDING_KH
+    show = job.publish if publish is None else publish
 
     def result(stride: int) -> SlidingMap:
         return SlidingMap(key, x, y, {k: v.copy() for k, v in fields.items()}, stride, computed,
@@ -156,7 +164,7 @@ def compute_sliding_map(key: tuple, x: np.ndarray, y: np.ndarray, names: tuple[s
 
     for i, (k, idx) in enumerate(plan):
         job.check()
-        ckey = ("sliding", plane, n, fixed, floor, int(idx[0]), idx.size)
+        ckey = ("sliding", plane, n, fixed, floor, tuple(strides), int(idx[0]), idx.size)
         part = cache_get(ckey)
         if part is None:
             part = compute_chunk(x, y, names, fixed, floor, idx)
@@ -165,8 +173,10 @@ def compute_sliding_map(key: tuple, x: np.ndarray, y: np.ndarray, names: tuple[s
             fields[name].flat[idx] = values
         computed += idx.size
         last_of_pass = i + 1 == len(plan) or plan[i + 1][0] != k
-        if last_of_pass and STRIDES[k] > 1:
-            job.publish(result(STRIDES[k]))
+        if last_of_pass and strides[k] > 1:
+            show(result(strides[k]))
+        elif every_chunk and not last_of_pass:
+            show(result(strides[max(k - 1, 0)]))
         job.advance("points", idx.size)
     return result(1)
 

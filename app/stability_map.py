@@ -16,6 +16,15 @@ cancelled (it stops after its current chunk and is never shown) and the new one 
 
 What the map depends on: its plane, resolution, and the four parameters off the plane (ξ normalised to 0 at Δ = 1,
 where it does not enter F). Moving a parameter of the plane moves only the marker.
+
+While a slider is held (:attr:`SpectrumParams.dragging`) the map waits for the release. If the held value is off the
+plane, a coarse preview of the held inputs is drawn in place of the map meanwhile (:func:`compute_preview`, its own
+job: each move cancels the previous one, and a new one starts only once the previous one has stopped, so the latest
+value wins and no work piles up): the Rayleigh branch's growth at :data:`PREVIEW_POINTS` per axis (the map's cached
+chunks; its neutral curve the grid's contour, dashed grey, not certified), and coloured by the sliding verdict the
+verdict at :data:`PREVIEW_SLIDING_POINTS` per axis, published chunk by chunk. Its title, hover, progress label and
+readout say so; the CSV never holds it. It is dropped once the full map (or the sliding map's first pass) of the
+released inputs is shown.
 """
 
 from __future__ import annotations
@@ -26,8 +35,10 @@ import math
 import os
 import threading
 import time
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 from functools import partial
+from typing import Any
 
 import holoviews as hv
 import numpy as np
@@ -60,6 +71,19 @@ MIN_CHUNKS = 4
 
 #: the order of SpectrumParams.model_args()
 ARG_NAMES = SpectrumParams.MODEL_ARGS
+
+#: points per axis of the preview of the Rayleigh branch's map while a slider is held (its chunks are the map's
+#: cached chunks at this resolution): ~0.01 s at η = ∞, ~0.1 s on the η-γ plane (benchmarks: see the report)
+PREVIEW_POINTS = 12
+#: points per axis of the preview of the sliding verdict while a slider is held, computed coarse to fine (every other
+#: point, then the rest) in chunks of PREVIEW_SLIDING_CHUNK points, each shown as it is done
+PREVIEW_SLIDING_POINTS = 6
+PREVIEW_SLIDING_STRIDES = (2, 1)
+PREVIEW_SLIDING_CHUNK = 3
+#: what the neutral curve of a preview is (the readout and the path's label)
+PREVIEW_CONTOUR = "preview contour, not certified"
+#: the opacity of a preview (a full map is opaque, a map of the previous inputs 0.45)
+PREVIEW_ALPHA = 0.8
 
 #: β grids of Fig. 4c: the criterion (line) and, at every other of its points, the exact threshold (symbols)
 BETA_CRITERION = np.linspace(0.025, 0.70, 28)
@@ -286,6 +310,18 @@ class MapResult:
         return self.key[0]
 
 
+def cached_chunk(plane: str, n: int, start: int, stop: int, fixed: tuple[tuple[str, float], ...]) -> tuple[dict, bool]:
+    """Rows start..stop-1 of the map of `plane` at n x n points from :data:`CHUNKS`, computed (:func:`compute_chunk`)
+    and stored there when absent; and whether it was computed."""
+    chunk_key = (plane, n, start, stop, fixed)
+    part = CHUNKS.get(chunk_key)
+    if part is not None:
+        return part, False
+    part = compute_chunk(plane, n, start, stop, fixed)
+    CHUNKS.put(chunk_key, part)
+    return part, True
+
+
 def compute_map(key: tuple, job: jobs.Job) -> MapResult:
     """The map of `key` (:func:`key_for`), chunk by chunk, each from the cache of chunks when it is there: the work of
     a map job, on its thread (it stops at :meth:`~app.jobs.Job.check` once the job is cancelled)."""
@@ -295,12 +331,8 @@ def compute_map(key: tuple, job: jobs.Job) -> MapResult:
     parts, computed = [], 0
     for a, b in chunks:
         job.check()
-        chunk_key = (plane, n, a, b, fixed)
-        part = CHUNKS.get(chunk_key)
-        if part is None:
-            part = compute_chunk(plane, n, a, b, fixed)
-            CHUNKS.put(chunk_key, part)
-            computed += 1
+        part, new = cached_chunk(plane, n, a, b, fixed)
+        computed += new
         parts.append(part)
         job.advance("chunks")
     job.check()
@@ -356,6 +388,134 @@ def crossing_lines(c: dict) -> tuple[list[tuple[np.ndarray, np.ndarray]], dict[s
                    "refused_x": cols[refused], "refused_y": c["location"][refused], "refused_reason": reason[refused]}
 
 
+# --------------------------------------------------------------------------------------------
+# the preview while a slider is held
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class MapPreview:
+    """A coarse map of the held inputs while a slider is held: the Rayleigh branch's growth at :data:`PREVIEW_POINTS`
+    per axis and, for a map coloured by the sliding verdict, that verdict at :data:`PREVIEW_SLIDING_POINTS` per axis
+    (a partial one while it is computed)."""
+
+    #: (verdict, map key of the held inputs (:func:`key_for`), growth floor of the sliding verdict)
+    job_key: tuple
+    x: np.ndarray
+    y: np.ndarray
+    growth: np.ndarray  # (ny, nx), the Rayleigh branch's
+    kH_at_max: np.ndarray
+    n_masked: np.ndarray
+    seconds: float
+    sliding: sm.SlidingMap | None = None
+
+    @property
+    def verdict(self) -> str:
+        return self.job_key[0]
+
+    @property
+    def key(self) -> tuple:
+        """The map key of the inputs previewed (the full map's key once they are released)."""
+        return self.job_key[1]
+
+    @property
+    def plane(self) -> str:
+        return self.key[0]
+
+    @property
+    def points(self) -> int:
+        """Points per axis of what is drawn: the sliding verdict's grid or the Rayleigh branch's."""
+        return PREVIEW_SLIDING_POINTS if self.verdict == sm.SLIDING else PREVIEW_POINTS
+
+    @property
+    def complete(self) -> bool:
+        return self.verdict != sm.SLIDING or (self.sliding is not None and self.sliding.complete)
+
+
+#: the start of the progress label while a preview is shown
+PREVIEW_HEADING = "Preview while the slider is held"
+
+
+def preview_label(n: int) -> str:
+    """What a preview is, in the progress label and the readout."""
+    return f"{PREVIEW_HEADING}: {n} × {n} points; the full map is computed at the release"
+
+
+def preview_words(pv: MapPreview) -> str:
+    """What a preview is, in a hover."""
+    return f"preview, {pv.points} × {pv.points} points (the full map is computed at the release)"
+
+
+def preview_title_hook(plot: Any, element: Any) -> None:
+    """The map's title, which says when the map drawn is a preview (its heat map's hover column says so: see
+    :func:`preview_words`). A HoloViews hook of the map's overlay, run at every update (its title option is fixed).
+    A module function, not a method: HoloViews keeps options in a store for the life of the process until their
+    object is collected, and a scene referred to from its own options would never be."""
+    suffix = ""
+    for el in element.values() if isinstance(element, hv.Overlay) else [element]:
+        for dim in ("shown", "value_of"):
+            if isinstance(el, hv.QuadMesh) and el.get_dimension(dim) is not None:
+                values = el.dimension_values(dim)
+                if values.size and str(values[0]).startswith("preview, "):
+                    suffix = ": " + str(values[0]).split(" (")[0]
+    fig_title = plot.state.title
+    if fig_title is not None:
+        fig_title.text = plot.title + suffix
+
+
+def preview_totals(verdict: str) -> dict[str, int]:
+    """The phases of a preview job: the Rayleigh branch's chunks, then the sliding verdict's points."""
+    totals = {"chunks": len(chunk_rows(PREVIEW_POINTS))}
+    if verdict == sm.SLIDING:
+        totals["points"] = PREVIEW_SLIDING_POINTS**2
+    return totals
+
+
+def compute_preview(job_key: tuple, job: jobs.Job) -> MapPreview:
+    """The preview of `job_key` (:attr:`MapPreview.job_key`): the Rayleigh branch's growth at :data:`PREVIEW_POINTS`
+    per axis from the map's cached chunks (:func:`cached_chunk`; no certified crossings), then, coloured by the
+    sliding verdict, that verdict at :data:`PREVIEW_SLIDING_POINTS` per axis
+    (:func:`app.sliding_map.compute_sliding_map`, its chunks cached, each chunk published with the growth as the job's
+    partial result); the work of a job."""
+    verdict, key, floor = job_key
+    plane, _, fixed = key
+    t0 = time.perf_counter()
+    parts = []
+    for a, b in chunk_rows(PREVIEW_POINTS):
+        job.check()
+        parts.append(cached_chunk(plane, PREVIEW_POINTS, a, b, fixed)[0])
+        job.advance("chunks")
+    x, y = plane_axes(plane, PREVIEW_POINTS)
+    preview = MapPreview(job_key, x, y, growth=np.concatenate([p["growth"] for p in parts]),
+                         kH_at_max=np.concatenate([p["kH_at_max"] for p in parts]),
+                         n_masked=np.concatenate([p["n_masked"] for p in parts]), seconds=time.perf_counter() - t0)
+    if verdict != sm.SLIDING:
+        return preview
+    n = PREVIEW_SLIDING_POINTS
+    xs, ys = plane_axes(plane, n)
+    names = (PLANES[plane][0].name, PLANES[plane][1].name)
+
+    def publish(sliding: sm.SlidingMap) -> None:
+        job.publish(replace(preview, sliding=sliding, seconds=time.perf_counter() - t0))
+
+    sliding = sm.compute_sliding_map((plane, n, fixed, floor), xs, ys, names, CHUNKS.get, CHUNKS.put, job,
+                                     strides=PREVIEW_SLIDING_STRIDES, chunk_points=PREVIEW_SLIDING_CHUNK,
+                                     publish=publish, every_chunk=True)
+    return replace(preview, sliding=sliding, seconds=time.perf_counter() - t0)
+
+
+def after_previous(previous: list[jobs.Job], work: Callable[[jobs.Job], Any], job: jobs.Job) -> Any:
+    """``work(job)`` once the job in `previous` (if any) has ended: a cancelled preview stops after its current chunk,
+    and the next one starts computing only then, so that one preview of a session computes at a time however fast
+    the hand moves (the list is emptied: an ended job is not kept alive by the next)."""
+    if previous:
+        before = previous.pop()
+        before.wait(None)
+        del before
+    job.check()
+    return work(job)
+
+
 #: a margin around a map's range (a fraction of it, in log units on a log axis): the star clamped to an end (η = ∞
 #: at the right edge) is drawn whole, not cut in half by the frame
 MAP_MARGIN = 0.02
@@ -407,6 +567,13 @@ class StabilityMapScene(pn.viewable.Viewer):
     fig4c_sliding = param.Dict(default=None, allow_None=True, precedence=-1)
     #: its job's progress in words ("" when shown complete)
     fig4c_sliding_status = param.String("", precedence=-1)
+    #: while a slider is held: the map key of the held inputs where it differs from :attr:`map_key` (a preview of them
+    #: is drawn in place of the map); None otherwise
+    preview_key = param.Tuple(default=None, length=3, allow_None=True, precedence=-1)
+    #: the last preview shown (possibly partial; see :meth:`StabilityMapScene._shown_preview` for when it is drawn)
+    preview = param.ClassSelector(class_=MapPreview, allow_None=True, precedence=-1)
+    #: the preview job: "idle", "computing", "done", "error: ..."
+    preview_status = param.String("idle", precedence=-1)
     #: the Lab-units panel (an app.lab.LabScene, shared with the Spectrum scene) shown above the map; None: none
     lab = param.ClassSelector(class_=pn.viewable.Viewer, default=None, allow_None=True, precedence=-1)
 
@@ -423,7 +590,10 @@ class StabilityMapScene(pn.viewable.Viewer):
         self.sliding_computation = jobs.Follower(self._show_sliding_job)
         #: the background computation of Fig. 4c's sliding threshold: cancelled when f changes
         self.fig4c_computation = jobs.Follower(self._show_fig4c_job)
+        #: the background computation of the preview while a slider is held: cancelled at every move and the release
+        self.preview_computation = jobs.Follower(self._show_preview_job)
         self._fig4c_drawn = False  # whether Fig. 4c has been drawn (its sliding threshold is then kept current)
+        self._last_preview_job: jobs.Job | None = None  # the next preview job starts computing once this one ended
         self._views: dict[tuple[str, str], hv.DynamicMap] = {}  # by (plane, verdict)
         self.tap_streams: dict[tuple[str, str], hv.streams.Tap] = {}  # by (plane, verdict)
         self.progress = pn.indicators.Progress(value=0, max=1, bar_color="primary", sizing_mode="stretch_width",
@@ -454,8 +624,10 @@ class StabilityMapScene(pn.viewable.Viewer):
 
     def _update_key(self, *_events) -> None:
         """The map's and the sliding map's keys from the inputs. While a slider is held the keys wait for its
-        release: the marker and the readout follow the hand, a whole map (seconds) is computed once."""
+        release: the marker and the readout follow the hand, a preview of held inputs off the plane is computed
+        (:meth:`_follow_held_inputs`), a whole map (seconds) is computed once, at the release."""
         if self.params.dragging:
+            self._follow_held_inputs()
             return
         if self._fig4c_drawn:  # f may have moved under a held slider: Fig. 4c's sliding threshold follows now
             self.ensure_fig4c_sliding()
@@ -465,6 +637,154 @@ class StabilityMapScene(pn.viewable.Viewer):
         skey = self._sliding_key_for(key)
         if skey != self.sliding_key:
             self.sliding_key = skey
+        self._release_preview()
+
+    # ----------------------------------------------------------------------------------------
+    # the preview while a slider is held
+    # ----------------------------------------------------------------------------------------
+
+    def _follow_held_inputs(self) -> None:
+        """A held slider moved: :attr:`preview_key` is the key of the held inputs where they change the map (a
+        parameter off the plane). A new key cancels the running preview (latest value wins; the next render of the
+        map starts the new one: :meth:`ensure_preview`); back at the map's own key the preview is dropped."""
+        held = key_for(self.plane, self.resolution, self.params.model_args())
+        held = None if held == self.map_key else held
+        if held == self.preview_key:
+            return
+        self.preview_computation.cancel()
+        if held is None:
+            self._drop_preview(key_too=True)
+            return
+        self.preview_key = held
+        self._update_download()
+
+    def _previewing(self) -> bool:
+        """A slider is held at inputs off the map's: its preview (once computed) is drawn, the map's jobs' progress
+        is not shown and the CSV is not offered."""
+        return bool(self.params.dragging) and self.preview_key is not None
+
+    def _preview_job_key(self, key: tuple) -> tuple:
+        """What the preview of the held map key `key` depends on: the colouring and the growth floor too."""
+        return (self.verdict, key, self._sliding_key_for(key)[-1])
+
+    def ensure_preview(self) -> None:
+        """While a slider is held at inputs off the map's, start their preview unless it is shown complete or being
+        computed (called as the map is rendered: only a shown map computes). It starts computing once the previous
+        preview job has stopped (:func:`after_previous`)."""
+        if not self._previewing():
+            return
+        key = self._preview_job_key(self.preview_key)
+        pv, job = self.preview, self.preview_computation.job
+        if pv is not None and pv.job_key == key and pv.complete:
+            return
+        if job is not None and job.key == key and job.state().status != jobs.CANCELLED:
+            return
+        previous = [] if self._last_preview_job is None else [self._last_preview_job]
+        self._last_preview_job = self.preview_computation.run(
+            partial(after_previous, previous, partial(compute_preview, key)), name="stability map preview", key=key,
+            totals=preview_totals(key[0]))
+        self.preview_status = "computing"
+
+    def wait_preview(self, timeout: float = 60.0) -> None:
+        """Block until the preview being computed (if any) is finished, shown when not served (tests, scripts)."""
+        self.preview_computation.wait(timeout)
+
+    def _show_preview_job(self, job: jobs.Job, state: jobs.JobState) -> None:
+        """Show a preview job's progress (in place of the map's while the slider is held) and its partial and final
+        preview, or the failure (on the session's event loop)."""
+        verdict = job.key[0]
+        phase = "points" if verdict == sm.SLIDING else "chunks"
+        total, done = state.totals.get(phase, 0), state.done.get(phase, 0)
+        if self._previewing():
+            if self.progress.max != total:
+                self.progress.value = 0
+                self.progress.max = total
+            self.progress.value = done
+            self.progress.visible = done < total
+            n = PREVIEW_SLIDING_POINTS if verdict == sm.SLIDING else PREVIEW_POINTS
+            self.progress_label.object = preview_label(n) + (
+                f" (the sliding verdict at {done} of {total} points)" if phase == "points" and done < total else "")
+        if state.status == jobs.RUNNING:
+            self.preview_status = "computing"
+            if state.partial is not None and state.partial is not self.preview:
+                with frozen_document():
+                    self.preview = state.partial
+        elif state.status == jobs.FAILED:
+            self.preview_status = f"error: {state.error}"
+        elif state.status == jobs.DONE:
+            with frozen_document():
+                self.param.update(preview=state.result, preview_status="done")
+
+    def _release_preview(self) -> None:
+        """No slider held (the keys are those of the released inputs): stop the preview job; the preview of the
+        released inputs stays drawn until their full map is shown (:meth:`_shown_preview`), a preview of other inputs
+        is dropped."""
+        if self.preview_key is None and self.preview is None and self.preview_computation.job is None:
+            return
+        self.preview_computation.cancel()
+        pv = self.preview
+        if pv is not None and pv.job_key != self._preview_job_key(self.map_key):
+            self._drop_preview(key_too=True)
+        else:
+            self.param.update(preview_key=None, preview_status="idle")
+            self._settle_progress()
+
+    def _drop_preview(self, key_too: bool = False) -> None:
+        """Stop and forget the preview (and, `key_too`, the held key): the map is drawn again."""
+        self.preview_computation.cancel()
+        was = self.preview is not None or self.preview_key is not None
+        updates: dict[str, Any] = {"preview": None, "preview_status": "idle"}
+        if key_too:
+            updates["preview_key"] = None
+        with frozen_document():
+            self.param.update(**updates)
+        if was:
+            self._settle_progress()
+        self._update_download()
+
+    def _settle_progress(self) -> None:
+        """The progress bar and label of the map once they no longer follow a preview: the map's name, or the
+        progress of its job being computed (which the preview's label hid)."""
+        if self._previewing() or not self.progress_label.object.startswith(PREVIEW_HEADING):
+            return
+        plane, n, _ = self.map_key
+        self.progress.visible = False
+        if self.colours_sliding() and self._sliding_current():
+            self.progress_label.object = f"The sliding verdict over the {plane} map ({n} × {n} points)"
+        elif self._current():
+            self.progress_label.object = f"The {plane} map ({n} × {n} points)"
+        else:
+            self.progress_label.object = ""
+        for follower, show in ((self.computation, self._show_job), (self.sliding_computation, self._show_sliding_job)):
+            job = follower.job
+            state = None if job is None else job.state()
+            if state is not None and not state.finished:
+                show(job, state)
+
+    def _shown_preview(self, plane: str | None = None, verdict: str | None = None) -> MapPreview | None:
+        """The preview the map of `plane` coloured by `verdict` (defaults: the current ones) draws in place of the map:
+        while a slider is held at inputs off the map's, the latest preview (of them, or of the previous held value
+        until theirs is computed); after the release, the preview of the released inputs until their full map (or
+        its sliding map's first pass) is shown. None: the map is drawn."""
+        pv = self.preview
+        plane, verdict = plane or self.plane, verdict or self.verdict
+        if pv is None or pv.plane != plane or pv.verdict != verdict or (pv.sliding is None and verdict == sm.SLIDING):
+            return None
+        if self.params.dragging:
+            return pv if self.preview_key is not None else None
+        if pv.job_key != self._preview_job_key(self.map_key):
+            return None
+        if verdict == sm.SLIDING:
+            sl = self.sliding
+            return None if sl is not None and sl.key == self.sliding_key else pv
+        return None if self._current() else pv
+
+    def _preview_drawn_over(self) -> None:
+        """The full map (or the sliding map's first pass) of the released inputs is shown: their preview is
+        dropped."""
+        pv = self.preview
+        if pv is not None and not self.params.dragging and self._shown_preview(pv.plane, pv.verdict) is None:
+            self._drop_preview(key_too=True)
 
     def _key_changed(self, event: param.parameterized.Event) -> None:
         """Inputs changed: cancel a running computation (it stops after its chunk and is never shown); if one was
@@ -508,6 +828,8 @@ class StabilityMapScene(pn.viewable.Viewer):
         if not self.colours_sliding():
             self.sliding_computation.cancel()
             self.sliding_status = "idle"
+        if self.preview is not None or self.preview_computation.job is not None:
+            self._drop_preview()  # a preview is of one colouring: a held slider's next render starts the other's
         self._update_download()
 
     def ensure_sliding(self) -> None:
@@ -528,7 +850,7 @@ class StabilityMapScene(pn.viewable.Viewer):
         """Show the sliding job's progress, its latest preview and, at its end, the map or the failure."""
         plane, n = job.key[0], job.key[1]
         total, done = state.totals.get("points", 0), state.done.get("points", 0)
-        if self.colours_sliding():
+        if self.colours_sliding() and not self._previewing():
             if self.progress.max != total:
                 self.progress.value = 0
                 self.progress.max = total
@@ -546,16 +868,19 @@ class StabilityMapScene(pn.viewable.Viewer):
             if state.partial is not None and state.partial is not self.sliding:
                 with frozen_document():
                     self.sliding = state.partial
+                self._preview_drawn_over()
         elif state.status == jobs.FAILED:
             self.sliding_status = f"error: {state.error}"
         elif state.status == jobs.DONE:
             with frozen_document():
                 self.param.update(sliding=state.result, sliding_status="done")
+            self._preview_drawn_over()
             self._update_download()
 
     def _update_download(self) -> None:
-        """The CSV is offered once the Rayleigh map is current (the sliding columns are added once that map is)."""
-        self.map_download.disabled = not self._current()
+        """The CSV is offered once the Rayleigh map is current (the sliding columns are added once that map is), never
+        while a slider is held at inputs off the map's (a preview is drawn: the CSV would not be what is shown)."""
+        self.map_download.disabled = not self._current() or self._previewing()
 
     def ensure_map(self) -> None:
         """Start computing the map of the current key unless it is shown or already being computed (called where the
@@ -576,13 +901,14 @@ class StabilityMapScene(pn.viewable.Viewer):
         """Show a map job's progress and, at its end, the map or the failure (on the session's event loop)."""
         plane, n, _ = job.key
         total, done = state.totals.get("chunks", 0), state.done.get("chunks", 0)
-        if self.progress.max != total:
-            self.progress.value = 0
-            self.progress.max = total
-        self.progress.value = done
-        self.progress.visible = done < total  # a finished bar is not left on the page; the label says it
-        self.progress_label.object = (f"Computing the {plane} map ({n} × {n} points): {done} of {total} chunks"
-                                      if done < total else f"The {plane} map ({n} × {n} points)")
+        if not self._previewing():  # a held slider's preview shows its own progress
+            if self.progress.max != total:
+                self.progress.value = 0
+                self.progress.max = total
+            self.progress.value = done
+            self.progress.visible = done < total  # a finished bar is not left on the page; the label says it
+            self.progress_label.object = (f"Computing the {plane} map ({n} × {n} points): {done} of {total} chunks"
+                                          if done < total else f"The {plane} map ({n} × {n} points)")
         if state.status == jobs.RUNNING:
             self.status = "computing"
         elif state.status == jobs.FAILED:
@@ -590,6 +916,7 @@ class StabilityMapScene(pn.viewable.Viewer):
         elif state.status == jobs.DONE:
             with frozen_document():
                 self.param.update(result=state.result, status="done")
+            self._preview_drawn_over()
             ax, ay = PLANES[plane]
             self.map_download.filename = f"stability_map_{ax.name}_{ay.name}.csv"
             self._update_download()
@@ -607,23 +934,26 @@ class StabilityMapScene(pn.viewable.Viewer):
         if (plane, verdict) not in self._views:
             ax, ay = PLANES[plane]
             if verdict == sm.SLIDING:
-                streams = [hv.streams.Params(self, ["sliding", "sliding_key", "result", "map_key"])]
+                streams = [hv.streams.Params(self, ["sliding", "sliding_key", "result", "map_key", "preview"])]
                 under = hv.DynamicMap(partial(self._sliding_classes, plane), streams=streams)
                 heat = hv.DynamicMap(partial(self._sliding_heat, plane), streams=streams)
                 title = f"Sliding verdict (every branch) over the {plane} plane"
             else:
                 heat = hv.DynamicMap(partial(self._heat, plane),
-                                     streams=[hv.streams.Params(self, ["result", "map_key"])])
+                                     streams=[hv.streams.Params(self, ["result", "map_key", "preview"])])
                 title = f"Max growth rate of the Rayleigh branch over the {plane} plane"
-            neutral = hv.DynamicMap(partial(self._neutral, plane), streams=[hv.streams.Params(self, ["result"])])
+            neutral = hv.DynamicMap(partial(self._neutral, plane, verdict),
+                                    streams=[hv.streams.Params(self, ["result", "preview"])])
             names = [p for a in (ax, ay) for p in (("log10_eta", "eta_infinite") if a.name == "eta" else (a.name,))]
-            marker = hv.DynamicMap(partial(self._marker, plane), streams=[hv.streams.Params(self.params, names)])
+            # the held inputs' key too: the marker's render is what starts their preview (only a shown map computes)
+            marker = hv.DynamicMap(partial(self._marker, plane), streams=[hv.streams.Params(self.params, names),
+                                                                          hv.streams.Params(self, ["preview_key"])])
             tap = hv.streams.Tap(source=heat, x=None, y=None)  # the source must give single elements
             tap.add_subscriber(partial(self._on_tap, plane))
             layers = (under * heat) if verdict == sm.SLIDING else heat
             overlay = (layers * neutral * marker).opts(hv.opts.Overlay(
                 title=title, responsive=True, height=460, logx=ax.log, logy=ay.log, show_legend=False,
-                xlim=_padded(ax), ylim=_padded(ay)))
+                xlim=_padded(ax), ylim=_padded(ay), hooks=[preview_title_hook]))
             self._views[plane, verdict], self.tap_streams[plane, verdict] = overlay, tap
         return self._views[plane, verdict]
 
@@ -643,32 +973,42 @@ class StabilityMapScene(pn.viewable.Viewer):
 
     def _heat(self, plane: str, **_stream_values) -> hv.QuadMesh:
         """The heat map: the finished map; while one is computed, the previous map of this plane (faded) or a
-        blank. Rendering it is what starts the computation (only a shown map computes)."""
+        blank; while a slider is held at inputs off the map's, their preview (:meth:`_shown_preview`; its hover says
+        so). Rendering it is what starts the computation (only a shown map computes)."""
         ax, ay = PLANES[plane]
         x, y, growth, current = self._shown(plane)
         if plane == self.plane and not current:
             self.ensure_map()
         alpha = 1.0 if current else 0.45
+        what = "the map" if current else "the map of the previous inputs"
+        pv = self._shown_preview(plane, sm.RAYLEIGH)
+        if pv is not None:
+            x, y, growth, alpha, what = pv.x, pv.y, pv.growth, PREVIEW_ALPHA, preview_words(pv)
         if growth is None:  # blank (zeros, transparent: an all-NaN mesh has no colour range)
             growth, alpha = np.zeros((y.size, x.size)), 0.0
         finite = np.abs(growth[np.isfinite(growth)])
         top = float(finite.max()) if finite.size and finite.max() > 0 else 1e-3
         xd, yd = self._dims(plane)
-        return hv.QuadMesh((ax.edges(x.size), ay.edges(y.size), growth), kdims=[xd, yd],
-                           vdims=[hv.Dimension("growth", label=GROWTH_LABEL)]).opts(
+        shown = np.full(growth.shape, what, dtype=object)
+        return hv.QuadMesh((ax.edges(x.size), ay.edges(y.size), growth, shown), kdims=[xd, yd],
+                           vdims=[hv.Dimension("growth", label=GROWTH_LABEL), "shown"]).opts(
             cmap=GROWTH_CMAP, clim=(-top, top), colorbar=True, clabel=GROWTH_LABEL, framewise=True, alpha=alpha,
             clipping_colors={"NaN": NAN_COLOR}, line_alpha=0, logx=ax.log, logy=ay.log, tools=["hover"],
-            hover_tooltips=[(ax.label, "$x"), (ay.label, "$y"), (GROWTH_LABEL, "@growth")],
+            hover_tooltips=[(ax.label, "$x"), (ay.label, "$y"), (GROWTH_LABEL, "@growth"), ("shown", "@shown")],
             responsive=True, height=460, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi))
 
     def _shown_sliding(self, plane: str) -> tuple[sm.SlidingMap | None, bool]:
         """The sliding map the plane's plot shows (None: none for this plane yet) and whether it is of the current
-        inputs (complete or a preview). Rendering it is what starts the computation."""
+        inputs (complete or a preview; while a slider is held at inputs off the map's, their preview's sliding
+        verdict: :meth:`_shown_preview`). Rendering it is what starts the computation."""
         if plane == self.plane and self.colours_sliding():
             if not self._current():
                 self.ensure_map()
             elif not self._sliding_current():
                 self.ensure_sliding()
+        pv = self._shown_preview(plane, sm.SLIDING)
+        if pv is not None:
+            return pv.sliding, True
         sl = self.sliding
         if sl is None or sl.key[0] != plane:
             return None, False
@@ -683,8 +1023,9 @@ class StabilityMapScene(pn.viewable.Viewer):
         verdict = np.full((y.size, x.size), np.nan) if sl is None else sl.shown()["verdict"].astype(float)
         verdict[verdict < 0] = np.nan
         xd, yd = self._dims(plane)
+        alpha = PREVIEW_ALPHA if self._shown_preview(plane, sm.SLIDING) is not None else 1.0 if current else 0.45
         return hv.QuadMesh((ax.edges(x.size), ay.edges(y.size), verdict), kdims=[xd, yd], vdims=["verdict_class"]).opts(
-            cmap=list(sm.VERDICT_COLOURS), clim=(-0.5, 2.5), colorbar=False, alpha=1.0 if current else 0.45,
+            cmap=list(sm.VERDICT_COLOURS), clim=(-0.5, 2.5), colorbar=False, alpha=alpha,
             clipping_colors={"NaN": "rgba(0,0,0,0)"}, line_alpha=0, logx=ax.log, logy=ay.log, tools=[],
             responsive=True, height=460, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi))
 
@@ -694,6 +1035,7 @@ class StabilityMapScene(pn.viewable.Viewer):
         preview."""
         ax, ay = PLANES[plane]
         sl, current = self._shown_sliding(plane)
+        pv = self._shown_preview(plane, sm.SLIDING)
         n = self.map_key[1] if sl is None else sl.x.size
         x, y = plane_axes(plane, n) if sl is None else (sl.x, sl.y)
         shape = (y.size, x.size)
@@ -705,7 +1047,10 @@ class StabilityMapScene(pn.viewable.Viewer):
             growth = np.where(d["verdict"] == 1, d["growth"], np.nan)
             kh, rez = d["kH_at_max"], d["re_z"]
             words = sm.hover_text(d["verdict"], d["reason"], d["family"], sl.floor)
-            shown = np.where(sl.exact(), "this point", "preview: its block's lower-left point").astype(object)
+            shown = np.where(sl.exact(), "this point", np.where(d["verdict"] >= 0, "preview: its block's lower-left "
+                                                                "point", "not computed yet")).astype(object)
+            if pv is not None:
+                shown = np.char.add(f"{preview_words(pv)}: ", shown.astype(str)).astype(object)
         floor = self.sliding_key[-1] if sl is None else sl.floor
         finite = growth[np.isfinite(growth)]
         top = max(float(finite.max()) if finite.size else 0.0, 10 * floor)
@@ -714,21 +1059,29 @@ class StabilityMapScene(pn.viewable.Viewer):
                            vdims=[hv.Dimension("growth_all", label=sm.GROWTH_ALL_LABEL), "sliding", "kH_at_max",
                                   "re_z", "value_of"]).opts(
             cmap=sm.GROWTH_ALL_CMAP, clim=(floor, top), logz=True, colorbar=True, clabel=sm.GROWTH_ALL_LABEL,
-            framewise=True, alpha=1.0 if current else 0.45, clipping_colors={"NaN": "rgba(0,0,0,0)"}, line_alpha=0,
+            framewise=True, alpha=PREVIEW_ALPHA if pv is not None else 1.0 if current else 0.45,
+            clipping_colors={"NaN": "rgba(0,0,0,0)"}, line_alpha=0,
             logx=ax.log, logy=ay.log, tools=["hover"],
             hover_tooltips=[(ax.label, "$x"), (ay.label, "$y"), ("sliding", "@sliding"),
                             (sm.GROWTH_ALL_LABEL, "@growth_all"), ("kH at max", "@kH_at_max"),
                             ("Re z at max", "@re_z"), ("value of", "@value_of")],
             responsive=True, height=460, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi))
 
-    def _neutral(self, plane: str, **_stream_values) -> hv.Overlay:
+    def _neutral(self, plane: str, verdict: str | None = None, **_stream_values) -> hv.Overlay:
         """The Rayleigh branch's neutral curve: on a plane with γ, through its certified thresholds γ_c at every
         column (exact along γ: :func:`compute_crossings`; sign changes that are not thresholds marked ×); on Δ-ξ,
-        the contour of the grid's values."""
+        the contour of the grid's values. Over a preview (the map coloured by `verdict`, default the current one),
+        the contour of the preview's coarse grid, dashed grey: :data:`PREVIEW_CONTOUR`."""
         x, y, growth, _ = self._shown(plane)
         ax, ay = PLANES[plane]
         res = self.result
         dims = list(self._dims(plane))
+        pv = self._shown_preview(plane, verdict)
+        if pv is not None:
+            lines = neutral_lines(pv.x, pv.y, pv.growth, log_x=ax.log, log_y=ay.log)
+            path = hv.Path(lines, kdims=dims, label=f"Rayleigh branch neutral curve: {PREVIEW_CONTOUR}").opts(
+                color="#7f7f7f", line_width=2, line_dash="dashed")
+            return hv.Overlay([path, *self._crossing_points(dims, None)])
         crossings = res.crossings if res is not None and res.plane == plane else None
         if crossings is None:
             lines = [] if growth is None else neutral_lines(x, y, growth, log_x=ax.log, log_y=ay.log)
@@ -765,6 +1118,10 @@ class StabilityMapScene(pn.viewable.Viewer):
         return out[0], out[1], notes
 
     def _marker(self, plane: str, **_stream_values) -> hv.Points:
+        """The star at the sliders' values. Its render, at every move of a held slider that changes the map's key,
+        is what starts the held inputs' preview (:meth:`ensure_preview`): only a shown map computes."""
+        if plane == self.plane:
+            self.ensure_preview()
         x, y, _ = self.marker_position(plane)
         xd, yd = self._dims(plane)
         return hv.Points([(x, y)], kdims=[xd, yd], label="current parameters").opts(
@@ -881,6 +1238,7 @@ class StabilityMapScene(pn.viewable.Viewer):
     # ----------------------------------------------------------------------------------------
 
     @param.depends("result", "map_key", "status", "sliding", "sliding_key", "sliding_status", "verdict",
+                   "preview", "preview_key", "preview_status",
                    "params.gamma", "params.log10_eta", "params.eta_infinite",
                    "params.f", "params.beta", "params.Delta", "params.xi", "params.dragging")
     def readout(self) -> str:
@@ -924,14 +1282,37 @@ class StabilityMapScene(pn.viewable.Viewer):
             cached = res.chunks_total - res.chunks_computed
             lines.append(f"**Time** {res.seconds:.2f} s ({res.chunks_total} chunks"
                          + (f", {cached} from the cache)" if cached else ")"))
-        if self.params.dragging and key_for(self.plane, self.resolution, self.params.model_args()) != self.map_key:
-            lines.append("**Slider held** the map is of the values above; it is computed again at the release")
+        lines += self.preview_lines()
         lines += self.sliding_lines()
         lines += self.star_cell_lines()
         _, _, notes = self.marker_position(plane)
         if notes:
             lines.append("**Marker** " + "; ".join(notes))
         return "\n\n".join(lines)
+
+    def preview_lines(self) -> list[str]:
+        """The readout's lines on a held slider and the preview drawn (:meth:`_shown_preview`)."""
+        pv = self._shown_preview()
+        lines = []
+        held = self.params.dragging and key_for(self.plane, self.resolution, self.params.model_args()) != self.map_key
+        if held and pv is None:
+            lines.append("**Slider held** the map is of the values above; a preview of the held values is drawn once "
+                         "computed, the full map is computed at the release")
+        if pv is not None:
+            others = ", ".join(f"{SpectrumParams.symbol(k)} = {'∞' if np.isinf(v) else fmt(v)}" for k, v in pv.key[2])
+            if held:
+                lines.append(f"**Slider held** {preview_label(pv.points)}. The map drawn is a preview of {others}"
+                             + ("" if pv.key == self.preview_key else
+                                " (the preview of the values now held is being computed)"))
+            else:
+                lines.append(f"**Released** the full map of {others} is being computed; until it is shown, the map "
+                             f"drawn is their preview ({pv.points} × {pv.points} points)")
+            lines.append(f"**Neutral curve (preview)** dashed grey: the zero contour of the Rayleigh branch's growth "
+                         f"on the preview's {PREVIEW_POINTS} × {PREVIEW_POINTS} grid ({PREVIEW_CONTOUR}); the other "
+                         "numbers are of the full map of the values on the first line")
+        if self.preview_status.startswith("error") and self._previewing():
+            lines.append(f"**Preview failed** {self.preview_status[len('error: '):]}")
+        return lines
 
     @staticmethod
     def _neutral_line(res: MapResult) -> str:

@@ -17,7 +17,7 @@ import model
 from app import jobs
 from app import stability_map as sm
 from app.params import SpectrumParams
-from app.sliding_map import RAYLEIGH
+from app.sliding_map import RAYLEIGH, SLIDING
 from app.stability_map import KH, PLANES, StabilityMapScene
 from tests.conftest import open_app
 from tests.support.headless import build_app
@@ -683,3 +683,266 @@ def test_a_plane_without_gamma_keeps_the_grid_contour_and_says_so(small) -> None
     scene = StabilityMapScene(plane="Δ-ξ")
     res = _computed(scene)
     assert res.crossings is None and "contour of the grid" in scene.readout()
+
+
+# --------------------------------------------------------------------------------------------
+# the preview while a slider is held
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.fixture
+def sixteen(monkeypatch):
+    """16 x 16 maps at the default resolution: finer than the 12 x 12 preview, as every real resolution is."""
+    monkeypatch.setitem(sm.RESOLUTIONS, DEFAULT_RESOLUTION, 16)
+
+
+def _growth(plane: str, n: int, p: SpectrumParams) -> np.ndarray:
+    """model.growth_analysis over the plane at n x n points, in one call (independent of the scene's chunks)."""
+    ax, ay = PLANES[plane]
+    x, y = sm.plane_axes(plane, n)
+    args = dict(zip(SpectrumParams.MODEL_ARGS, p.model_args(), strict=True))
+    args[ax.name], args[ay.name] = x[None, :], y[:, None]
+    return np.asarray(model.growth_analysis(KH, **args).growth, float)
+
+
+def _hold(scene: StabilityMapScene, **values: float) -> None:
+    """A held slider moved to `values`, and the map rendered (which starts the preview, as a shown map does)."""
+    scene.params.param.update(dragging=True, **values)
+    scene.view()[()]
+
+
+PREVIEW_12 = "Preview while the slider is held: 12 × 12 points; the full map is computed at the release"
+
+
+def test_a_held_slider_off_the_plane_draws_a_labelled_preview_of_the_held_inputs(sixteen) -> None:
+    """The issue: while f is held (off the η-γ plane) the map shows a coarse preview of the held f (the Rayleigh
+    branch's growth at 12 x 12 points, model.growth_analysis), said so in its title, hover, progress label and readout,
+    with an uncertified dashed grey contour; the full map is not computed per move."""
+    scene = StabilityMapScene()
+    first = _computed(scene)
+    _hold(scene, f=0.6)
+    assert scene.preview_key is not None and dict(scene.preview_key[2])["f"] == 0.6
+    scene.wait_preview()
+    assert scene.map_key == first.key and calls["compute_map"] == 1 and calls["compute_crossings"] == 1
+    pv = scene.preview
+    want = _growth("η-γ", 12, scene.params)
+    np.testing.assert_array_equal(pv.growth, want)  # NaN where the model gives NaN
+    overlay = scene.view()[()]
+    mesh = _layer(overlay, hv.QuadMesh)
+    np.testing.assert_array_equal(mesh.dimension_values("growth", flat=False), want)
+    assert set(mesh.dimension_values("shown")) == {"preview, 12 × 12 points (the full map is computed at the release)"}
+    path = _layer(overlay, hv.Path)
+    assert path.label.endswith("preview contour, not certified")
+    assert path.opts.get("style").kwargs["line_dash"] == "dashed"
+    assert len(_layer(overlay, hv.Points, "threshold γ_c")) == 0  # no certified point is drawn over a preview
+    assert scene.progress_label.object == PREVIEW_12
+    text = scene.readout()
+    assert f"**Slider held** {PREVIEW_12}. The map drawn is a preview of f = 0.6" in text
+    assert "preview contour, not certified" in text
+    fig = hv.render(scene.view(), backend="bokeh")
+    assert fig.title.text == "Max growth rate of the Rayleigh branch over the η-γ plane: preview, 12 × 12 points"
+    assert calls["compute_chunk"] == len(sm.chunk_rows(16)) + len(sm.chunk_rows(12))  # the map's, then the preview's
+
+
+def test_each_move_cancels_the_previous_preview_and_the_last_value_wins(sixteen, monkeypatch) -> None:
+    """Three moves while the first preview computes: the first two jobs are cancelled, the second never computes
+    anything (a preview starts computing once the previous one has stopped: no backlog), the last is shown."""
+    held, go_on = threading.Event(), threading.Event()
+    real = sm.compute_chunk
+    computed: list[float] = []
+
+    def held_first(plane, n, start, stop, fixed):
+        if n == sm.PREVIEW_POINTS:
+            computed.append(dict(fixed)["f"])
+            if dict(fixed)["f"] == 0.7 and start == 0:
+                held.set()
+                assert go_on.wait(30)
+        return real(plane, n, start, stop, fixed)
+
+    monkeypatch.setattr(sm, "compute_chunk", held_first)
+    scene = StabilityMapScene()
+    _computed(scene)
+    started = []
+    for f in (0.7, 0.6, 0.5):
+        _hold(scene, f=f)
+        started.append(scene.preview_computation.job)
+        assert held.wait(30)
+    first, second, third = started
+    assert len({id(j) for j in started}) == 3 and first.cancelled and second.cancelled and not third.cancelled
+    assert scene.preview is None
+    go_on.set()
+    scene.wait_preview()
+    assert first.wait(30).status == second.wait(30).status == jobs.CANCELLED
+    assert third.state().status == jobs.DONE
+    assert computed.count(0.7) == 1 and 0.6 not in computed and computed.count(0.5) == len(sm.chunk_rows(12))
+    assert dict(scene.preview.key[2])["f"] == 0.5
+    np.testing.assert_array_equal(scene.preview.growth, _growth("η-γ", 12, scene.params))
+    assert calls["compute_map"] == 1
+
+
+def test_a_held_slider_on_the_plane_only_moves_the_marker(sixteen) -> None:
+    scene = StabilityMapScene()  # η-γ
+    _computed(scene)
+    key = scene.map_key
+    _hold(scene, gamma=5.0)
+    _hold(scene, eta_infinite=False, log10_eta=2.0)
+    assert scene.preview_key is None and scene.preview_computation.job is None and scene.preview is None
+    assert calls["compute_preview"] == 0 and calls["compute_map"] == 1
+    np.testing.assert_allclose(_layer(scene.view()[()], hv.Points, "current parameters").array()[0], [100.0, 5.0])
+    assert "Slider held" not in scene.readout() and not scene.map_download.disabled
+    scene.params.dragging = False
+    assert scene.map_key == key
+
+
+def test_a_held_slider_back_at_the_maps_value_draws_the_map_again(sixteen) -> None:
+    scene = StabilityMapScene()
+    res = _computed(scene)
+    _hold(scene, f=0.6)
+    scene.wait_preview()
+    assert scene.preview is not None and scene.map_download.disabled
+    _hold(scene, f=0.9)  # the map's own value, still held: its map is drawn, no preview is computed
+    assert scene.preview is None and scene.preview_key is None and scene.preview_computation.job is None
+    mesh = _layer(scene.view()[()], hv.QuadMesh)
+    np.testing.assert_array_equal(mesh.dimension_values("growth", flat=False), res.growth)
+    assert scene.progress_label.object == "The η-γ map (16 × 16 points)" and not scene.map_download.disabled
+    assert "Slider held" not in scene.readout() and calls["compute_preview"] == 1
+    scene.params.dragging = False
+    assert scene.map_key == res.key and scene.result is res
+
+
+def test_the_csv_is_never_a_preview(sixteen) -> None:
+    scene = StabilityMapScene()
+    res = _computed(scene)
+    assert not scene.map_download.disabled
+    _hold(scene, f=0.6)
+    scene.wait_preview()
+    assert scene.preview is not None and scene.map_download.disabled  # what is drawn is not what it would export
+    comment, _, data = _read_csv(scene.map_csv())
+    assert "f = 0.9" in comment and data.shape[0] == 16 * 16  # still the full map of the values it says
+    np.testing.assert_array_equal(data[:, 2].reshape(16, 16), res.growth)
+    scene.params.dragging = False  # the release: disabled until the full map of f = 0.6 is done
+    assert scene.map_download.disabled
+    _computed(scene)
+    assert not scene.map_download.disabled
+    comment, _, data = _read_csv(scene.map_download.callback())
+    assert "f = 0.6" in comment and data.shape[0] == 16 * 16
+    np.testing.assert_array_equal(data[:, 2].reshape(16, 16), _growth("η-γ", 16, scene.params))
+
+
+def test_the_release_computes_the_full_map_and_the_preview_disappears(sixteen) -> None:
+    scene = StabilityMapScene()
+    _computed(scene)
+    _hold(scene, f=0.6)
+    scene.wait_preview()
+    pv = scene.preview
+    scene.params.dragging = False  # released at the previewed value
+    assert scene.map_key == pv.key and scene.preview_key is None
+    mesh = _layer(scene.view()[()], hv.QuadMesh)  # renders: the full map starts; its preview is drawn meanwhile
+    np.testing.assert_array_equal(mesh.dimension_values("growth", flat=False), pv.growth)
+    assert "**Released** the full map of f = 0.6" in scene.readout()
+    assert scene.progress_label.object.startswith("Computing the η-γ map (16 × 16 points)")
+    scene.wait()
+    assert scene.preview is None and scene.result.key == scene.map_key
+    overlay = scene.view()[()]
+    mesh = _layer(overlay, hv.QuadMesh)
+    np.testing.assert_array_equal(mesh.dimension_values("growth", flat=False), _growth("η-γ", 16, scene.params))
+    assert set(mesh.dimension_values("shown")) == {"the map"}
+    assert _layer(overlay, hv.Path).label == "Rayleigh branch neutral curve: certified γ_c"
+    text = scene.readout()
+    assert "Preview" not in text and "preview" not in text and "Released" not in text
+    assert scene.progress_label.object == "The η-γ map (16 × 16 points)"
+    assert hv.render(scene.view(), backend="bokeh").title.text.endswith("over the η-γ plane")
+    assert calls["compute_map"] == 2
+
+
+def test_a_stale_preview_never_replaces_a_newer_full_map(sixteen, monkeypatch) -> None:
+    """f held at 0.7 (preview shown), moved to 0.6 (its preview held in its last chunk), released there: the preview
+    of 0.7 is dropped at once, the full map of 0.6 is drawn, and the preview job of 0.6 ending afterwards (even
+    completed) is never shown."""
+    held, go_on = threading.Event(), threading.Event()
+    real = sm.compute_chunk
+    last = sm.chunk_rows(12)[-1][0]
+
+    def held_last(plane, n, start, stop, fixed):
+        if n == sm.PREVIEW_POINTS and dict(fixed)["f"] == 0.6 and start == last:
+            held.set()
+            assert go_on.wait(30)
+        return real(plane, n, start, stop, fixed)
+
+    monkeypatch.setattr(sm, "compute_chunk", held_last)
+    scene = StabilityMapScene()
+    _computed(scene)
+    _hold(scene, f=0.7)
+    scene.wait_preview()
+    assert dict(scene.preview.key[2])["f"] == 0.7
+    _hold(scene, f=0.6)
+    assert held.wait(30)
+    stale = scene.preview_computation.job
+    scene.params.dragging = False
+    assert scene.preview is None  # the preview of 0.7 is not of the released inputs
+    res = _computed(scene)
+    assert dict(res.key[2])["f"] == 0.6
+    go_on.set()
+    assert stale.wait(30).status in (jobs.DONE, jobs.CANCELLED)
+    scene.wait_preview()
+    scene.preview_computation.update()
+    assert scene.preview is None
+    mesh = _layer(scene.view()[()], hv.QuadMesh)
+    np.testing.assert_array_equal(mesh.dimension_values("growth", flat=False), res.growth)
+    assert "Preview" not in scene.readout() and not scene.map_download.disabled
+
+
+def test_a_held_slider_previews_the_sliding_verdict_chunk_by_chunk(monkeypatch) -> None:
+    """Coloured by the sliding verdict (f-γ plane, η = ∞): a held β shows the sliding verdict of the held β at 6 x 6
+    points (model.sliding_analysis), published after each chunk (the first one already draws), labelled as a preview;
+    at the release the full sliding map replaces it."""
+    monkeypatch.setitem(sm.RESOLUTIONS, DEFAULT_RESOLUTION, 8)
+    published: list[sm.MapPreview] = []
+    real_publish = jobs.Job.publish
+
+    def publish(self, partial):
+        if isinstance(partial, sm.MapPreview):
+            published.append(partial)
+        real_publish(self, partial)
+
+    monkeypatch.setattr(jobs.Job, "publish", publish)
+    scene = StabilityMapScene(plane="f-γ", verdict=SLIDING)
+    scene.view()[()]
+    scene.wait()
+    scene.view()[()]
+    scene.sliding_computation.wait(120)
+    assert scene.sliding.complete
+    _hold(scene, beta=0.45)
+    scene.wait_preview(120)
+    pv = scene.preview
+    assert pv.complete and pv.sliding.x.size == sm.PREVIEW_SLIDING_POINTS == 6
+    chunk = sm.PREVIEW_SLIDING_CHUNK
+    assert [p.sliding.computed for p in published] == list(range(chunk, 36, chunk))  # every chunk but the last
+    assert int((published[0].sliding.shown()["verdict"] >= 0).sum()) == 12  # the first chunk draws two rows
+    x, y = sm.plane_axes("f-γ", 6)
+    want = model.sliding_analysis(f=x[None, :], gamma=y[:, None], beta=0.45, eta=math.inf, Delta=1.0, xi=0.0,
+                                  floor=model.DEFAULT_FLOOR)
+    for name, field in (("verdict", "verdict"), ("reason", "verdict_reason"), ("growth", "growth"),
+                        ("family", "family")):
+        np.testing.assert_array_equal(pv.sliding.fields[name], getattr(want, field))
+    np.testing.assert_array_equal(pv.growth, _growth("f-γ", 12, scene.params))
+    classes, heat = [el for el in scene.view()[()] if isinstance(el, hv.QuadMesh)]
+    np.testing.assert_array_equal(classes.dimension_values(2, flat=False), want.verdict.astype(float))
+    assert all(v.startswith("preview, 6 × 6 points") for v in heat.dimension_values("value_of"))
+    assert scene.progress_label.object == ("Preview while the slider is held: 6 × 6 points; the full map is computed "
+                                           "at the release")
+    assert "**Slider held** Preview while the slider is held: 6 × 6 points" in scene.readout()
+    scene.params.dragging = False
+    scene.view()[()]
+    scene.wait()
+    scene.view()[()]
+    assert scene.preview is pv  # the Rayleigh map alone does not replace a sliding preview
+    scene.sliding_computation.wait(120)
+    assert scene.preview is None
+    classes, heat = [el for el in scene.view()[()] if isinstance(el, hv.QuadMesh)]
+    x8, y8 = sm.plane_axes("f-γ", 8)
+    full = model.sliding_analysis(f=x8[None, :], gamma=y8[:, None], beta=0.45, eta=math.inf, Delta=1.0, xi=0.0,
+                                  floor=model.DEFAULT_FLOOR)
+    np.testing.assert_array_equal(classes.dimension_values(2, flat=False), full.verdict.astype(float))
+    assert set(heat.dimension_values("value_of")) == {"this point"}
+    assert "Preview" not in scene.readout()
