@@ -68,14 +68,17 @@ def compute_boundary(key: tuple, x: np.ndarray, x_name: str, gamma_range: tuple[
     return out
 
 
-def summary(b: dict) -> str:
-    """The boundary in words for the readout: certified thresholds, sign changes that are not thresholds, columns
-    done."""
+def summary(b: dict, drawn_as: str = "") -> str:
+    """The boundary in words for the readout (`drawn_as`: how the map draws it, e.g. "purple line"): certified
+    thresholds, sign changes that are not thresholds, columns done."""
     done = int(b["done"].sum())
     certified = int((np.isin(b["reason"], CERTIFIED) & np.isfinite(b["value"])).sum())
     refused = int(((b["reason"] >= 0) & ~np.isin(b["reason"], CERTIFIED)).sum())
-    text = (f"**Sliding boundary** (every branch) exact in γ: {certified} certified threshold(s) at {done} of "
+    how = f", {drawn_as}" if drawn_as else ""
+    text = (f"**Sliding boundary** (every branch{how}) exact in γ: {certified} certified threshold(s) at {done} of "
             f"{b['x'].size} x values (model.critical_gammas, branches=\"all\")")
     if refused:
         text += f"; {refused} sign change(s) that are not thresholds"
+    text += (" — the neutral threshold (max Im z = 0): between it and the red cells the growth is below the floor "
+             "(drawn blue)")
     return text

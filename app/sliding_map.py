@@ -63,7 +63,8 @@ GROWTH_ALL_LABEL = "max Im[c/c_s], every branch"
 SLIDING_LEGEND = ("Red: sliding unstable (some branch has a root with Im z ≥ the floor; shade: its max growth, flat "
                   "red where that maximum is not certified), blue: sliding stable (no root of any branch at or above "
                   "the floor), dark grey: undetermined (see the readout); black line: the Rayleigh branch's neutral "
-                  "curve (the paper's); switch \"Colour by\" to the Rayleigh branch for the paper's maps")
+                  "curve (the paper's); purple line: the threshold of sliding over every branch (its neutral modes, "
+                  "exact in γ; on the planes with γ); switch \"Colour by\" to the Rayleigh branch for the paper's maps")
 
 #: the per-point fields of a sliding map: name -> (dtype, fill where not computed)
 FIELDS = {"growth": (float, np.nan), "kH_at_max": (float, np.nan), "re_z": (float, np.nan),

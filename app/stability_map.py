@@ -48,6 +48,7 @@ import param
 import model
 
 from . import jobs
+from . import sliding_boundary as sb
 from . import sliding_map as sm
 from .common import COLOUR_LEGEND, GROWTH_CMAP, GROWTH_LABEL, MARGINAL, NAN_COLOR, neutral_lines
 from .params import Choice, SpectrumParams, controls_column, csv_download, csv_table, fmt, scene_layout
@@ -82,6 +83,8 @@ PREVIEW_SLIDING_STRIDES = (2, 1)
 PREVIEW_SLIDING_CHUNK = 3
 #: what the neutral curve of a preview is (the readout and the path's label)
 PREVIEW_CONTOUR = "preview contour, not certified"
+#: the colour of the boundary of sliding over every branch (app.sliding_boundary) on the map
+SLIDING_BOUNDARY_COLOR = "#762a83"
 #: the opacity of a preview (a full map is opaque, a map of the previous inputs 0.45)
 PREVIEW_ALPHA = 0.8
 
@@ -574,6 +577,11 @@ class StabilityMapScene(pn.viewable.Viewer):
     preview = param.ClassSelector(class_=MapPreview, allow_None=True, precedence=-1)
     #: the preview job: "idle", "computing", "done", "error: ..."
     preview_status = param.String("idle", precedence=-1)
+    #: the boundary of sliding over every branch, exact in γ (app.sliding_boundary; its "key" is the sliding key it
+    #: is of; possibly partial, "done" per column); None: none yet
+    boundary = param.Dict(default=None, allow_None=True, precedence=-1)
+    #: its job: "idle", "computing", "done", "error: ..."
+    boundary_status = param.String("idle", precedence=-1)
     #: the Lab-units panel (an app.lab.LabScene, shared with the Spectrum scene) shown above the map; None: none
     lab = param.ClassSelector(class_=pn.viewable.Viewer, default=None, allow_None=True, precedence=-1)
 
@@ -592,6 +600,8 @@ class StabilityMapScene(pn.viewable.Viewer):
         self.fig4c_computation = jobs.Follower(self._show_fig4c_job)
         #: the background computation of the preview while a slider is held: cancelled at every move and the release
         self.preview_computation = jobs.Follower(self._show_preview_job)
+        #: the background computation of the exact sliding boundary (after the sliding map; planes with γ)
+        self.boundary_computation = jobs.Follower(self._show_boundary_job)
         self._fig4c_drawn = False  # whether Fig. 4c has been drawn (its sliding threshold is then kept current)
         self._last_preview_job: jobs.Job | None = None  # the next preview job starts computing once this one ended
         self._views: dict[tuple[str, str], hv.DynamicMap] = {}  # by (plane, verdict)
@@ -819,7 +829,8 @@ class StabilityMapScene(pn.viewable.Viewer):
         job = self.sliding_computation.job
         running = job is not None and not job.state().finished
         self.sliding_computation.cancel()
-        self.sliding_status = "idle"
+        self.boundary_computation.cancel()
+        self.param.update(sliding_status="idle", boundary_status="idle")
         if running:
             self.ensure_sliding()
 
@@ -827,7 +838,8 @@ class StabilityMapScene(pn.viewable.Viewer):
         """Back to the Rayleigh branch: stop the sliding job (it is computed only while its map is shown)."""
         if not self.colours_sliding():
             self.sliding_computation.cancel()
-            self.sliding_status = "idle"
+            self.boundary_computation.cancel()
+            self.param.update(sliding_status="idle", boundary_status="idle")
         if self.preview is not None or self.preview_computation.job is not None:
             self._drop_preview()  # a preview is of one colouring: a held slider's next render starts the other's
         self._update_download()
@@ -876,6 +888,51 @@ class StabilityMapScene(pn.viewable.Viewer):
                 self.param.update(sliding=state.result, sliding_status="done")
             self._preview_drawn_over()
             self._update_download()
+            self.ensure_boundary()
+
+    def boundary_applies(self, plane: str | None = None) -> bool:
+        """Whether the map coloured by the sliding verdict gets its exact boundary: on a plane whose y axis is γ."""
+        return self.colours_sliding() and PLANES[plane or self.plane][1].name == "gamma"
+
+    def _boundary_current(self) -> bool:
+        b = self.boundary
+        return b is not None and b["key"] == self.sliding_key and bool(b["done"].all())
+
+    def ensure_boundary(self) -> None:
+        """Start computing the exact boundary of sliding over every branch once the sliding map of the current
+        inputs is complete (unless it is shown complete or being computed):
+        :func:`app.sliding_boundary.compute_boundary` over the map's x values and γ range, in the background worker
+        when served."""
+        key = self.sliding_key
+        job = self.boundary_computation.job
+        if (not self.boundary_applies() or not self._sliding_current() or self._boundary_current()
+                or (job is not None and job.key == key and job.state().status in (jobs.RUNNING, jobs.DONE))):
+            return
+        plane, n = key[0], key[1]
+        x, _ = plane_axes(plane, n)
+        edges = PLANES[plane][1].edges(n)
+        work = partial(sb.compute_boundary, key, x, PLANES[plane][0].name, (float(edges[0]), float(edges[-1])),
+                       CHUNKS.get, CHUNKS.put, in_process=jobs.served_document() is not None)
+        self.boundary_computation.run(work, name="sliding boundary", key=key, totals={"columns": n})
+        self.boundary_status = "computing"
+
+    def wait_boundary(self, timeout: float = 300.0) -> None:
+        """Block until the boundary being computed (if any) is finished, and show it when not served (tests)."""
+        self.boundary_computation.wait(timeout)
+
+    def _show_boundary_job(self, job: jobs.Job, state: jobs.JobState) -> None:
+        """Show the boundary's columns as they are computed and its end (or failure)."""
+        shown = state.result if state.status == jobs.DONE else state.partial
+        if shown is not None and shown is not self.boundary and state.status in (jobs.RUNNING, jobs.DONE):
+            with frozen_document():
+                self.boundary = {**shown, "key": job.key}
+        if state.status == jobs.RUNNING:
+            done, total = state.done.get("columns", 0), state.totals.get("columns", 0)
+            self.boundary_status = f"computing: {done} of {total} columns"
+        elif state.status == jobs.FAILED:
+            self.boundary_status = f"error: {state.error}"
+        elif state.status == jobs.DONE:
+            self.boundary_status = "done"
 
     def _update_download(self) -> None:
         """The CSV is offered once the Rayleigh map is current (the sliding columns are added once that map is), never
@@ -943,7 +1000,7 @@ class StabilityMapScene(pn.viewable.Viewer):
                                      streams=[hv.streams.Params(self, ["result", "map_key", "preview"])])
                 title = f"Max growth rate of the Rayleigh branch over the {plane} plane"
             neutral = hv.DynamicMap(partial(self._neutral, plane, verdict),
-                                    streams=[hv.streams.Params(self, ["result", "preview"])])
+                                    streams=[hv.streams.Params(self, ["result", "preview", "boundary"])])
             names = [p for a in (ax, ay) for p in (("log10_eta", "eta_infinite") if a.name == "eta" else (a.name,))]
             # the held inputs' key too: the marker's render is what starts their preview (only a shown map computes)
             marker = hv.DynamicMap(partial(self._marker, plane), streams=[hv.streams.Params(self.params, names),
@@ -1068,6 +1125,30 @@ class StabilityMapScene(pn.viewable.Viewer):
             responsive=True, height=460, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi))
 
     def _neutral(self, plane: str, verdict: str | None = None, **_stream_values) -> hv.Overlay:
+        """The Rayleigh branch's neutral curve (:meth:`_rayleigh_neutral`) and, on the map coloured by the sliding
+        verdict, the exact boundary of sliding over every branch (:meth:`_boundary_layers`)."""
+        layers = self._rayleigh_neutral(plane, verdict)
+        if (verdict or self.verdict) != sm.SLIDING:
+            return hv.Overlay(layers)
+        return hv.Overlay([*layers, *self._boundary_layers(plane)])
+
+    def _boundary_layers(self, plane: str) -> list[hv.Element]:
+        """The boundary of sliding over every branch through its certified thresholds γ_c at every column computed
+        so far (purple; app.sliding_boundary), joined as the Rayleigh branch's are (:func:`crossing_lines`): drawn
+        only over the sliding map it is of (empty layers otherwise: an overlay keeps its layers)."""
+        dims = list(self._dims(plane))
+        b = self.boundary
+        lines, points = [], {"x": [], "y": []}
+        if (b is not None and b["key"] == self.sliding_key and b["key"][0] == plane
+                and self._shown_preview(plane, sm.SLIDING) is None):
+            lines, points = crossing_lines(b)
+        return [hv.Path(lines, kdims=dims, label="sliding boundary (every branch): certified γ_c").opts(
+                    color=SLIDING_BOUNDARY_COLOR, line_width=3),
+                hv.Points((points["x"], points["y"]), kdims=dims,
+                          label="threshold of sliding γ_c (certified, every branch)").opts(
+                    color=SLIDING_BOUNDARY_COLOR, size=5)]
+
+    def _rayleigh_neutral(self, plane: str, verdict: str | None = None) -> list[hv.Element]:
         """The Rayleigh branch's neutral curve: on a plane with γ, through its certified thresholds γ_c at every
         column (exact along γ: :func:`compute_crossings`; sign changes that are not thresholds marked ×); on Δ-ξ,
         the contour of the grid's values. Over a preview (the map coloured by `verdict`, default the current one),
@@ -1081,17 +1162,17 @@ class StabilityMapScene(pn.viewable.Viewer):
             lines = neutral_lines(pv.x, pv.y, pv.growth, log_x=ax.log, log_y=ay.log)
             path = hv.Path(lines, kdims=dims, label=f"Rayleigh branch neutral curve: {PREVIEW_CONTOUR}").opts(
                 color="#7f7f7f", line_width=2, line_dash="dashed")
-            return hv.Overlay([path, *self._crossing_points(dims, None)])
+            return [path, *self._crossing_points(dims, None)]
         crossings = res.crossings if res is not None and res.plane == plane else None
         if crossings is None:
             lines = [] if growth is None else neutral_lines(x, y, growth, log_x=ax.log, log_y=ay.log)
             label = ("Rayleigh branch neutral curve (max Im = 0" + (", grid contour)" if ay.name != "gamma" else ")"))
-            return hv.Overlay([hv.Path(lines, kdims=dims, label=label).opts(color="black", line_width=2),
-                               *self._crossing_points(dims, None)])
+            return [hv.Path(lines, kdims=dims, label=label).opts(color="black", line_width=2),
+                    *self._crossing_points(dims, None)]
         lines, points = crossing_lines(crossings)
         path = hv.Path(lines, kdims=dims, label="Rayleigh branch neutral curve: certified γ_c").opts(
             color="black", line_width=2)
-        return hv.Overlay([path, *self._crossing_points(dims, points)])
+        return [path, *self._crossing_points(dims, points)]
 
     @staticmethod
     def _crossing_points(dims: list, points: dict | None) -> list[hv.Element]:
@@ -1238,7 +1319,7 @@ class StabilityMapScene(pn.viewable.Viewer):
     # ----------------------------------------------------------------------------------------
 
     @param.depends("result", "map_key", "status", "sliding", "sliding_key", "sliding_status", "verdict",
-                   "preview", "preview_key", "preview_status",
+                   "preview", "preview_key", "preview_status", "boundary", "boundary_status",
                    "params.gamma", "params.log10_eta", "params.eta_infinite",
                    "params.f", "params.beta", "params.Delta", "params.xi", "params.dragging")
     def readout(self) -> str:
@@ -1335,6 +1416,7 @@ class StabilityMapScene(pn.viewable.Viewer):
             self.ensure_map()
         elif self.colours_sliding():
             self.ensure_sliding()
+            self.ensure_boundary()
 
     @param.depends("verdict")
     def legend(self) -> str:
@@ -1384,7 +1466,27 @@ class StabilityMapScene(pn.viewable.Viewer):
             lines.append("**Finite η**: the verdict holds at the kH searched (a narrow hump between them can be "
                          "missed; docs/physics.md §14.7)")
         lines.append(f"**Time (sliding)** {sl.seconds:.1f} s, {sl.computed} points")
+        lines += self.boundary_lines()
         return lines
+
+    def boundary_lines(self) -> list[str]:
+        """The readout's lines on the exact boundary of sliding over every branch (purple)."""
+        if not self.boundary_applies():
+            return ["**Sliding boundary** not drawn on this plane: the model certifies thresholds of sliding in γ "
+                    "(model.critical_gammas, branches=\"all\"), and this plane has no γ axis"]
+        if self.boundary_status.startswith("error"):
+            return [f"**Sliding boundary failed** {self.boundary_status[len('error: '):]}"]
+        b = self.boundary
+        if b is None or b["key"] != self.sliding_key:
+            if not self._sliding_current():
+                return ["**Sliding boundary** (purple) computed after the sliding map"]
+            return [f"**Sliding boundary** (purple) {self.boundary_status} (a few seconds a column at finite η)"]
+        text = sb.summary(b, "purple line")
+        if not b["done"].all():
+            text += f"; {self.boundary_status}"
+        else:
+            text += f"; {b['seconds']:.1f} s"
+        return [text]
 
     def star_cell(self) -> tuple[int, int] | None:
         """(row, column) of the map's cell under the star (None: the star lies off the plane's range)."""

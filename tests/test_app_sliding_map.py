@@ -136,6 +136,47 @@ def test_the_default_map_is_coloured_by_the_sliding_verdict_and_equals_the_model
     assert "**Unstable (Rayleigh branch)**" in text
 
 
+def test_the_sliding_boundary_is_drawn_through_the_models_thresholds_of_sliding_at_every_column(small) -> None:
+    """After the sliding map, its boundary on a plane with γ: every certified crossing in γ of the max growth over
+    every branch at each column (model.critical_gammas with branches="all", computed here independently), drawn
+    purple and counted in the readout; between the grid's rows around each threshold the sliding verdict flips."""
+    params = SpectrumParams(f=0.9, beta=0.3)
+    scene = StabilityMapScene(params=params, plane="β-γ")
+    sl = _sliding(scene)
+    scene.wait_boundary()
+    b = scene.boundary
+    assert b is not None and b["key"] == scene.sliding_key and b["done"].all(), scene.boundary_status
+    edges = PLANES["β-γ"][1].edges(12)
+    want = model.critical_gammas(f=0.9, beta=sl.x, gamma_range=(float(edges[0]), float(edges[-1])), branches="all",
+                                 floor=sl.floor, max_crossings=4)
+    np.testing.assert_array_equal(b["reason"], want.reason)
+    np.testing.assert_allclose(b["value"], want.value, rtol=1e-12, equal_nan=True)
+    ok = np.isin(want.reason, (0, 1)) & np.isfinite(want.value)
+    assert ok.any(axis=1).sum() >= 6  # the boundary crosses most columns of this plane
+    v = sl.fields["verdict"]
+    for i in np.flatnonzero((want.count == 1) & ok[:, 0]):  # one threshold in the column: no cell on its stable
+        g, d = want.value[i, 0], want.direction[i, 0]  # side is unstable (the verdict flips where the growth passes
+        stable_side = sl.y < g if d > 0 else sl.y > g  # the floor, at or beyond the neutral threshold)
+        assert not (v[stable_side, i] == 1).any(), (i, g)
+        assert (v[~stable_side, i] == 1).any(), (i, g)
+    layers = scene._neutral("β-γ").values()
+    path, dots = layers[3], layers[4]
+    assert path.label.startswith("sliding boundary") and path.opts.get().kwargs["color"] == sm.SLIDING_BOUNDARY_COLOR
+    np.testing.assert_allclose(np.sort(dots.dimension_values(1)), np.sort(want.value[ok]), rtol=1e-12)
+    assert all(set(np.round(seg.dimension_values(1), 12)) <= set(np.round(want.value[ok], 12))
+               for seg in path.split())
+    assert f"{int(ok.sum())} certified threshold(s) at 12 of 12 x values" in scene.readout()
+    scene.verdict = slm.RAYLEIGH  # the paper's map: no sliding boundary
+    assert len(scene._neutral("β-γ").values()) == 3
+    assert scene.boundary_computation.job is None or scene.boundary_computation.job.state().finished
+
+
+def test_a_plane_without_gamma_says_why_it_has_no_sliding_boundary(small) -> None:
+    scene = StabilityMapScene(params=SpectrumParams(f=0.9, beta=0.3), plane="Δ-ξ")
+    assert not scene.boundary_applies()
+    assert "this plane has no γ axis" in "\n".join(scene.boundary_lines())
+
+
 def test_previews_are_published_pass_by_pass_and_never_recompute_a_point(small, monkeypatch) -> None:
     seen: list[np.ndarray] = []
     real = slm.compute_chunk
