@@ -169,3 +169,52 @@ def test_a_held_f_slider_previews_the_sliding_verdict_and_the_release_draws_the_
                            timeout=WAIT)
     assert page.get_by_text("Preview while the slider is held").count() == 0
     assert page.locator("p", has_text="The map drawn is a preview").count() == 0
+
+
+#: the purple line of the sliding boundary on the page: its segments' y values (one list per segment)
+_BOUNDARY_JS = """() => {
+  for (const m of Bokeh.documents[0].all_models) {
+    if (!(m.title && m.title.text && m.title.text.includes(' plane'))) continue;
+    const view = Bokeh.index.find_one(m);
+    if (!view || !view.el.isConnected) continue;
+    for (const r of m.renderers) {
+      const g = r.glyph, c = g ? g.line_color : undefined;
+      const colour = c && c.value !== undefined ? c.value : c;  // a value spec: {value: '#762a83'}
+      if (colour !== 'COLOUR' || !r.data_source || r.data_source.data.ys === undefined) continue;
+      return Array.from(r.data_source.data.ys).map(a => Array.from(a));
+    }
+  }
+  return null;
+}""".replace("COLOUR", sm.SLIDING_BOUNDARY_COLOR)
+
+
+def test_the_sliding_boundary_is_drawn_and_stays_when_the_colouring_is_switched_and_back(served_app: str,
+                                                                                        browser_page) -> None:
+    """β-γ at η = ∞ (24 × 24): after the sliding map, the purple threshold of sliding over every branch is drawn
+    through the model's certified thresholds (model.critical_gammas branches="all", computed here); colouring by the
+    Rayleigh branch removes it, and coming back draws it again at once (from the cache), never a stale view."""
+    page = browser_page
+    page.set_viewport_size({"width": 1280, "height": 1400})
+    open_app(page, served_app + "?tab=map&map=beta-gamma&map_res=coarse")
+    n = sm.RESOLUTIONS["coarse"]
+    done = f"at {n} of {n} x values"
+    page.get_by_text(re.compile(re.escape(done))).first.wait_for(timeout=WAIT)
+    x, _ = sm.plane_axes("β-γ", n)
+    edges = PLANES["β-γ"][1].edges(n)
+    p = SpectrumParams()
+    want = model.critical_gammas(f=p.f, beta=x, gamma_range=(float(edges[0]), float(edges[-1])), branches="all",
+                                 max_crossings=4)
+    ok = np.isin(want.reason, (0, 1)) & np.isfinite(want.value)
+    page.wait_for_function(f"() => {{ const s = ({_BOUNDARY_JS})(); return s !== null && s.length > 0; }}",
+                           timeout=WAIT)
+    segments = page.evaluate(_BOUNDARY_JS)
+    drawn = np.round(np.concatenate([np.asarray(s, float) for s in segments]), 9)
+    assert set(drawn) <= set(np.round(want.value[ok], 9)) and len(set(drawn)) >= n // 2
+    save_screenshot(page, "map_sliding_boundary.png", full_page=False)
+
+    page.get_by_role("button", name="Rayleigh branch").click()
+    page.wait_for_function(f"() => ({_BOUNDARY_JS})() === null", timeout=WAIT)
+    page.get_by_role("button", name="sliding (every branch)").click()
+    page.wait_for_function(f"() => {{ const s = ({_BOUNDARY_JS})(); return s !== null && s.length === "
+                           f"{len(segments)}; }}", timeout=WAIT)
+    page.get_by_text(re.compile(re.escape(done))).first.wait_for(timeout=WAIT)
