@@ -28,7 +28,7 @@ MAX_CROSSINGS = 4
 #: reason codes of a certified crossing (model.CROSSING_STATUS: a neutral mode, or one at an end of the kH range)
 CERTIFIED = (0, 1)
 #: the per-crossing fields kept (each n_columns × MAX_CROSSINGS)
-FIELDS = ("value", "location", "direction", "reason")
+FIELDS = ("value", "location", "direction", "reason", "kH", "z")
 
 
 def empty(x: np.ndarray) -> dict[str, np.ndarray]:
@@ -36,7 +36,8 @@ def empty(x: np.ndarray) -> dict[str, np.ndarray]:
     n = x.size
     return {"x": x, "value": np.full((n, MAX_CROSSINGS), np.nan), "location": np.full((n, MAX_CROSSINGS), np.nan),
             "direction": np.zeros((n, MAX_CROSSINGS), np.int8), "reason": np.full((n, MAX_CROSSINGS), -1, np.int8),
-            "count": np.zeros(n, int), "done": np.zeros(n, bool), "seconds": 0.0}
+            "kH": np.full((n, MAX_CROSSINGS), np.nan), "z": np.full((n, MAX_CROSSINGS), np.nan),
+            "count": np.zeros(n, int), "done": np.zeros(n, bool), "seconds": 0.0, "cached": 0}
 
 
 def compute_boundary(key: tuple, x: np.ndarray, x_name: str, gamma_range: tuple[float, float],
@@ -51,9 +52,11 @@ def compute_boundary(key: tuple, x: np.ndarray, x_name: str, gamma_range: tuple[
     for a in range(0, x.size, COLUMNS_PER_CHUNK):
         job.check()
         cols = tuple(float(v) for v in x[a:a + COLUMNS_PER_CHUNK])
-        ckey = ("sliding boundary", plane, n, fixed, floor, gamma_range, cols)
+        ckey = ("sliding boundary", plane, n, fixed, floor, gamma_range, cols, MAX_CROSSINGS)
         part = cache_get(ckey)
-        if part is None:
+        if part is not None:
+            out["cached"] += len(cols)
+        else:
             part = job.call(sliding_work.sliding_gamma_crossings, x_name, cols, fixed, floor, gamma_range,
                             MAX_CROSSINGS, in_process=in_process, pool=jobs.BACKGROUND)
             cache_put(ckey, part)

@@ -49,4 +49,5 @@ def sliding_gamma_crossings(x_name: str, x: Sequence[float], fixed: Sequence[tup
                               max_crossings=max_crossings, workers=1)
     return {"value": np.asarray(c.value, float), "location": np.asarray(c.location, float),
             "direction": np.asarray(c.direction, np.int8), "reason": np.asarray(c.reason, np.int8),
+            "kH": np.asarray(c.kH, float), "z": np.real(np.asarray(c.z)).astype(float),
             "count": np.asarray(c.count, int)}

@@ -626,6 +626,10 @@ class StabilityMapScene(pn.viewable.Viewer):
                             height=340, legend_position="top_left", xlim=(0.0, 0.7071), ylim=CHI_RANGE))
         self.map_download = csv_download(self.map_csv, "stability_map.csv", "Download map (CSV)")
         self.map_download.disabled = True
+        self.boundary_download = csv_download(self.boundary_csv, "stability_map_sliding_boundary.csv",
+                                              "Download sliding boundary (CSV)")
+        self.boundary_download.disabled = True
+        self.boundary_download.width = 280
         self.fig4c_download = csv_download(self.fig4c_csv, "stability_fig4c.csv", "Download Fig. 4c (CSV)")
 
     # ----------------------------------------------------------------------------------------
@@ -831,6 +835,7 @@ class StabilityMapScene(pn.viewable.Viewer):
         self.sliding_computation.cancel()
         self.boundary_computation.cancel()
         self.param.update(sliding_status="idle", boundary_status="idle")
+        self._update_download()
         if running:
             self.ensure_sliding()
 
@@ -933,11 +938,17 @@ class StabilityMapScene(pn.viewable.Viewer):
             self.boundary_status = f"error: {state.error}"
         elif state.status == jobs.DONE:
             self.boundary_status = "done"
+        self._update_download()
 
     def _update_download(self) -> None:
         """The CSV is offered once the Rayleigh map is current (the sliding columns are added once that map is), never
         while a slider is held at inputs off the map's (a preview is drawn: the CSV would not be what is shown)."""
         self.map_download.disabled = not self._current() or self._previewing()
+        self.boundary_download.disabled = not (self.boundary_applies() and self._boundary_current()
+                                               and not self._previewing())
+        if not self.boundary_download.disabled:
+            ax, ay = PLANES[self.plane]
+            self.boundary_download.filename = f"stability_map_{ax.name}_{ay.name}_sliding_boundary.csv"
 
     def ensure_map(self) -> None:
         """Start computing the map of the current key unless it is shown or already being computed (called where the
@@ -1485,7 +1496,8 @@ class StabilityMapScene(pn.viewable.Viewer):
         if not b["done"].all():
             text += f"; {self.boundary_status}"
         else:
-            text += f"; {b['seconds']:.1f} s"
+            text += f"; {b['seconds']:.1f} s" + (f" ({b['cached']} of {b['x'].size} columns from the cache)"
+                                                  if b["cached"] else "")
         return [text]
 
     def star_cell(self) -> tuple[int, int] | None:
@@ -1553,6 +1565,27 @@ class StabilityMapScene(pn.viewable.Viewer):
                             "verdict_all": f["verdict"].ravel(), "verdict_reason_all": f["reason"].ravel()})
         return csv_table(header, columns)
 
+    def boundary_csv(self) -> io.StringIO:
+        """The threshold of sliding over every branch drawn on the map (purple): per column of the grid, every
+        crossing in γ (model.critical_gammas with branches="all"), certified or not, with its reason."""
+        plane, n, fixed, floor = self.sliding_key
+        ax, _ = PLANES[plane]
+        header = (f"asymslide stability map, plane {ax.name}-gamma: crossings in gamma of the max growth over every "
+                  f"branch (model.critical_gammas, branches='all', floor {floor!r}, kH model.SLIDING_KH) at each "
+                  f"x of the {n} x {n} grid; " + ", ".join(f"{k} = {v!r}" for k, v in fixed)
+                  + ". gamma_c NaN unless certified (reason 0: a neutral mode; 1: at an end of the kH range); "
+                    "location: where the sign change is; direction +1: unstable above, -1: stable above; reason: "
+                    "model.CROSSING_STATUS; kH, re_z: the neutral mode")
+        names = (ax.name, "crossing", "gamma_c", "location", "direction", "reason", "kH", "re_z")
+        b = self.boundary
+        if not (self.boundary_applies() and self._boundary_current()):
+            return csv_table(header + " (not computed yet)", dict.fromkeys(names, []))
+        rows = np.argwhere(b["reason"] >= 0)  # (column, crossing) of every crossing found
+        i, k = rows[:, 0], rows[:, 1]
+        return csv_table(header, dict(zip(names, (b["x"][i], k, b["value"][i, k], b["location"][i, k],
+                                                  b["direction"][i, k], b["reason"][i, k], b["kH"][i, k],
+                                                  b["z"][i, k]), strict=True)))
+
     def fig4c_csv(self) -> io.StringIO:
         """What Fig. 4c shows: β, the criterion's χ_c, and the exact threshold χ_c at the current f (computed at
         every other β: NaN at the others, and where there is no threshold)."""
@@ -1594,7 +1627,7 @@ class StabilityMapScene(pn.viewable.Viewer):
             self.progress,
             pn.pane.Markdown(self.legend, sizing_mode="stretch_width"),
             map_pane,
-            self.map_download,
+            pn.FlexBox(self.map_download, self.boundary_download, flex_wrap="wrap", sizing_mode="stretch_width"),
             pn.pane.HoloViews(self.fig4c_dmap, sizing_mode="stretch_width"),
             pn.pane.Markdown(self.fig4c_readout, sizing_mode="stretch_width"),
             self.fig4c_download,

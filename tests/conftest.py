@@ -423,3 +423,14 @@ def atlas_with_small(small_atlas: Path, tmp_path: Path, monkeypatch: pytest.Monk
     shutil.copytree(small_atlas, tmp_path / "small.zarr")
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
     return tmp_path
+
+
+def download(page, label: str, timeout: float = 300_000) -> str:
+    """Click the download button `label` (of the shown tab) once it is enabled (within `timeout` ms) and return the
+    file's text."""
+    button = page.get_by_role("button", name=label, exact=True).first
+    button.wait_for(state="visible", timeout=timeout)
+    page.wait_for_function("(b) => !b.disabled", arg=button.element_handle(), timeout=timeout)
+    with page.expect_download(timeout=timeout) as info:
+        button.click()
+    return Path(info.value.path()).read_text(encoding="utf-8")

@@ -142,6 +142,7 @@ def test_the_sliding_boundary_is_drawn_through_the_models_thresholds_of_sliding_
     purple and counted in the readout; between the grid's rows around each threshold the sliding verdict flips."""
     params = SpectrumParams(f=0.9, beta=0.3)
     scene = StabilityMapScene(params=params, plane="β-γ")
+    assert scene.boundary_download.disabled
     sl = _sliding(scene)
     scene.wait_boundary()
     b = scene.boundary
@@ -166,8 +167,21 @@ def test_the_sliding_boundary_is_drawn_through_the_models_thresholds_of_sliding_
     assert all(set(np.round(seg.dimension_values(1), 12)) <= set(np.round(want.value[ok], 12))
                for seg in path.split())
     assert f"{int(ok.sum())} certified threshold(s) at 12 of 12 x values" in scene.readout()
+    assert not scene.boundary_download.disabled  # its CSV: every crossing found, as the model gives it
+    text = scene.boundary_csv().getvalue()
+    assert text.startswith("# asymslide stability map, plane beta-gamma: crossings in gamma")
+    rows = list(csv.reader(io.StringIO(text)))
+    assert rows[1] == ["beta", "crossing", "gamma_c", "location", "direction", "reason", "kH", "re_z"]
+    table = np.array(rows[2:], float)
+    found = want.reason >= 0
+    assert len(table) == int(found.sum())
+    np.testing.assert_array_equal(table[:, 0], np.broadcast_to(sl.x[:, None], found.shape)[found])
+    np.testing.assert_array_equal(table[:, 2], want.value[found])
+    np.testing.assert_array_equal(table[:, 5], want.reason[found])
+    np.testing.assert_array_equal(table[:, 6], want.kH[found])
     scene.verdict = slm.RAYLEIGH  # the paper's map: no sliding boundary
     assert len(scene._neutral("β-γ").values()) == 3
+    assert scene.boundary_download.disabled
     assert scene.boundary_computation.job is None or scene.boundary_computation.job.state().finished
 
 

@@ -25,6 +25,7 @@ from app.presets import load_presets
 from tests.conftest import (
     ServerLog,
     clear_patched_curdocs,
+    download,
     open_app,
     save_screenshot,
     set_slider,
@@ -159,16 +160,6 @@ def click_preset(page, label: str) -> None:
     page.get_by_role("button", name=label, exact=True).first.click(timeout=WAIT)
 
 
-def download(page, label: str) -> str:
-    """Click the download button `label` (of the shown tab) and return the file's text."""
-    button = page.get_by_role("button", name=label, exact=True).first
-    button.wait_for(state="visible", timeout=WAIT)
-    page.wait_for_function("(b) => !b.disabled", arg=button.element_handle(), timeout=LONG)
-    with page.expect_download(timeout=WAIT) as info:
-        button.click()
-    return Path(info.value.path()).read_text(encoding="utf-8")
-
-
 # --------------------------------------------------------------------------------------------
 # atlases
 # --------------------------------------------------------------------------------------------
@@ -276,7 +267,7 @@ def test_every_download_button_gives_a_file_with_a_header(atlas_with_small: Path
         if tab == "Atlas":
             page.wait_for_function(f"() => ({_IMAGE_JS})() !== null", timeout=WAIT)
         for label in labels:
-            files[f"{tab}: {label}"] = download(page, label)
+            files[f"{tab}: {label}"] = download(page, label, timeout=LONG)
     for what, text in files.items():
         lines = text.splitlines()
         assert lines and lines[0].startswith("#") and "asymslide" in lines[0], what  # what the file holds

@@ -16,7 +16,7 @@ import model
 from app import stability_map as sm
 from app.params import SpectrumParams
 from app.stability_map import KH, PLANES
-from tests.conftest import open_app, save_screenshot
+from tests.conftest import download, open_app, save_screenshot
 
 pytestmark = [pytest.mark.ui, pytest.mark.usefixtures("fresh_caches")]
 
@@ -211,6 +211,12 @@ def test_the_sliding_boundary_is_drawn_and_stays_when_the_colouring_is_switched_
     drawn = np.round(np.concatenate([np.asarray(s, float) for s in segments]), 9)
     assert set(drawn) <= set(np.round(want.value[ok], 9)) and len(set(drawn)) >= n // 2
     save_screenshot(page, "map_sliding_boundary.png", full_page=False)
+    text = download(page, "Download sliding boundary (CSV)", timeout=WAIT)
+    lines = text.splitlines()
+    assert lines[0].startswith("# asymslide stability map, plane beta-gamma: crossings in gamma")
+    assert lines[1] == "beta,crossing,gamma_c,location,direction,reason,kH,re_z"
+    table = np.array([ln.split(",") for ln in lines[2:]], float)
+    np.testing.assert_allclose(table[:, 2], want.value[want.reason >= 0], rtol=1e-9, equal_nan=True)
 
     page.get_by_role("button", name="Rayleigh branch").click()
     page.wait_for_function(f"() => ({_BOUNDARY_JS})() === null", timeout=WAIT)
