@@ -1429,10 +1429,13 @@ class StabilityMapScene(pn.viewable.Viewer):
             self.ensure_sliding()
             self.ensure_boundary()
 
-    @param.depends("verdict")
+    @param.depends("verdict", "preview", "preview_key", "sliding", "result")
     def legend(self) -> str:
-        """The map's colour legend, for the verdict it is coloured by."""
+        """The map's colour legend, for the verdict it is coloured by (and the preview's line while one is drawn)."""
         text = sm.SLIDING_LEGEND if self.colours_sliding() else COLOUR_LEGEND
+        if self._shown_preview() is not None:
+            text += (f". Drawn now: a preview of the held values; its dashed grey line is the Rayleigh branch's zero "
+                     f"contour on the preview's grid ({PREVIEW_CONTOUR}), in place of the black and purple lines")
         return f"Click the map to move the sliders there. {text}; star: current parameters."
 
     def sliding_lines(self) -> list[str]:

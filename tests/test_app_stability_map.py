@@ -739,6 +739,7 @@ def test_a_held_slider_off_the_plane_draws_a_labelled_preview_of_the_held_inputs
     text = scene.readout()
     assert f"**Slider held** {PREVIEW_12}. The map drawn is a preview of f = 0.6" in text
     assert "preview contour, not certified" in text
+    assert "Drawn now: a preview of the held values; its dashed grey line" in scene.legend()
     fig = hv.render(scene.view(), backend="bokeh")
     assert fig.title.text == "Max growth rate of the Rayleigh branch over the η-γ plane: preview, 12 × 12 points"
     assert calls["compute_chunk"] == len(sm.chunk_rows(16)) + len(sm.chunk_rows(12))  # the map's, then the preview's
@@ -850,6 +851,7 @@ def test_the_release_computes_the_full_map_and_the_preview_disappears(sixteen) -
     assert _layer(overlay, hv.Path).label == "Rayleigh branch neutral curve: certified γ_c"
     text = scene.readout()
     assert "Preview" not in text and "preview" not in text and "Released" not in text
+    assert "preview" not in scene.legend()
     assert scene.progress_label.object == "The η-γ map (16 × 16 points)"
     assert hv.render(scene.view(), backend="bokeh").title.text.endswith("over the η-γ plane")
     assert calls["compute_map"] == 2
