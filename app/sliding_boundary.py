@@ -23,7 +23,7 @@ from . import jobs, sliding_work
 
 #: columns of the map per call of the model (how often a cancelled job can stop: ~1 s at η = ∞)
 COLUMNS_PER_CHUNK = 2
-#: the crossings a column may have (model.critical_gammas' max_crossings)
+#: the crossings a column of a map may have (model.critical_gammas' max_crossings; the Rayleigh branch's too)
 MAX_CROSSINGS = 4
 #: reason codes of a certified crossing (model.CROSSING_STATUS: a neutral mode, or one at an end of the kH range)
 CERTIFIED = (0, 1)
@@ -71,12 +71,19 @@ def compute_boundary(key: tuple, x: np.ndarray, x_name: str, gamma_range: tuple[
     return out
 
 
+def crossing_counts(c: dict) -> tuple[int, int]:
+    """(certified thresholds, sign changes that are not thresholds) among the crossings `c` of a map's columns (the
+    Rayleigh branch's, app.stability_map.compute_crossings, or this boundary's)."""
+    certified = int((np.isin(c["reason"], CERTIFIED) & np.isfinite(c["value"])).sum())
+    refused = int(((c["reason"] >= 0) & ~np.isin(c["reason"], CERTIFIED)).sum())
+    return certified, refused
+
+
 def summary(b: dict, drawn_as: str = "") -> str:
     """The boundary in words for the readout (`drawn_as`: how the map draws it, e.g. "purple line"): certified
     thresholds, sign changes that are not thresholds, columns done."""
     done = int(b["done"].sum())
-    certified = int((np.isin(b["reason"], CERTIFIED) & np.isfinite(b["value"])).sum())
-    refused = int(((b["reason"] >= 0) & ~np.isin(b["reason"], CERTIFIED)).sum())
+    certified, refused = crossing_counts(b)
     how = f", {drawn_as}" if drawn_as else ""
     text = (f"**Sliding boundary** (every branch{how}) exact in γ: {certified} certified threshold(s) at {done} of "
             f"{b['x'].size} x values (model.critical_gammas, branches=\"all\")")

@@ -348,10 +348,9 @@ def compute_map(key: tuple, job: jobs.Job) -> MapResult:
                      crossings=crossings)
 
 
-#: the crossings a map column may have (model.critical_gammas' max_crossings)
-MAX_MAP_CROSSINGS = 4
-#: reason codes of a certified crossing (model.CROSSING_STATUS)
-CERTIFIED_CROSSINGS = (0, 1)
+#: the crossings a map column may have, and the reason codes of a certified one (model.CROSSING_STATUS): the same
+#: for the Rayleigh branch's neutral curve and the sliding boundary
+MAX_MAP_CROSSINGS, CERTIFIED_CROSSINGS = sb.MAX_CROSSINGS, sb.CERTIFIED
 
 
 @pn.cache(max_items=64)
@@ -1413,8 +1412,7 @@ class StabilityMapScene(pn.viewable.Viewer):
         if c is None:
             return ("**Neutral curve** the contour of the grid's values (the model certifies thresholds in γ and η, "
                     "not along Δ or ξ)")
-        certified = int((np.isin(c["reason"], CERTIFIED_CROSSINGS) & np.isfinite(c["value"])).sum())
-        refused = int(((c["reason"] >= 0) & ~np.isin(c["reason"], CERTIFIED_CROSSINGS)).sum())
+        certified, refused = sb.crossing_counts(c)
         return (f"**Neutral curve** exact in γ: {certified} certified threshold(s) γ_c (a neutral mode each, "
                 f"model.critical_gammas) at the {c['x'].size} x values of the grid"
                 + (f"; {refused} sign change(s) that are not thresholds (×, reason on hover)" if refused else ""))

@@ -23,25 +23,32 @@ pytestmark = [pytest.mark.ui, pytest.mark.usefixtures("fresh_caches")]
 #: a long computation on a loaded 2-core host (ms)
 WAIT = 180_000
 
-#: the heat map drawn (the plot whose title names a plane and is on the page): its title and its cells' data
-_HEAT_JS = """() => {
+#: the renderers of the map plot on the page (the plot whose title names a plane): `(m, r) => result or undefined`
+#: is called on each; the first result is returned (null: none)
+_ON_MAP_JS = """(pick) => {
   for (const m of Bokeh.documents[0].all_models) {
     if (!(m.title && m.title.text && m.title.text.includes(' plane'))) continue;
     const view = Bokeh.index.find_one(m);
-    if (!view || !view.el.isConnected) continue;
+    if (!view || !view.el || !view.el.isConnected) continue;
     for (const r of m.renderers) {
-      const d = r.data_source ? r.data_source.data : undefined;
-      if (!d || d.left === undefined || d.bottom === undefined) continue;
-      const key = d.growth !== undefined ? 'growth' : (d.growth_all !== undefined ? 'growth_all' : null);
-      if (key === null) continue;
-      const f = a => Array.from(a);
-      const label = d.shown !== undefined ? d.shown : d.value_of;
-      return {title: m.title.text, cells: d.left.length, left: f(d.left), bottom: f(d.bottom),
-              growth: f(d[key]).map(v => Number.isFinite(v) ? v : null), shown: label ? f(label) : []};
+      const out = pick(m, r);
+      if (out !== undefined) return out;
     }
   }
   return null;
 }"""
+
+#: the heat map drawn: its title and its cells' data
+_HEAT_JS = """() => (""" + _ON_MAP_JS + """)((m, r) => {
+      const d = r.data_source ? r.data_source.data : undefined;
+      if (!d || d.left === undefined || d.bottom === undefined) return undefined;
+      const key = d.growth !== undefined ? 'growth' : (d.growth_all !== undefined ? 'growth_all' : null);
+      if (key === null) return undefined;
+      const f = a => Array.from(a);
+      const label = d.shown !== undefined ? d.shown : d.value_of;
+      return {title: m.title.text, cells: d.left.length, left: f(d.left), bottom: f(d.bottom),
+              growth: f(d[key]).map(v => Number.isFinite(v) ? v : null), shown: label ? f(label) : []};
+})"""
 
 #: the text of the readout line that names the preview's values
 _PREVIEW_LINE = re.compile(r"The map drawn is a preview of f = ([0-9.]+),")
@@ -172,20 +179,12 @@ def test_a_held_f_slider_previews_the_sliding_verdict_and_the_release_draws_the_
 
 
 #: the purple line of the sliding boundary on the page: its segments' y values (one list per segment)
-_BOUNDARY_JS = """() => {
-  for (const m of Bokeh.documents[0].all_models) {
-    if (!(m.title && m.title.text && m.title.text.includes(' plane'))) continue;
-    const view = Bokeh.index.find_one(m);
-    if (!view || !view.el.isConnected) continue;
-    for (const r of m.renderers) {
-      const g = r.glyph, c = g ? g.line_color : undefined;
-      const colour = c && c.value !== undefined ? c.value : c;  // a value spec: {value: '#762a83'}
-      if (colour !== 'COLOUR' || !r.data_source || r.data_source.data.ys === undefined) continue;
-      return Array.from(r.data_source.data.ys).map(a => Array.from(a));
-    }
-  }
-  return null;
-}""".replace("COLOUR", sm.SLIDING_BOUNDARY_COLOR)
+_BOUNDARY_JS = """() => (""" + _ON_MAP_JS + """)((m, r) => {
+  const g = r.glyph, c = g ? g.line_color : undefined;
+  const colour = c && c.value !== undefined ? c.value : c;  // a value spec: {value: '#762a83'}
+  if (colour !== 'COLOUR' || !r.data_source || r.data_source.data.ys === undefined) return undefined;
+  return Array.from(r.data_source.data.ys).map(a => Array.from(a));
+})""".replace("COLOUR", sm.SLIDING_BOUNDARY_COLOR)
 
 
 def test_the_sliding_boundary_is_drawn_and_stays_when_the_colouring_is_switched_and_back(served_app: str,
