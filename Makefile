@@ -75,6 +75,7 @@ bench: venv  ## run the benchmarks (timings live here, not in tests)
 	elif [ -f benchmarks/__main__.py ]; then $(PY) -m benchmarks; \
 	else echo "no benchmarks yet: add benchmarks/run.py or benchmarks/__main__.py"; fi
 	$(PY) benchmarks/latency.py  # browser slider-to-plot latency (needs $(CHROMIUM)); prints PASS/MISS, exits 0
+	$(PY) benchmarks/map_refine.py  # the Stability map refined at its neutral curve against the 40 x 40 / 64 x 64 maps
 	$(PY) benchmarks/drag.py  # a slider dragged with the mouse: redraws during the drag, lag after release, 10 sessions
 	$(PY) benchmarks/atlas_latency.py  # Atlas tab slice-to-paint latency (needs $(CHROMIUM)); into results.md
 	$(PY) benchmarks/first_page.py  # first page after start (numba cache and cold), All branches first open

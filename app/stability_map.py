@@ -48,6 +48,7 @@ import param
 import model
 
 from . import jobs
+from . import map_refine as mr
 from . import sliding_boundary as sb
 from . import sliding_map as sm
 from .common import COLOUR_LEGEND, GROWTH_CMAP, GROWTH_LABEL, MARGINAL, NAN_COLOR, neutral_lines
@@ -63,7 +64,10 @@ KH = np.logspace(-3, 3, 96)
 
 #: points per axis of the map. The η-γ plane is the slowest (finite η costs ~20x more per point): on 2 cores
 #: ~0.6 / 0.9 / 2.0 s coarse / medium / fine (2-4x that when the cores are busy); the others take <= 0.2 s at η = ∞
-RESOLUTIONS = {"coarse": 24, "medium": 40, "fine": 64}
+RESOLUTIONS = {"coarse": 24, "medium": 24, "fine": 40}
+#: the levels of refinement at the neutral curve per resolution (app.map_refine: each level halves the cells the
+#: Rayleigh branch's verdict changes across; finest grid: 24, 96, 160 cells per axis)
+LEVELS = {"coarse": 0, "medium": 2, "fine": 2}
 
 #: a chunk has up to 256 parameter points per CPU (the model runs blocks of 256 on parallel threads), and a map
 #: has at least MIN_CHUNKS chunks (progress steps, and how soon a stale computation stops)
@@ -307,6 +311,8 @@ class MapResult:
     chunks_total: int
     #: the Rayleigh branch's certified thresholds γ_c at each x (:func:`compute_crossings`); None on a plane without γ
     crossings: dict | None = None
+    #: the map refined at its neutral curve (app.map_refine); None at resolution coarse
+    refined: mr.RefinedMap | None = None
 
     @property
     def plane(self) -> str:
@@ -328,7 +334,7 @@ def cached_chunk(plane: str, n: int, start: int, stop: int, fixed: tuple[tuple[s
 def compute_map(key: tuple, job: jobs.Job) -> MapResult:
     """The map of `key` (:func:`key_for`), chunk by chunk, each from the cache of chunks when it is there: the work of
     a map job, on its thread (it stops at :meth:`~app.jobs.Job.check` once the job is cancelled)."""
-    plane, n, fixed = key
+    plane, n, fixed, levels = key
     chunks = chunk_rows(n)
     t0 = time.perf_counter()
     parts, computed = [], 0
@@ -338,14 +344,37 @@ def compute_map(key: tuple, job: jobs.Job) -> MapResult:
         computed += new
         parts.append(part)
         job.advance("chunks")
-    job.check()
-    crossings = compute_crossings(plane, n, fixed)
+    base = {k: np.concatenate([p[k] for p in parts]) for k in mr.FIELDS}
     x, y = plane_axes(plane, n)
-    return MapResult(key=key, x=x, y=y, growth=np.concatenate([p["growth"] for p in parts]),
-                     kH_at_max=np.concatenate([p["kH_at_max"] for p in parts]),
-                     n_masked=np.concatenate([p["n_masked"] for p in parts]),
-                     seconds=time.perf_counter() - t0, chunks_computed=computed, chunks_total=len(chunks),
-                     crossings=crossings)
+    refined = refine_map(plane, x, y, base, levels, fixed, job) if levels else None
+    job.check()
+    crossings = compute_crossings(plane, n, fixed, crossing_columns(n, levels))
+    return MapResult(key=key, x=x, y=y, **base, seconds=time.perf_counter() - t0, chunks_computed=computed,
+                     chunks_total=len(chunks), crossings=crossings, refined=refined)
+
+
+def evaluate_points(plane: str, fixed: tuple[tuple[str, float], ...], xs: np.ndarray, ys: np.ndarray) -> dict:
+    """The Rayleigh branch's max growth (:func:`model.growth_analysis`, as :func:`compute_chunk`) at the points
+    (xs[i], ys[i]) of `plane`."""
+    ax, ay = PLANES[plane]
+    r = model.growth_analysis(KH, **dict(fixed), **{ax.name: xs, ay.name: ys})
+    return {"growth": np.asarray(r.growth, float), "kH_at_max": np.asarray(r.kH_at_max, float),
+            "n_masked": np.asarray(r.n_masked, int)}
+
+
+def refine_map(plane: str, x: np.ndarray, y: np.ndarray, base: dict, levels: int,
+               fixed: tuple[tuple[str, float], ...], job: jobs.Job) -> mr.RefinedMap:
+    """The map refined `levels` times in the cells its Rayleigh verdict changes across (:func:`app.map_refine.refine`;
+    one job step per level)."""
+    ax, ay = PLANES[plane]
+    return mr.refine(x, y, ax.log, ay.log, base, levels, ((ax.lo, ax.hi), (ay.lo, ay.hi)),
+                     partial(evaluate_points, plane, fixed), check=job.check,
+                     advance=lambda _level: job.advance("chunks"))
+
+
+def crossing_columns(n: int, levels: int) -> int:
+    """The x values at which the neutral curve is certified: twice the base grid's on a refined map."""
+    return n * 2 if levels else n
 
 
 #: the crossings a map column may have, and the reason codes of a certified one (model.CROSSING_STATUS): the same
@@ -354,15 +383,17 @@ MAX_MAP_CROSSINGS, CERTIFIED_CROSSINGS = sb.MAX_CROSSINGS, sb.CERTIFIED
 
 
 @pn.cache(max_items=64)
-def compute_crossings(plane: str, n: int, fixed: tuple[tuple[str, float], ...]) -> dict | None:
-    """The Rayleigh branch's neutral curve of a plane whose y axis is γ, exactly: at each of the map's n x values,
+def compute_crossings(plane: str, n: int, fixed: tuple[tuple[str, float], ...], columns: int | None = None,
+                      ) -> dict | None:
+    """The Rayleigh branch's neutral curve of a plane whose y axis is γ, exactly: at each of `columns` x values
+    (default n: the map's),
     every crossing in γ of the max growth over the map's kH range, each a certified neutral mode
     (:func:`model.critical_gammas`, Sect. IV, Fig. 4c; docs/physics.md §9). None on a plane without γ (Δ-ξ).
     0.03-0.6 s for 24 columns: computed with the map, after its chunks."""
     ax, ay = PLANES[plane]
     if ay.name != "gamma":
         return None
-    x, _ = plane_axes(plane, n)
+    x = ax.values(columns or n)
     edges = ay.edges(n)
     args = {**dict(fixed), ax.name: x}
     c = model.critical_gammas(**args, kH=KH, gamma_range=(float(edges[0]), float(edges[-1])),
@@ -480,7 +511,7 @@ def compute_preview(job_key: tuple, job: jobs.Job) -> MapPreview:
     (:func:`app.sliding_map.compute_sliding_map`, its chunks cached, each chunk published with the growth as the job's
     partial result); the work of a job."""
     verdict, key, floor = job_key
-    plane, _, fixed = key
+    plane, _, fixed, _ = key
     t0 = time.perf_counter()
     parts = []
     for a, b in chunk_rows(PREVIEW_POINTS):
@@ -537,7 +568,13 @@ def key_for(plane: str, resolution: str, args: tuple[float, ...]) -> tuple:
     """What a map depends on: plane, points per axis, and the model arguments off the plane (normalised)."""
     names = {a.name for a in PLANES[plane]}
     fixed = tuple((k, float(v)) for k, v in zip(ARG_NAMES, args, strict=True) if k not in names)
-    return (plane, RESOLUTIONS[resolution], fixed)
+    return (plane, RESOLUTIONS[resolution], fixed, LEVELS[resolution])
+
+
+def grid_words(n: int, levels: int) -> str:
+    """The map's grid in words: "24 × 24 points", refined: "…, refined to 96 × 96 at the neutral curve"."""
+    m = n * 2**levels
+    return f"{n} × {n} points" + (f", refined to {m} × {m} at the neutral curve" if levels else "")
 
 
 def _round_sig(v: float, digits: int = 3) -> float:
@@ -554,7 +591,7 @@ class StabilityMapScene(pn.viewable.Viewer):
                      words=sm.VERDICT_WORDS)
     floor = Choice(sm.AUTO, objects=list(sm.FLOORS), label="Growth floor (sliding)", url="map_floor")
     #: what the map depends on (see :func:`key_for`); changes only when the map must be recomputed
-    map_key = param.Tuple(default=None, length=3, allow_None=True, precedence=-1)
+    map_key = param.Tuple(default=None, length=4, allow_None=True, precedence=-1)
     #: the last finished map (possibly for an older key)
     result = param.ClassSelector(class_=MapResult, allow_None=True, precedence=-1)
     #: what the sliding map depends on: the map's key and the floor
@@ -571,7 +608,7 @@ class StabilityMapScene(pn.viewable.Viewer):
     fig4c_sliding_status = param.String("", precedence=-1)
     #: while a slider is held: the map key of the held inputs where it differs from :attr:`map_key` (a preview of them
     #: is drawn in place of the map); None otherwise
-    preview_key = param.Tuple(default=None, length=3, allow_None=True, precedence=-1)
+    preview_key = param.Tuple(default=None, length=4, allow_None=True, precedence=-1)
     #: the last preview shown (possibly partial; see :meth:`StabilityMapScene._shown_preview` for when it is drawn)
     preview = param.ClassSelector(class_=MapPreview, allow_None=True, precedence=-1)
     #: the preview job: "idle", "computing", "done", "error: ..."
@@ -760,12 +797,12 @@ class StabilityMapScene(pn.viewable.Viewer):
         progress of its job being computed (which the preview's label hid)."""
         if self._previewing() or not self.progress_label.object.startswith(PREVIEW_HEADING):
             return
-        plane, n, _ = self.map_key
+        plane, n, _, levels = self.map_key
         self.progress.visible = False
         if self.colours_sliding() and self._sliding_current():
             self.progress_label.object = f"The sliding verdict over the {plane} map ({n} × {n} points)"
         elif self._current():
-            self.progress_label.object = f"The {plane} map ({n} × {n} points)"
+            self.progress_label.object = f"The {plane} map ({grid_words(n, levels)})"
         else:
             self.progress_label.object = ""
         for follower, show in ((self.computation, self._show_job), (self.sliding_computation, self._show_sliding_job)):
@@ -815,9 +852,9 @@ class StabilityMapScene(pn.viewable.Viewer):
     def _sliding_key_for(self, key: tuple) -> tuple:
         """What the sliding map depends on: the map's key and the growth floor (for "auto", whether the map has
         finite η: its x axis, or the η fixed off the plane)."""
-        plane, _, fixed = key
+        plane, n, fixed, _ = key
         finite_eta = PLANES[plane][0].name == "eta" or any(k == "eta" and math.isfinite(v) for k, v in fixed)
-        return (*key, sm.floor_value(self.floor, finite_eta))
+        return (plane, n, fixed, sm.floor_value(self.floor, finite_eta))
 
     def colours_sliding(self) -> bool:
         """Whether the map is coloured by the sliding verdict (every branch), not the Rayleigh branch's growth."""
@@ -958,7 +995,7 @@ class StabilityMapScene(pn.viewable.Viewer):
                                and job.state().status in (jobs.RUNNING, jobs.DONE)):
             return
         self.computation.run(partial(compute_map, key), name="stability map", key=key,
-                             totals={"chunks": len(chunk_rows(key[1]))})
+                             totals={"chunks": len(chunk_rows(key[1])) + key[3]})
 
     def wait(self, timeout: float = 60.0) -> None:
         """Block until the map being computed (if any) is finished, and show it when not served (tests, scripts)."""
@@ -966,7 +1003,7 @@ class StabilityMapScene(pn.viewable.Viewer):
 
     def _show_job(self, job: jobs.Job, state: jobs.JobState) -> None:
         """Show a map job's progress and, at its end, the map or the failure (on the session's event loop)."""
-        plane, n, _ = job.key
+        plane, n, _, levels = job.key
         total, done = state.totals.get("chunks", 0), state.done.get("chunks", 0)
         if not self._previewing():  # a held slider's preview shows its own progress
             if self.progress.max != total:
@@ -974,8 +1011,9 @@ class StabilityMapScene(pn.viewable.Viewer):
                 self.progress.max = total
             self.progress.value = done
             self.progress.visible = done < total  # a finished bar is not left on the page; the label says it
-            self.progress_label.object = (f"Computing the {plane} map ({n} × {n} points): {done} of {total} chunks"
-                                          if done < total else f"The {plane} map ({n} × {n} points)")
+            unit = "steps (chunks, then levels of refinement)" if levels else "chunks"
+            self.progress_label.object = (f"Computing the {plane} map ({grid_words(n, levels)}): {done} of {total} "
+                                          f"{unit}" if done < total else f"The {plane} map ({grid_words(n, levels)})")
         if state.status == jobs.RUNNING:
             self.status = "computing"
         elif state.status == jobs.FAILED:
@@ -1030,38 +1068,60 @@ class StabilityMapScene(pn.viewable.Viewer):
 
     def _shown(self, plane: str) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, bool]:
         """x, y, growth of what the plane's plot shows (growth None: nothing computed for this plane yet) and
-        whether it is the map of the current inputs."""
+        whether it is the map of the current inputs; a refined map's on its finest grid (cell centres, each cell's
+        value its owner's: app.map_refine)."""
         res, key = self.result, self.map_key
         current = res is not None and res.key == key
         if res is not None and res.plane == plane:
+            if res.refined is not None:
+                ax, ay = PLANES[plane]
+                r = res.refined
+                return (mr.level_centres(res.x, ax.log, r.levels), mr.level_centres(res.y, ay.log, r.levels),
+                        r.growth, current)
             return res.x, res.y, res.growth, current
         x, y = plane_axes(plane, key[1])
         return x, y, None, False
+
+    def _heat_cells(self, plane: str) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray, np.ndarray,
+                                               bool]:
+        """The heat map's cells: x and y edges, growth (None: nothing computed for this plane), where each cell's
+        value was computed (x, y: the cell's centre, or its owner's on a refined map) and whether the map is current."""
+        ax, ay = PLANES[plane]
+        res = self.result
+        x, y, growth, current = self._shown(plane)
+        if res is not None and res.plane == plane and res.refined is not None:
+            r = res.refined
+            return r.x_edges, r.y_edges, growth, r.owner_x, r.owner_y, current
+        return (ax.edges(x.size), ay.edges(y.size), growth, np.broadcast_to(x[None, :], (y.size, x.size)),
+                np.broadcast_to(y[:, None], (y.size, x.size)), current)
 
     def _heat(self, plane: str, **_stream_values) -> hv.QuadMesh:
         """The heat map: the finished map; while one is computed, the previous map of this plane (faded) or a
         blank; while a slider is held at inputs off the map's, their preview (:meth:`_shown_preview`; its hover says
         so). Rendering it is what starts the computation (only a shown map computes)."""
         ax, ay = PLANES[plane]
-        x, y, growth, current = self._shown(plane)
+        xe, ye, growth, at_x, at_y, current = self._heat_cells(plane)
         if plane == self.plane and not current:
             self.ensure_map()
         alpha = 1.0 if current else 0.45
         what = "the map" if current else "the map of the previous inputs"
         pv = self._shown_preview(plane, sm.RAYLEIGH)
         if pv is not None:
-            x, y, growth, alpha, what = pv.x, pv.y, pv.growth, PREVIEW_ALPHA, preview_words(pv)
+            xe, ye, growth, alpha, what = ax.edges(pv.x.size), ay.edges(pv.y.size), pv.growth, PREVIEW_ALPHA, \
+                preview_words(pv)
+            at_x, at_y = np.broadcast_to(pv.x[None, :], growth.shape), np.broadcast_to(pv.y[:, None], growth.shape)
         if growth is None:  # blank (zeros, transparent: an all-NaN mesh has no colour range)
-            growth, alpha = np.zeros((y.size, x.size)), 0.0
+            growth, alpha = np.zeros((ye.size - 1, xe.size - 1)), 0.0
         finite = np.abs(growth[np.isfinite(growth)])
         top = float(finite.max()) if finite.size and finite.max() > 0 else 1e-3
         xd, yd = self._dims(plane)
         shown = np.full(growth.shape, what, dtype=object)
-        return hv.QuadMesh((ax.edges(x.size), ay.edges(y.size), growth, shown), kdims=[xd, yd],
-                           vdims=[hv.Dimension("growth", label=GROWTH_LABEL), "shown"]).opts(
+        return hv.QuadMesh((xe, ye, growth, shown, at_x, at_y), kdims=[xd, yd],
+                           vdims=[hv.Dimension("growth", label=GROWTH_LABEL), "shown", "at_x", "at_y"]).opts(
             cmap=GROWTH_CMAP, clim=(-top, top), colorbar=True, clabel=GROWTH_LABEL, framewise=True, alpha=alpha,
             clipping_colors={"NaN": NAN_COLOR}, line_alpha=0, logx=ax.log, logy=ay.log, tools=["hover"],
-            hover_tooltips=[(ax.label, "$x"), (ay.label, "$y"), (GROWTH_LABEL, "@growth"), ("shown", "@shown")],
+            hover_tooltips=[(ax.label, "$x"), (ay.label, "$y"), (GROWTH_LABEL, "@growth"),
+                            ("computed at", f"{ax.label} = @at_x, {ay.label} = @at_y"), ("shown", "@shown")],
             responsive=True, height=460, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi))
 
     def _shown_sliding(self, plane: str) -> tuple[sm.SlidingMap | None, bool]:
@@ -1333,11 +1393,11 @@ class StabilityMapScene(pn.viewable.Viewer):
                    "params.gamma", "params.log10_eta", "params.eta_infinite",
                    "params.f", "params.beta", "params.Delta", "params.xi", "params.dragging")
     def readout(self) -> str:
-        plane, n, fixed = self.map_key
+        plane, n, fixed, levels = self.map_key
         ax, ay = PLANES[plane]
         others = ", ".join(f"{SpectrumParams.symbol(k)} = {'∞' if np.isinf(v) else fmt(v)}" for k, v in fixed)
         lines = [f"**Plane** {plane}: x = {ax.label}, y = {ay.label}; {others}",
-                 f"**Grid** {n} × {n} points, max over {KH.size} kH from {KH[0]:g} to {KH[-1]:g}"]
+                 f"**Grid** {grid_words(n, levels)}, max over {KH.size} kH from {KH[0]:g} to {KH[-1]:g}"]
         res = self.result
         if self.status.startswith("error"):
             lines.append(f"**Failed** {self.status[len('error: '):]}")
@@ -1370,6 +1430,8 @@ class StabilityMapScene(pn.viewable.Viewer):
                 lines.append(f"**Partly masked** {partial_mask} point(s): branch not followable on part of the kH "
                              "grid; maximum over the rest")
             lines.append(self._neutral_line(res))
+            if res.refined is not None:
+                lines.append(self._refined_line(res.refined))
             cached = res.chunks_total - res.chunks_computed
             lines.append(f"**Time** {res.seconds:.2f} s ({res.chunks_total} chunks"
                          + (f", {cached} from the cache)" if cached else ")"))
@@ -1414,8 +1476,17 @@ class StabilityMapScene(pn.viewable.Viewer):
                     "not along Δ or ξ)")
         certified, refused = sb.crossing_counts(c)
         return (f"**Neutral curve** exact in γ: {certified} certified threshold(s) γ_c (a neutral mode each, "
-                f"model.critical_gammas) at the {c['x'].size} x values of the grid"
+                f"model.critical_gammas) at {c['x'].size} x values"
                 + (f"; {refused} sign change(s) that are not thresholds (×, reason on hover)" if refused else ""))
+
+    @staticmethod
+    def _refined_line(r: mr.RefinedMap) -> str:
+        """How the map was refined: the points of each level, the finest grid, what an unrefined cell shows."""
+        per_level = ", ".join(f"{r.evaluated(level)} at level {level}" for level in range(1, r.levels + 1))
+        return (f"**Refined** where the Rayleigh verdict changes between neighbouring cells (stable against unstable): "
+                f"{per_level} (finest {r.size} × {r.size} cells). Each cell shows the value computed at its centre or, "
+                "not refined, at the centre of the coarser cell that holds it (hover: computed at); no value is "
+                "interpolated")
 
     def _show_view(self, pane: pn.pane.HoloViews) -> None:
         """Show the view of the current plane and colouring, and start what it needs: a view shown again is not
@@ -1520,10 +1591,17 @@ class StabilityMapScene(pn.viewable.Viewer):
             return []
         iy, ix = cell
         ax, ay = PLANES[self.plane]
-        where = f"{ax.label} = {fmt(res.x[ix])}, {ay.label} = {fmt(res.y[iy])}"
-        g = float(res.growth[iy, ix])
+        at_x, at_y, g, kh = res.x[ix], res.y[iy], float(res.growth[iy, ix]), float(res.kH_at_max[iy, ix])
+        if res.refined is not None:  # the finest cell under the star, and the point its value was computed at
+            r = res.refined
+            x, y, _ = self.marker_position()
+            fy = int(np.clip(np.searchsorted(r.y_edges, y) - 1, 0, r.size - 1))
+            fx = int(np.clip(np.searchsorted(r.x_edges, x) - 1, 0, r.size - 1))
+            at_x, at_y = r.owner_x[fy, fx], r.owner_y[fy, fx]
+            g, kh = float(r.growth[fy, fx]), float(r.kH_at_max[fy, fx])
+        where = f"{ax.label} = {fmt(at_x)}, {ay.label} = {fmt(at_y)}"
         ray = ("not computable" if not np.isfinite(g) else
-               f"unstable, max Im[c/c_s] = {fmt(g)} at kH = {fmt(float(res.kH_at_max[iy, ix]))}" if g > MARGINAL
+               f"unstable, max Im[c/c_s] = {fmt(g)} at kH = {fmt(kh)}" if g > MARGINAL
                else f"stable, max Im[c/c_s] = {fmt(g)}")
         lines = [f"**The star's cell** ({where}): Rayleigh branch {ray}"]
         sl = self.sliding
@@ -1532,13 +1610,15 @@ class StabilityMapScene(pn.viewable.Viewer):
             f = {k: v[iy, ix] for k, v in sl.fields.items()}
             text = sm.cell_text(verdict=f["verdict"], reason=f["reason"], family=f["family"], growth=f["growth"],
                                 kH=f["kH_at_max"], re_z=f["re_z"], lower_bound=bool(f["lower_bound"]), floor=sl.floor)
-            lines.append(f"**The star's cell, sliding (every branch)** {text}")
+            at = (f" ({ax.label} = {fmt(res.x[ix])}, {ay.label} = {fmt(res.y[iy])})" if res.refined is not None
+                  else "")
+            lines.append(f"**The star's cell, sliding (every branch)**{at} {text}")
         return lines
 
     def map_csv(self) -> io.StringIO:
         """What the map shows: both plane parameters, max growth, kH at the maximum, masked kH points per point."""
         res = self.result
-        plane, n, fixed = self.map_key
+        plane, n, fixed, levels = self.map_key
         ax, ay = PLANES[plane]
         header = (f"asymslide stability map, plane {ax.name}-{ay.name}; max over kH = logspace(-3, 3, {KH.size}); "
                   + ", ".join(f"{k} = {v!r}" for k, v in fixed)
@@ -1550,6 +1630,16 @@ class StabilityMapScene(pn.viewable.Viewer):
         nx, ny = res.x.size, res.y.size
         columns = {ax.name: np.tile(res.x, ny), ay.name: np.repeat(res.y, nx), "max_growth": res.growth.ravel(),
                    "kH_at_max": res.kH_at_max.ravel(), "n_masked_kH": res.n_masked.ravel()}
+        refined = res.refined.points if res.refined is not None else None
+        if refined is not None:
+            header += (f". level 0: the {nx} × {ny} grid; level 1..{levels}: the points added where the Rayleigh "
+                       "verdict changes between neighbouring cells (each level halves the cells)")
+            columns = {ax.name: np.concatenate([columns[ax.name], refined["x"]]),
+                       ay.name: np.concatenate([columns[ay.name], refined["y"]]),
+                       "max_growth": np.concatenate([columns["max_growth"], refined["growth"]]),
+                       "kH_at_max": np.concatenate([columns["kH_at_max"], refined["kH_at_max"]]),
+                       "n_masked_kH": np.concatenate([columns["n_masked_kH"], refined["n_masked"]]).astype(int),
+                       "level": np.concatenate([np.zeros(nx * ny, int), refined["level"].astype(int)])}
         sl = self.sliding
         if self.colours_sliding() and not self._sliding_current():
             header += ". Sliding over every branch: not in this file (its map is being computed: download it again "
@@ -1561,9 +1651,17 @@ class StabilityMapScene(pn.viewable.Viewer):
                        "model.SLIDING_STATUS; "
                        "family_all model.FAMILIES (-1: none); max_growth_all NaN unless unstable and certified")
             f = sl.fields
-            columns.update({"max_growth_all": f["growth"].ravel(), "kH_at_max_all": f["kH_at_max"].ravel(),
-                            "re_z_at_max_all": f["re_z"].ravel(), "family_all": f["family"].ravel(),
-                            "verdict_all": f["verdict"].ravel(), "verdict_reason_all": f["reason"].ravel()})
+            extra = 0 if refined is None else refined["x"].size
+            if extra:
+                header += " (on the level-0 grid only: NaN or -1 on the refined points)"
+
+            def pad(a: np.ndarray, fill: float) -> np.ndarray:
+                a = a.ravel()
+                return np.concatenate([a, np.full(extra, fill, dtype=float if np.isnan(fill) else a.dtype)])
+
+            columns.update({"max_growth_all": pad(f["growth"], np.nan), "kH_at_max_all": pad(f["kH_at_max"], np.nan),
+                            "re_z_at_max_all": pad(f["re_z"], np.nan), "family_all": pad(f["family"], -1),
+                            "verdict_all": pad(f["verdict"], -1), "verdict_reason_all": pad(f["reason"], -1)})
         return csv_table(header, columns)
 
     def boundary_csv(self) -> io.StringIO:

@@ -30,6 +30,7 @@ pytestmark = pytest.mark.usefixtures("fresh_caches")
 def small(monkeypatch: pytest.MonkeyPatch) -> None:
     """12 x 12 maps at the default resolution: passes of strides 8, 4, 2, 1 (4, 5, 27 and 108 points)."""
     monkeypatch.setitem(sm.RESOLUTIONS, StabilityMapScene.param.resolution.default, 12)
+    monkeypatch.setitem(sm.LEVELS, StabilityMapScene.param.resolution.default, 0)
 
 
 def _rayleigh_map(scene: StabilityMapScene) -> None:

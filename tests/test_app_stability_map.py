@@ -47,8 +47,10 @@ def _rayleigh_colouring(monkeypatch: pytest.MonkeyPatch) -> None:
 
 @pytest.fixture
 def small(monkeypatch):
-    """8 x 8 maps at the default resolution (4 chunks of 2 rows): the logic tests do not need the real one."""
+    """8 x 8 maps at the default resolution (4 chunks of 2 rows), not refined: the logic tests do not need the real
+    one (the refinement is tested by test_map_equals_model_max_growth and tests/test_app_map_refine.py)."""
     monkeypatch.setitem(sm.RESOLUTIONS, DEFAULT_RESOLUTION, 8)
+    monkeypatch.setitem(sm.LEVELS, DEFAULT_RESOLUTION, 0)
 
 
 def _computed(scene: StabilityMapScene) -> sm.MapResult:
@@ -69,6 +71,30 @@ def _expected(plane: str, n: int, p: SpectrumParams) -> tuple[np.ndarray, np.nda
     args[ax.name], args[ay.name] = x[None, :], y[:, None]
     growth, kh = model.max_growth(KH, **args)
     return x, y, growth, kh
+
+
+def _assert_drawn_values_are_the_models(plane: str, p: SpectrumParams, mesh: hv.QuadMesh, x: np.ndarray,
+                                        y: np.ndarray, growth: np.ndarray) -> None:
+    """Every drawn cell's growth is model.max_growth at the point its hover names ("computed at"), computed here
+    point by point; at the default resolution the map is refined (96 x 96 cells over the 24 x 24 grid); cells are
+    refined (drawn with a value computed off the base grid) exactly where the base grid's Rayleigh verdict
+    changes."""
+    drawn = mesh.dimension_values("growth", flat=False)
+    at_x, at_y = (mesh.dimension_values(d, flat=False) for d in ("at_x", "at_y"))
+    levels = sm.LEVELS[DEFAULT_RESOLUTION]
+    assert levels == 2 and drawn.shape == (y.size * 2**levels, x.size * 2**levels)
+    points = np.unique(np.column_stack([at_x.ravel(), at_y.ravel()]), axis=0)
+    ax, ay = PLANES[plane]
+    args = dict(zip(("gamma", "f", "beta", "eta", "Delta", "xi"), p.model_args(), strict=True))
+    args[ax.name], args[ay.name] = points[:, 0], points[:, 1]
+    expected, _ = model.max_growth(KH, **args)
+    index = {(px, py): g for (px, py), g in zip(map(tuple, points), expected, strict=True)}
+    want = np.array([index[px, py] for px, py in zip(at_x.ravel(), at_y.ravel(), strict=True)]).reshape(drawn.shape)
+    np.testing.assert_array_equal(drawn, want)
+    refined = ~np.isin(at_x, x) | ~np.isin(at_y, y)
+    up, down = growth > sm.MARGINAL, growth <= sm.MARGINAL  # NaN is neither
+    changes = [(a[:, 1:] & b[:, :-1]) | (a[:, :-1] & b[:, 1:]) for a, b in ((up, down), (up.T, down.T))]
+    assert refined.any() == any(c.any() for c in changes)
 
 
 def _layer(overlay: hv.Overlay, kind: type, label: str = "") -> hv.Element:
@@ -116,11 +142,12 @@ def test_map_equals_model_max_growth(plane: str, p: dict) -> None:
 
     overlay = scene.view()[()]
     mesh = _layer(overlay, hv.QuadMesh)
-    np.testing.assert_array_equal(mesh.dimension_values("growth", flat=False), growth)
+    drawn = mesh.dimension_values("growth", flat=False)
+    _assert_drawn_values_are_the_models(plane, params, mesh, x, y, growth)
     ax, ay = PLANES[plane]
     assert [d.label for d in mesh.kdims] == [ax.label, ay.label]
     lo, hi = mesh.opts.get().kwargs["clim"]
-    assert lo == -hi and hi == np.nanmax(np.abs(growth))  # diverging around 0
+    assert lo == -hi and hi == np.nanmax(np.abs(drawn))  # diverging around 0
 
     finite = np.isfinite(growth)
     text = scene.readout()
@@ -441,6 +468,26 @@ def test_map_csv_is_what_the_map_shows(small) -> None:
     assert scene.map_download.disabled
 
 
+def test_the_refined_maps_csv_adds_its_refined_points(monkeypatch) -> None:
+    """At the default resolution (refined at the neutral curve) the CSV holds the base grid (level 0) and, below it,
+    every point added by the refinement with its level: each row the model's value at the row's point."""
+    monkeypatch.setitem(sm.RESOLUTIONS, DEFAULT_RESOLUTION, 10)
+    scene = StabilityMapScene(params=SpectrumParams(f=0.7), plane="β-γ")
+    res = _computed(scene)
+    comment, header, data = _read_csv(scene.map_download.callback())
+    assert header == ["beta", "gamma", "max_growth", "kH_at_max", "n_masked_kH", "level"]
+    assert "level 0: the 10 × 10 grid" in comment
+    levels = data[:, 5]
+    assert np.all(levels[:100] == 0) and set(levels[100:]) == {1, 2} and np.all(np.diff(levels[100:]) >= 0)
+    assert data.shape[0] == 100 + res.refined.points["x"].size
+    args = dict(zip(SpectrumParams.MODEL_ARGS, scene.params.model_args(), strict=True))
+    args["beta"], args["gamma"] = data[:, 0], data[:, 1]
+    growth, kh = model.max_growth(KH, **args)
+    np.testing.assert_array_equal(data[:, 2], growth)
+    np.testing.assert_array_equal(data[:, 3], kh)
+    assert "**Refined**" in scene.readout() and "refined to 40 × 40" in scene.readout()
+
+
 def test_fig4c_csv_is_what_fig4c_shows() -> None:
     scene = StabilityMapScene()
     comment, header, data = _read_csv(scene.fig4c_download.callback())
@@ -486,7 +533,8 @@ _MAP_JS = """() => {
     if (!g.some(v => Number.isFinite(v) && v !== 0)) continue;  // the blank shown while computing is all 0
     const f = a => Array.from(a);
     return {left: f(d.left), right: f(d.right), bottom: f(d.bottom), top: f(d.top),
-            growth: g.map(v => Number.isFinite(v) ? v : null)};
+            growth: g.map(v => Number.isFinite(v) ? v : null),
+            at_x: d.at_x === undefined ? null : f(d.at_x), at_y: d.at_y === undefined ? null : f(d.at_y)};
   }
   return null;
 }"""
@@ -506,17 +554,18 @@ def test_served_map_shows_the_model_values(served_app: str, browser_page) -> Non
     open_app(page, served_app, "Stability map")
     page.wait_for_function(_MAP_JS, timeout=60_000)
     d = page.evaluate(_MAP_JS)
-    n = sm.RESOLUTIONS[DEFAULT_RESOLUTION]
-    x, y, growth, _ = _expected("η-γ", n, SpectrumParams())
-    xe, ye = PLANES["η-γ"][0].edges(n), PLANES["η-γ"][1].edges(n)
-    shown = np.full((n, n), np.inf)
-    for left, bottom, g in zip(d["left"], d["bottom"], d["growth"], strict=True):
-        j = int(np.argmin(np.abs(np.log(xe[:-1] / left))))
-        i = int(np.argmin(np.abs(np.log(ye[:-1] / bottom))))
-        shown[i, j] = np.nan if g is None else g
-    assert len(d["growth"]) == n * n
-    np.testing.assert_allclose(shown, growth, rtol=1e-12, atol=0)
-    n_chunks = len(sm.chunk_rows(n))
+    n, levels = sm.RESOLUTIONS[DEFAULT_RESOLUTION], sm.LEVELS[DEFAULT_RESOLUTION]
+    cells = n * 2**levels  # the map refined at its neutral curve: every cell drawn with the value at its hover's point
+    assert len(d["growth"]) == cells * cells and len(d["at_x"]) == cells * cells
+    args = dict(zip(("gamma", "f", "beta", "eta", "Delta", "xi"), SpectrumParams().model_args(), strict=True))
+    args["eta"], args["gamma"] = np.array(d["at_x"]), np.array(d["at_y"])
+    expected, _ = model.max_growth(KH, **args)
+    shown = np.array([np.nan if g is None else g for g in d["growth"]])
+    np.testing.assert_allclose(shown, expected, rtol=1e-12, atol=0)
+    x, y, growth, _ = _expected("η-γ", n, SpectrumParams())  # the base grid's points are drawn where not refined
+    at = set(zip(d["at_x"], d["at_y"], strict=True))
+    assert sum((float(px), float(py)) in at for px in x for py in y) > n * n // 2
+    n_chunks = len(sm.chunk_rows(n)) + levels
     try:
         page.wait_for_function(_PROGRESS_JS, arg=n_chunks, timeout=10_000)  # the bar shows the finished chunks
     except Exception:
@@ -571,15 +620,17 @@ def test_new_inputs_mid_computation_cancel_it_in_the_browser(served_app: str, br
     monkeypatch.setattr(sm, "compute_chunk", held_first)
     page = browser_page
     open_app(page, served_app, "Stability map")
-    medium, coarse = sm.RESOLUTIONS["medium"], sm.RESOLUTIONS["coarse"]
-    page.get_by_text(f"Computing the η-γ map ({medium} × {medium} points): 0 of").first.wait_for(timeout=60_000)
+    medium, fine = sm.RESOLUTIONS["medium"], sm.RESOLUTIONS["fine"]
+    medium_words = sm.grid_words(medium, sm.LEVELS["medium"])
+    page.get_by_text(f"Computing the η-γ map ({medium_words}): 0 of").first.wait_for(timeout=60_000)
     assert held.wait(60)
-    page.get_by_role("button", name="coarse").first.click()
-    page.get_by_text(f"Computing the η-γ map ({coarse} × {coarse} points)").first.wait_for(timeout=60_000)
+    page.get_by_role("button", name="fine").first.click()
+    fine_words = sm.grid_words(fine, sm.LEVELS["fine"])
+    page.get_by_text(f"Computing the η-γ map ({fine_words})").first.wait_for(timeout=60_000)
     go_on.set()
-    page.get_by_text(f"The η-γ map ({coarse} × {coarse} points)", exact=True).first.wait_for(timeout=120_000)
+    page.get_by_text(f"The η-γ map ({fine_words})", exact=True).first.wait_for(timeout=120_000)
     page.wait_for_function(_MAP_JS, timeout=60_000)
-    assert len(page.evaluate(_MAP_JS)["growth"]) == coarse * coarse
+    assert len(page.evaluate(_MAP_JS)["growth"]) == (fine * 2 ** sm.LEVELS["fine"]) ** 2
     assert computed.count(medium) == 1  # the stale map stopped after its current chunk
     assert page.console_errors == []
 
@@ -694,6 +745,7 @@ def test_a_plane_without_gamma_keeps_the_grid_contour_and_says_so(small) -> None
 def sixteen(monkeypatch):
     """16 x 16 maps at the default resolution: finer than the 12 x 12 preview, as every real resolution is."""
     monkeypatch.setitem(sm.RESOLUTIONS, DEFAULT_RESOLUTION, 16)
+    monkeypatch.setitem(sm.LEVELS, DEFAULT_RESOLUTION, 0)
 
 
 def _growth(plane: str, n: int, p: SpectrumParams) -> np.ndarray:
@@ -899,6 +951,7 @@ def test_a_held_slider_previews_the_sliding_verdict_chunk_by_chunk(monkeypatch) 
     points (model.sliding_analysis), published after each chunk (the first one already draws), labelled as a preview;
     at the release the full sliding map replaces it."""
     monkeypatch.setitem(sm.RESOLUTIONS, DEFAULT_RESOLUTION, 8)
+    monkeypatch.setitem(sm.LEVELS, DEFAULT_RESOLUTION, 0)
     published: list[sm.MapPreview] = []
     real_publish = jobs.Job.publish
 
