@@ -16,7 +16,7 @@ scene falls back to the full redraw (correct, only slower).
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 import panel as pn
@@ -64,28 +64,118 @@ def _same(shown, column: np.ndarray) -> bool:
         return bool(np.array_equal(shown, column))
 
 
-def push(pane: pn.pane.HoloViews, layers: Mapping[str, Layer], *, empty_others: bool = False) -> bool:
-    """Write `layers` (by legend label) into every rendered copy of the overlay in `pane`, then run the overlay's
-    hooks on what is drawn (e.g. :func:`app.params.fit_y_hook`, :func:`app.spectrum.band_legend_hook`: HoloViews runs
-    them after each of its own updates; they read the Bokeh models, so they fit the data written here).
-    `empty_others`: the other layers with a data source are emptied (they belong to inputs no longer shown). False
-    if nothing is rendered or a layer was not found: the caller then redraws through HoloViews."""
+#: which layer a pushed layer goes to: its legend label (every layer of that label), or (label, n): the n-th layer (from
+#: 0, in the overlay's order) of that label, for layers that share one (e.g. markers without a legend entry, label "")
+LayerKey = str | tuple[str, int]
+
+
+def _key(layers: Mapping[LayerKey, Layer], label: object, n: int) -> LayerKey | None:
+    """The key of `layers` that addresses the `n`-th rendered layer labelled `label`, or None."""
+    if label in layers:
+        return label  # type: ignore[return-value]
+    return (label, n) if (label, n) in layers else None  # type: ignore[return-value]
+
+
+def push(pane: pn.pane.HoloViews, layers: Mapping[LayerKey, Layer], *, empty_others: bool = False,
+         title: str | None = None) -> bool:
+    """Write `layers` (by legend label, or (label, n): :data:`LayerKey`) into every rendered copy of the overlay in
+    `pane`, then run the overlay's hooks on what is drawn (e.g. :func:`app.params.fit_y_hook`,
+    :func:`app.spectrum.band_legend_hook`: HoloViews runs them after each of its own updates; they read the Bokeh
+    models, so they fit the data written here).
+    `empty_others`: the other layers with a data source are emptied (they belong to inputs no longer shown).
+    `title`: the plot's new title (a title that names the followed value). False if nothing is rendered or a layer
+    was not found: the caller then redraws through HoloViews."""
     plots = rendered_plots(pane)
     if not plots:
         return False
     for plot in plots:
         found = set()
+        seen: dict[object, int] = {}
         for subplot in plot.subplots.values():
             label = getattr(subplot.current_frame, "label", None)
-            if label in layers:
-                if not _write(subplot, layers[label]):
+            n = seen[label] = seen.get(label, -1) + 1
+            key = _key(layers, label, n)
+            if key is not None:
+                if not _write(subplot, layers[key]):
                     return False
-                found.add(label)
+                found.add(key)
             elif empty_others and subplot.handles.get("source") is not None:
                 source = subplot.handles["source"]
                 source.data = {name: np.array([]) for name in source.data}
         if found != set(layers):
             return False
+        if title is not None and plot.state.title is not None:
+            plot.state.title.text = title
         for hook in plot.hooks:
             hook(plot, None)
     return True
+
+
+def _served() -> bool:
+    """Whether this runs in a server session (its events are then handled on the session's event loop)."""
+    doc = pn.state.curdoc
+    return doc is not None and doc.session_context is not None
+
+
+class Follow:
+    """A scene's plots that follow its held sliders (a slider is held while its ``value`` differs from its
+    ``value_throttled``, its value at the last release): each new value is written into the plots on the page by
+    `follow` (:func:`push`; it returns False where it cannot: the plots are then redrawn by `redraw`, through
+    HoloViews). Served, a held slider's moves are read on the next turn of the event loop (:meth:`defer`), at the
+    values then current: moves that arrive meanwhile are each a cheap parameter change, and only the latest is read,
+    drawn and read out (no backlog of stale frames); the release is followed at once (a slider's events hold the
+    document's lock, which writing into Bokeh models needs). A change that comes from elsewhere (a preset, the URL, a
+    typed value) is redrawn by `redraw`.
+
+    `follow` returns True where the page shows the current values (also when nothing changed); `redraw` redraws what
+    the page does not show yet (nothing when it shows the current values: a release at the last written position
+    costs no HoloViews update)."""
+
+    def __init__(self, follow: Callable[[], bool], redraw: Callable[[], None]) -> None:
+        self._follow, self._redraw = follow, redraw
+        self.sliders: list[pn.widgets.FloatSlider] = []
+        self._following = False  # the plots follow a held slider (also after a release whose follow is pending)
+        self._pending: Callable[[], None] | None = None  # a deferred reading of the scene's parameters
+
+    def track(self, widgets: Mapping[str, pn.widgets.Widget]) -> None:
+        """Follow the sliders among `widgets` (a scene's widgets, bound to its parameters)."""
+        for widget in widgets.values():
+            if isinstance(widget, pn.widgets.FloatSlider):
+                self.sliders.append(widget)
+                widget.param.watch(self._released, "value_throttled")
+
+    def held(self) -> bool:
+        """Whether one of the tracked sliders is held."""
+        return any(slider.value != slider.value_throttled for slider in self.sliders)
+
+    def defer(self, update: Callable[[], None]) -> bool:
+        """While a tracked slider is held in a served session: `update` (the scene's reading of its parameters, which
+        calls :meth:`changed`) runs on the next turn of the event loop, once for every move until then; True if
+        deferred (else the caller updates now)."""
+        if not (self.held() and _served()):
+            return False
+        self._following = True
+        if self._pending is None:
+            self._pending = update
+            pn.state.execute(self._run_pending, schedule=True)
+        return True
+
+    def _run_pending(self) -> None:
+        update, self._pending = self._pending, None
+        if update is not None:
+            update()
+
+    def changed(self) -> None:
+        """The followed inputs changed: written while a slider is held or at its release, else redrawn."""
+        held = self.held()
+        following, self._following = held or self._following, held
+        if not (following and self._follow()):
+            self._redraw()
+
+    def _released(self, _event) -> None:
+        """A slider released (or set): the page shows the released values, written (a deferred reading runs now) or
+        redrawn."""
+        if self._pending is not None:
+            self._run_pending()
+        else:
+            self.changed()

@@ -7,6 +7,11 @@ function per dependency group, so that moving c/c_R recomputes the profile and t
 curves over c/c_R, changing σ₀ recomputes only the Δσ_yy/σ₀ curves, and changing one kW only its curve. Bad input
 (c ≥ c_R, a Poisson ratio outside (−1, 0.5), a non-positive Γ, …) empties the views it affects and shows the
 model's message; the session keeps working.
+
+While the c/c_R slider is held, the plots follow it without a HoloViews redraw: the new profile and markers are
+written into the Bokeh sources on the page (:mod:`app.live`, a few ms instead of ~0.3 s for the four plots), with the
+y range of (a) fitted by its hook as a redraw fits it; where that cannot show what a redraw would (bad input, a
+marker that would widen a plot's range), HoloViews redraws.
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ import param
 
 import model
 
+from . import live
 from .docs import reference_card
 from .params import (
     CUSTOM,
@@ -30,6 +36,7 @@ from .params import (
     controls_column,
     csv_download,
     csv_table,
+    fit_y_hook,
     fmt,
     material_readout,
     scene_layout,
@@ -191,6 +198,26 @@ def _overlay(layers: list[hv.Element], **options: object) -> hv.Overlay:
     return hv.Overlay(layers).opts(hv.opts.Overlay(responsive=True, framewise=True, **options))
 
 
+def profile_title(c_ratio: float) -> str:
+    """The title of (a) at c = `c_ratio` c_R."""
+    return f"(a) Slip velocity behind the tip at c = {fmt(c_ratio)} c_R"
+
+
+def marker_key(i: int) -> live.LayerKey:
+    """The layer of the current-c marker of the `i`-th kW in (c) and (d): the first has the legend entry, the others
+    no label (app.live addresses them by their order)."""
+    return "current c" if i == 0 else ("", i - 1)
+
+
+def _inside(value: float, values: np.ndarray) -> bool:
+    """Whether a marker at `value` lies within the finite `values` of the curves beside it (a NaN is not drawn): then
+    it does not change the range HoloViews computes for the plot."""
+    if np.isnan(value):
+        return True
+    finite = values[np.isfinite(values)]
+    return bool(np.isfinite(value) and finite.size and finite.min() <= value <= finite.max())
+
+
 class RuptureScene(pn.viewable.Viewer):
     """Widgets, plots (a)-(d), readout and messages for one :class:`RuptureParams`."""
 
@@ -201,11 +228,18 @@ class RuptureScene(pn.viewable.Viewer):
     front_key = param.Tuple(default=None, length=6, allow_None=True, precedence=-1)  # (c/c_R, Γ, X_c0, ρ, c_s, ν)
     curve_key = param.Tuple(default=None, length=5, allow_None=True, precedence=-1)  # (Γ, X_c0, ρ, c_s, ν)
     stress_key = param.Tuple(default=None, length=4, allow_None=True, precedence=-1)  # (σ₀, kW₁, kW₂, kW₃)
+    #: counts HoloViews' redraws at a new front_key (the plots depend on it, not on front_key): while the c/c_R slider
+    #: is held, the plots on the page follow it without one (app.live)
+    drawn = param.Integer(default=0, precedence=-1)
 
     def __init__(self, **kwargs) -> None:
         kwargs.setdefault("params", RuptureParams())
         kwargs.setdefault("material", LabParams())
         super().__init__(**kwargs)
+        #: the plot panes by name (profile, vm, stress, stress_vm) once built: a held slider writes into them
+        self.panes: dict[str, pn.pane.HoloViews] = {}
+        self._shown: tuple | None = None  # the front_key the plots on the page show (drawn or written)
+        self.follow = live.Follow(self._follow, self._redraw)
         self._update_keys()
         self.params.param.watch(self._update_keys, [n for n in self.params.param if n != "name"])
         self.material.param.watch(self._update_keys, ["rho", "c_s", "sigma0_MPa"])
@@ -220,7 +254,10 @@ class RuptureScene(pn.viewable.Viewer):
         if event.new != CUSTOM:
             self.params.nu = RuptureParams.material_nu(event.new)
 
-    def _update_keys(self, *_events) -> None:
+    def _update_keys(self, *events) -> None:
+        """The model arguments from the parameters (a held slider's moves: read on the next turn, app.live.Follow)."""
+        if events and self.follow.defer(self._update_keys):
+            return
         p, m = self.params, self.material
         curve = (float(p.Gamma), p.X_c0_mm * 1e-3, float(m.rho), float(m.c_s), float(p.nu))
         front = (float(p.c_over_cR), *curve)
@@ -229,6 +266,73 @@ class RuptureScene(pn.viewable.Viewer):
             for name, value in (("front_key", front), ("curve_key", curve), ("stress_key", stress)):
                 if value != getattr(self, name):
                     setattr(self, name, value)
+            if front != self._shown:  # in the same batch: a plot that also depends on another key redraws once
+                self.follow.changed()
+
+    # ----------------------------------------------------------------------------------------
+    # following a held slider (app.live)
+    # ----------------------------------------------------------------------------------------
+
+    def _redraw(self) -> None:
+        """HoloViews redraws the plots at front_key, unless the page shows it already."""
+        if self.front_key != self._shown:
+            self._shown = self.front_key
+            self.drawn += 1
+
+    def _follow(self) -> bool:
+        """Write the plots of front_key into the page (:mod:`app.live`) when only c/c_R differs from what it shows;
+        True if the page then shows front_key. False where a redraw would draw something else than new data in the
+        same layers (bad input, other inputs, a marker outside the curves beside it, which widens a framewise range,
+        plots not rendered): HoloViews redraws then."""
+        front, shown = self.front_key, self._shown
+        if front == shown:
+            return True
+        if (shown is None or front[1:] != shown[1:] or len(self.panes) < 4
+                or not (self._pushable(shown) and self._pushable(front))):
+            return False
+        if not all(live.push(self.panes[name], layers, title=profile_title(front[0]) if name == "profile" else None)
+                   for name, layers in self.live_layers(front).items()):
+            return False
+        self._shown = front
+        return True
+
+    def _fronts(self, front_key: tuple) -> tuple[dict, dict, dict, list[dict], list[dict]]:
+        """front, profile, v_m curve, Δσ curves and Δσ points at `front_key` (the cached model calls)."""
+        c, curve = front_key[0], front_key[1:]
+        sigma0 = self.stress_key[0]
+        curves = [compute_stress_curve(kw, sigma0, *curve) for kw in self.kWs()]
+        points = [compute_stress_point(c, kw, sigma0, *curve) for kw in self.kWs()]
+        return compute_front(*front_key), compute_profile(*front_key), compute_vm_curve(*curve), curves, points
+
+    def _pushable(self, front_key: tuple) -> bool:
+        """Whether the plots at `front_key` have every layer (no bad input) and each marker (and the cohesive zone)
+        lies within the curves beside it: the framewise x ranges, and the y ranges of (b)-(d), are then those of the
+        curves, which a held c/c_R does not change ((a)'s y range is fitted by its hook)."""
+        front, profile, vm, curves, points = self._fronts(front_key)
+        if any("error" in d for d in (front, profile, vm, *curves, *points)):
+            return False
+        x = profile["x"] * 1e3
+        checks = [_inside(-front["X_c"] * 1e3, x), _inside(front["x_m"] * 1e3, x),
+                  _inside(front_key[0], vm["c_ratio"]), _inside(front["v_m"], vm["v_m"])]
+        c_values = np.concatenate([_positive(d["ds"]) for d in curves])
+        vm_values = np.concatenate([d["ds"] for d in curves])
+        for pt in points:
+            checks += [_inside(float(_positive(np.array([pt["ds"]]))[0]), c_values), _inside(pt["ds"], vm_values)]
+        return all(checks)
+
+    def live_layers(self, front_key: tuple) -> dict[str, dict[live.LayerKey, live.Layer]]:
+        """What a c/c_R change changes in each plot (by pane name, then layer): the profile, its peak and cohesive
+        zone in (a); the current-c markers in (b)-(d), on (c)'s log axis as :meth:`_stress_layers` draws them."""
+        front, profile, _vm, _curves, points = self._fronts(front_key)
+        c, v_m = front_key[0], front["v_m"]
+        return {
+            "profile": {"cohesive zone size X_c": (np.array([-front["X_c"] * 1e3]), np.array([0.0])),
+                        "v(x)": (profile["x"] * 1e3, profile["v"]),
+                        "peak v_m": (np.array([front["x_m"] * 1e3]), np.array([v_m]))},
+            "vm": {"current c": (np.array([c]), np.array([v_m]))},
+            "stress": {marker_key(i): (np.array([c]), _positive(np.array([pt["ds"]]))) for i, pt in enumerate(points)},
+            "stress_vm": {marker_key(i): (np.array([v_m]), np.array([pt["ds"]])) for i, pt in enumerate(points)},
+        }
 
     # ----------------------------------------------------------------------------------------
     # data
@@ -258,7 +362,7 @@ class RuptureScene(pn.viewable.Viewer):
     # plots
     # ----------------------------------------------------------------------------------------
 
-    @param.depends("front_key")
+    @param.depends("drawn")
     def profile_plot(self) -> hv.Overlay:
         """(a) v(x) behind the tip at the current c, with the peak v_m and the cohesive zone size X_c."""
         d, front = self.profile(), self.front()
@@ -273,10 +377,11 @@ class RuptureScene(pn.viewable.Viewer):
                 hv.Scatter(([front["x_m"] * 1e3], [front["v_m"]]), X_LABEL, V_LABEL, label="peak v_m").opts(
                     color="#b2182b", size=9),
             ]
-        title = f"(a) Slip velocity behind the tip at c = {fmt(self.front_key[0])} c_R"
-        return _overlay(layers, height=320, title=title, legend_position="top_left", xlabel=X_LABEL, ylabel=V_LABEL)
+        # the y range fitted by a hook: the same at a redraw and where a held slider's profile is written (app.live)
+        return _overlay(layers, height=320, title=profile_title(self.front_key[0]), legend_position="top_left",
+                        xlabel=X_LABEL, ylabel=V_LABEL, hooks=[fit_y_hook])
 
-    @param.depends("curve_key", "front_key")
+    @param.depends("curve_key", "drawn")
     def vm_plot(self) -> hv.Overlay:
         """(b) v_m vs c/c_R, with the current c."""
         d, front = self.vm_curve(), self.front()
@@ -317,7 +422,7 @@ class RuptureScene(pn.viewable.Viewer):
                 layers.append(marker.opts(color=color, size=8, line_color="black"))
         return layers
 
-    @param.depends("curve_key", "stress_key", "front_key")
+    @param.depends("curve_key", "stress_key", "drawn")
     def stress_plot(self) -> hv.Overlay:
         """(c) Δσ_yy/σ₀ at v_m vs c/c_R for the three kW, on a log y axis: the curves rise from ~10⁻² to ~10⁰ near
         c_R, where v_m diverges (a linear axis showed them as flat lines at 0). (d) keeps a linear axis."""
@@ -328,7 +433,7 @@ class RuptureScene(pn.viewable.Viewer):
                         # range, which starts below 0 and so hid (c)'s log axis
                         shared_axes=False)
 
-    @param.depends("curve_key", "stress_key", "front_key")
+    @param.depends("curve_key", "stress_key", "drawn")
     def stress_vm_plot(self) -> hv.Overlay:
         """(d) the same against v_m (as Figs. 2c and 3c of the paper)."""
         return _overlay(self._stress_layers(against_vm=True), height=300, legend_position="top_left",
@@ -423,19 +528,32 @@ class RuptureScene(pn.viewable.Viewer):
                 f"plane {PLANE}")
         return (f"c/c_R = {c!r}, " + text) if front else text
 
+    def make_widgets(self) -> dict[str, pn.widgets.Widget]:
+        """The scene's widgets (RuptureParams.make_widgets); the plots follow its held sliders (app.live)."""
+        widgets = self.params.make_widgets()
+        self.follow.track(widgets)
+        return widgets
+
+    def plot_pane(self, name: str, **options: object) -> pn.pane.HoloViews:
+        """The pane of plot `name` (profile, vm, stress, stress_vm: (a)-(d)); the first of each name is the one a
+        held slider writes into."""
+        dmap = {"profile": self.profile_dmap, "vm": self.vm_dmap, "stress": self.stress_dmap,
+                "stress_vm": self.stress_vm_dmap}[name]
+        pane = pn.pane.HoloViews(dmap, sizing_mode="stretch_width", **options)
+        self.panes.setdefault(name, pane)
+        return pane
+
     def __panel__(self) -> pn.viewable.Viewable:
-        controls = controls_column(self.params.make_widgets(), self.readout, extra=shared_material_widgets(
+        controls = controls_column(self.make_widgets(), self.readout, extra=shared_material_widgets(
             self.material, "the Lab-units panel and Thin-on-thick"))
+        flex = {"flex": "1 1 360px", "min-width": "0"}
         plots = pn.Column(
             pn.panel(self.messages),
-            pn.pane.HoloViews(self.profile_dmap, sizing_mode="stretch_width"),
-            pn.FlexBox(pn.pane.HoloViews(self.vm_dmap, sizing_mode="stretch_width",
-                                         styles={"flex": "1 1 360px", "min-width": "0"}),
-                       pn.pane.HoloViews(self.stress_dmap, sizing_mode="stretch_width",
-                                         styles={"flex": "1 1 360px", "min-width": "0"}),
+            self.plot_pane("profile"),
+            pn.FlexBox(self.plot_pane("vm", styles=flex), self.plot_pane("stress", styles=flex),
                        flex_wrap="wrap", sizing_mode="stretch_width"),
             pn.panel(self.log_note),
-            pn.pane.HoloViews(self.stress_vm_dmap, sizing_mode="stretch_width"),
+            self.plot_pane("stress_vm"),
             pn.FlexBox(csv_download(self.csv_profile, "rupture_profile.csv", "CSV (a)"),
                        csv_download(self.csv_curves, "rupture_curves.csv", "CSV (b)-(d)"), flex_wrap="wrap"),
             pn.pane.Markdown(ASSUMPTIONS, sizing_mode="stretch_width"),

@@ -440,3 +440,170 @@ def test_the_readout_never_names_a_material_beside_another_materials_nu() -> Non
     assert f"ν = {model.material('fused silica').nu:.4g} (fused silica's)" in scene.readout()
     scene.material.material = CUSTOM  # the name alone changed: the readout follows it
     assert "(shared): custom," in scene.readout() and "fused silica" not in scene.readout()
+
+
+# --------------------------------------------------------------------------------------------
+# issue 33: a held c/c_R slider moves the plots on the page without a HoloViews redraw (app.live)
+# --------------------------------------------------------------------------------------------
+
+
+def _page(**params: float) -> tuple[RuptureScene, pn.widgets.FloatSlider]:
+    """A scene rendered as on the page (its layout in a Bokeh document, the axes linked as Panel links them) and its
+    c/c_R slider."""
+    from bokeh.document import Document
+
+    scene = RuptureScene(params=RuptureParams(**params))
+    scene.__panel__().get_root(Document())
+    (slider,) = scene.follow.sliders
+    return scene, slider
+
+
+def _drawn(scene: RuptureScene) -> dict[str, dict]:
+    """What each plot on the page shows: title, axis ranges, legend, each visible layer's columns (by HoloViews'
+    key)."""
+    from app import live
+
+    out = {}
+    for name, pane in scene.panes.items():
+        (plot,) = live.rendered_plots(pane)
+        fig = plot.state
+        out[name] = {
+            "title": fig.title.text, "x": (fig.x_range.start, fig.x_range.end),
+            "y": (fig.y_range.start, fig.y_range.end),
+            "legend": [(getattr(i.label, "value", i.label), i.visible) for legend in fig.legend for i in legend.items],
+            **{str(key): {c: np.asarray(v) for c, v in sub.handles["source"].data.items()}
+               for key, sub in plot.subplots.items() if "source" in sub.handles
+               and sub.handles["glyph_renderer"].visible},  # a layer a redraw left out is hidden (HoloViews)
+        }
+    return out
+
+
+def _redrawn(opened: dict, **params: float) -> RuptureScene:
+    """A page opened at `opened`, then redrawn by HoloViews at `params` (a change that no slider holds)."""
+    scene, _ = _page(**opened)
+    scene.params.param.update(**params)
+    return scene
+
+
+def _assert_same(shown: dict[str, dict], expected: dict[str, dict]) -> None:
+    assert shown.keys() == expected.keys() == {"profile", "vm", "stress", "stress_vm"}
+    for name, plot in expected.items():
+        assert shown[name].keys() == plot.keys(), name
+        for key, value in plot.items():
+            if isinstance(value, dict):
+                assert shown[name][key].keys() == value.keys(), (name, key)
+                for column, data in value.items():
+                    np.testing.assert_array_equal(shown[name][key][column], data, err_msg=f"{name} {key} {column}")
+            else:
+                assert shown[name][key] == value, (name, key)
+
+
+def _assert_drawn_as_a_redraw(scene: RuptureScene, *, opened: dict | None = None, fresh: bool = True,
+                              **params: float) -> None:
+    """The page of `scene`, opened at `opened` (default: the defaults), shows exactly what HoloViews draws at its
+    current inputs (`opened` and `params`): the same page redrawn by HoloViews there, and (`fresh`) a page opened
+    there (not where a redraw gave a plot other ranges than a first drawing: HoloViews keeps some of a plot's history,
+    e.g. the range of a layer a redraw left without data)."""
+    opened = opened or {}
+    shown = _drawn(scene)
+    _assert_same(shown, _drawn(_redrawn(opened, **params)))
+    if fresh:
+        _assert_same(shown, _drawn(_page(**opened, **params)[0]))
+
+
+def _release(slider: pn.widgets.FloatSlider, value: float | None = None) -> None:
+    """Let go of the handle (at `value`, else where it is): value and value_throttled in one change, as Bokeh sends
+    a release."""
+    import param
+
+    value = slider.value if value is None else value
+    with param.edit_constant(slider):
+        slider.param.update(value=value, value_throttled=value)
+
+
+def test_a_held_c_slider_moves_the_plots_on_the_page_without_a_holoviews_redraw() -> None:
+    """While c/c_R is held, (a)-(d) on the page show at every position of the handle exactly what a HoloViews redraw
+    at that c draws (profile, peak, cohesive zone, markers on (c)'s log axis, the title of (a), every range and
+    legend), written into the Bokeh sources (app.live) without a redraw; the readout follows. At the release at the
+    last position nothing is redrawn."""
+    scene, slider = _page()
+    drawn = scene.drawn
+    for c in (0.5, 0.75, 0.97):
+        slider.value = c  # the handle moves; value_throttled stays: held
+        assert scene.follow.held() and scene.drawn == drawn
+        _assert_drawn_as_a_redraw(scene, c_over_cR=c)
+        front = model.peak_slip_velocity(c * _c_R(), **KW)
+        assert f"**v_m** = {rp.fmt(float(front))} m/s" in scene.readout()
+    _release(slider)
+    assert not scene.follow.held() and scene.drawn == drawn
+    _assert_drawn_as_a_redraw(scene, c_over_cR=0.97)
+
+
+def test_a_release_elsewhere_is_written_and_a_change_from_elsewhere_is_redrawn() -> None:
+    """A release at a value the page does not show yet is written like a held position (the page then shows what a
+    redraw shows); a change that does not come from a held slider (a preset, the URL) is redrawn by HoloViews."""
+    scene, slider = _page()
+    drawn = scene.drawn
+    slider.value = 0.5
+    _release(slider, 0.8)
+    assert scene.drawn == drawn
+    _assert_drawn_as_a_redraw(scene, c_over_cR=0.8)
+    scene.params.c_over_cR = 0.6
+    assert scene.drawn == drawn + 1 and slider.value == 0.6 and not scene.follow.held()
+    _assert_drawn_as_a_redraw(scene, c_over_cR=0.6)
+
+
+def test_a_held_slider_over_bad_input_falls_back_to_a_holoviews_redraw() -> None:
+    """Where the layers change kind (bad input empties (a) to one curve without its peak or cohesive zone), app.live
+    cannot write them: HoloViews redraws at every position, and the page is what a redraw draws; back on good input
+    the plots follow the hand again."""
+    scene, slider = _page()
+    scene.params.nu = 0.7  # outside (-1, 0.5): every plot empty
+    drawn = scene.drawn
+    slider.value = 0.5
+    assert scene.drawn == drawn + 1
+    _assert_drawn_as_a_redraw(scene, fresh=False, c_over_cR=0.5, nu=0.7)
+    _release(slider)
+    scene.params.nu = P.nu  # good input again: drawn by HoloViews (another input than c)
+    drawn = scene.drawn
+    slider.value = 0.6
+    assert scene.drawn == drawn
+    _assert_drawn_as_a_redraw(scene, c_over_cR=0.6)
+
+
+def test_a_layer_app_live_cannot_write_falls_back_to_a_holoviews_redraw(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A layer of another kind than the one on the page (here a third column) is not written: HoloViews redraws."""
+    scene, slider = _page()
+    layers = RuptureScene.live_layers
+
+    def other_kind(self: RuptureScene, front_key: tuple) -> dict:
+        out = layers(self, front_key)
+        x, y = out["vm"]["current c"]
+        out["vm"]["current c"] = (x, y, y)
+        return out
+
+    monkeypatch.setattr(RuptureScene, "live_layers", other_kind)
+    drawn = scene.drawn
+    slider.value = 0.4
+    assert scene.drawn == drawn + 1
+    _assert_drawn_as_a_redraw(scene, c_over_cR=0.4)
+
+
+def test_held_markers_on_the_log_axis_of_c_are_gaps_where_the_model_gives_values_le_0() -> None:
+    """At ν = 0 and kW = 10, Δσ_yy/σ₀ <= 0 near c_R: written while held, the marker of (c) is a gap (NaN), as a
+    redraw draws it, and (d) shows the value."""
+    params = {"nu": 0.0, "kW1": 10.0}
+    scene, slider = _page(**params)
+    ds = model.relative_normal_stress_change_at_peak_slip(0.99 * _c_R(nu=0.0), kW=10.0, sigma0=P.sigma0,
+                                                          Gamma=P.Gamma, X_c0=P.X_c0, mu=P.mu, c_s=P.c_s, nu=0.0)
+    assert ds <= 0
+    drawn = scene.drawn
+    for c in (0.3, 0.99):
+        slider.value = c
+        assert scene.drawn == drawn
+        _assert_drawn_as_a_redraw(scene, opened=params, c_over_cR=c)
+    stress = _drawn(scene)["stress"]
+    (marker,) = [v for k, v in stress.items() if k == str(("Scatter", "Current_c"))]
+    assert np.isnan(marker["Δσ_yy/σ₀ at v_m"][0])
+    (marker_d,) = [v for k, v in _drawn(scene)["stress_vm"].items() if k == str(("Scatter", "Current_c"))]
+    assert marker_d["Δσ_yy/σ₀ at v_m"][0] == pytest.approx(float(ds), rel=1e-12)

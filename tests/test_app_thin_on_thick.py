@@ -333,3 +333,194 @@ def test_a_shared_link_keeps_the_readout_and_nu_consistent(query: str, own: bool
         assert "(fused silica's)" in text and "not fused silica's" not in text
     else:
         assert f"**ν** = {nu:g}, set here: not fused silica's ν = {model.material('fused silica').nu:.4g}" in text
+
+
+# --------------------------------------------------------------------------------------------
+# issue 33: a held kW slider moves the plots on the page without a HoloViews redraw (app.live)
+# --------------------------------------------------------------------------------------------
+
+
+def _page(compare_kW: tuple[float, ...] = (), **params: float) -> tuple[ThinOnThickScene, dict]:
+    """A scene rendered as on the page (its layout in a Bokeh document, the axes linked as Panel links them), with a
+    family of kW (the Fig. 3 preset's) and σ₀ [MPa] (`sigma0_MPa`, the shared lab value) if given; its sliders by
+    label."""
+    from bokeh.document import Document
+
+    lab = {k: params.pop(k) for k in ("sigma0_MPa",) if k in params}
+    scene = ThinOnThickScene(params=ThinOnThickParams(**params), material=LabParams(**lab),
+                             compare_kW=list(compare_kW))
+    scene.__panel__().get_root(Document())
+    return scene, {s.label: s for s in scene.follow.sliders}
+
+
+def _drawn(scene: ThinOnThickScene) -> dict[str, dict]:
+    """What each plot on the page shows: title, axis ranges, legend, each visible layer's columns (by HoloViews'
+    key), the level of each horizontal line."""
+    from app import live
+
+    out = {}
+    for name, pane in scene.panes.items():
+        (plot,) = live.rendered_plots(pane)
+        fig = plot.state
+        out[name] = {"title": fig.title.text, "x": (fig.x_range.start, fig.x_range.end),
+                     "y": (fig.y_range.start, fig.y_range.end),
+                     "legend": [(getattr(i.label, "value", i.label), i.visible) for lg in fig.legend for i in lg.items]}
+        for key, sub in plot.subplots.items():
+            if hasattr(sub.handles.get("glyph"), "location"):
+                out[name][str(key)] = sub.handles["glyph"].location
+            elif "source" in sub.handles and sub.handles["glyph_renderer"].visible:
+                out[name][str(key)] = {c: np.asarray(v) for c, v in sub.handles["source"].data.items()}
+    return out
+
+
+def _redrawn(opened: dict, compare_kW: tuple[float, ...] = (), **params: float) -> ThinOnThickScene:
+    """A page opened at `opened`, then redrawn by HoloViews at `params` (a change that no slider holds)."""
+    scene, _ = _page(compare_kW, **opened)
+    if "sigma0_MPa" in params:
+        scene.material.sigma0_MPa = params.pop("sigma0_MPa")
+    scene.params.param.update(**params)
+    return scene
+
+
+def _assert_drawn_as_a_redraw(scene: ThinOnThickScene, compare_kW: tuple[float, ...] = (), *,
+                              opened: dict | None = None, **params: float) -> None:
+    """The page of `scene`, opened at `opened` (default: the defaults), shows exactly what HoloViews draws at its
+    current inputs (`opened` and `params`): the same page redrawn by HoloViews there, and a page opened there."""
+    opened = opened or {}
+    shown = _drawn(scene)
+    for expected in (_drawn(_redrawn(opened, compare_kW, **params)), _drawn(_page(compare_kW, **opened, **params)[0])):
+        assert shown.keys() == expected.keys() == {"moduli", "nu_eff", "gy", "stress"}
+        for name, plot in expected.items():
+            assert shown[name].keys() == plot.keys(), name
+            for key, value in plot.items():
+                if isinstance(value, dict):
+                    assert shown[name][key].keys() == value.keys(), (name, key)
+                    for column, data in value.items():
+                        np.testing.assert_array_equal(shown[name][key][column], data,
+                                                      err_msg=f"{name} {key} {column}")
+                else:
+                    assert shown[name][key] == value, (name, key)
+
+
+def _let_go(slider: pn.widgets.FloatSlider, value: float | None = None) -> None:
+    """Release the handle (at `value`, else where it is): value and value_throttled in one change, as Bokeh sends a
+    release."""
+    value = slider.value if value is None else value
+    with param.edit_constant(slider):
+        slider.param.update(value=value, value_throttled=value)
+
+
+def _counts(scene: ThinOnThickScene) -> tuple[int, int]:
+    return scene.drawn, scene.stress_drawn
+
+
+@pytest.mark.parametrize("family", [(), (1.0, 10.0)])
+def test_a_held_kW_slider_moves_the_plots_on_the_page_without_a_holoviews_redraw(family: tuple) -> None:
+    """While kW is held, (a), its inset, (b) and (c) on the page show at every position of the handle exactly what a
+    HoloViews redraw at that kW draws (the markers, the G_y curve and the zero line under it, the Δσ_yy line, the
+    title of (b), every range and legend; a preset's family of kW stays), written into the Bokeh sources (app.live)
+    without a redraw; the readout follows. At the release at the last position nothing is redrawn."""
+    scene, sliders = _page(family)
+    counts = _counts(scene)
+    for log10_kw in (0.5, -1.5, 1.9, -0.25):
+        sliders["kW"].value = log10_kw  # the handle moves; value_throttled stays: held
+        assert scene.follow.held() and _counts(scene) == counts
+        _assert_drawn_as_a_redraw(scene, family, log10_kW=log10_kw)
+        assert f"**kW** = {tt.fmt(scene.params.kW, 4)}" in scene.readout()
+    _let_go(sliders["kW"])
+    assert not scene.follow.held() and _counts(scene) == counts
+    _assert_drawn_as_a_redraw(scene, family, log10_kW=-0.25)
+
+
+def test_a_release_elsewhere_is_written_and_a_change_from_elsewhere_is_redrawn() -> None:
+    """A release at a value the page does not show yet is written like a held position; a change that does not come
+    from a held slider (a preset, the URL) is redrawn by HoloViews."""
+    scene, sliders = _page()
+    counts = _counts(scene)
+    sliders["kW"].value = 0.5
+    _let_go(sliders["kW"], 1.0)
+    assert _counts(scene) == counts
+    _assert_drawn_as_a_redraw(scene, log10_kW=1.0)
+    scene.params.log10_kW = 0.2
+    assert _counts(scene) == (counts[0] + 1, counts[1] + 1) and sliders["kW"].value == 0.2
+    _assert_drawn_as_a_redraw(scene, log10_kW=0.2)
+
+
+def test_a_held_nu_slider_is_redrawn_by_holoviews() -> None:
+    """ν changes every curve (not only what kW moves): HoloViews redraws at each position of its handle."""
+    scene, sliders = _page()
+    drawn, stress_drawn = _counts(scene)
+    sliders["ν"].value = 0.2
+    assert _counts(scene) == (drawn + 1, stress_drawn + 1)
+    _assert_drawn_as_a_redraw(scene, nu=0.2)
+    _let_go(sliders["ν"])
+    assert _counts(scene) == (drawn + 1, stress_drawn + 1)
+
+
+def test_a_layer_of_a_new_length_is_written_whole(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A curve that comes with another number of points (here a coarser c/c_s grid of (b)) is written whole (every
+    column at once) and the page is what a redraw draws."""
+    scene, sliders = _page()
+    monkeypatch.setattr(tt, "N_Z", 50)
+    counts = _counts(scene)
+    sliders["kW"].value = 0.5
+    assert _counts(scene) == counts
+    gy = _drawn(scene)["gy"][str(("Curve", "Current_kW"))]
+    assert all(len(column) == 50 for column in gy.values())
+    _assert_drawn_as_a_redraw(scene, log10_kW=0.5)
+
+
+def test_a_layer_app_live_cannot_write_falls_back_to_a_holoviews_redraw(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A layer of another kind than the one on the page (here a third column) is not written: HoloViews redraws."""
+    scene, sliders = _page()
+    layers = ThinOnThickScene.live_layers
+
+    def other_kind(point_key: tuple, stress_key: tuple) -> dict:
+        out = layers(point_key, stress_key)
+        v, ds = out["stress"][tt.DS_LABEL]
+        out["stress"][tt.DS_LABEL] = (v, ds, ds)
+        return out
+
+    monkeypatch.setattr(ThinOnThickScene, "live_layers", staticmethod(other_kind))
+    drawn, stress_drawn = _counts(scene)
+    sliders["kW"].value = 0.5
+    assert _counts(scene) == (drawn + 1, stress_drawn + 1)
+    _assert_drawn_as_a_redraw(scene, log10_kW=0.5)
+
+
+def test_a_held_kW_slider_over_lab_values_the_model_refuses_keeps_c_empty() -> None:
+    """With a σ₀ the model refuses, (c) is empty: written while held as a redraw draws it (no line, the zero line's
+    range), the other plots follow kW."""
+    scene, sliders = _page(sigma0_MPa=-1.0)
+    counts = _counts(scene)
+    sliders["kW"].value = 1.2
+    assert _counts(scene) == counts
+    _assert_drawn_as_a_redraw(scene, opened={"sigma0_MPa": -1.0}, log10_kW=1.2)
+    line = _drawn(scene)["stress"][str(("Curve", "Δσ_yy_over_σ_subscript_zero"))]
+    assert all(len(column) == 0 for column in line.values())
+
+
+def test_served_the_moves_of_a_held_slider_are_read_once_a_turn_and_the_release_at_once(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Served, the moves of a held handle that arrive before the event loop's next turn are read (keys, readout,
+    plots) once, at the latest value; a release before that turn reads and writes the released value at once."""
+    from app import live
+
+    scene, sliders = _page()
+    turns: list = []
+    monkeypatch.setattr(live, "_served", lambda: True)
+    monkeypatch.setattr(pn.state, "execute", lambda callback, schedule=False: turns.append(callback))
+    counts, key = _counts(scene), scene.point_key
+    for log10_kw in (0.3, 0.6, 0.9):
+        sliders["kW"].value = log10_kw
+    assert len(turns) == 1 and scene.point_key == key  # not read yet
+    turns.pop()()
+    assert _counts(scene) == counts and scene.point_key == (scene.params.kW, scene.params.nu)
+    _assert_drawn_as_a_redraw(scene, log10_kW=0.9)
+    sliders["kW"].value = 1.4
+    _let_go(sliders["kW"], 1.5)  # the release comes before the scheduled reading
+    assert _counts(scene) == counts
+    _assert_drawn_as_a_redraw(scene, log10_kW=1.5)
+    turns.pop()()  # the scheduled reading: nothing left to do
+    assert _counts(scene) == counts and not turns
+    _assert_drawn_as_a_redraw(scene, log10_kW=1.5)
