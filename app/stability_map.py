@@ -52,7 +52,16 @@ from . import map_refine as mr
 from . import sliding_boundary as sb
 from . import sliding_map as sm
 from .common import COLOUR_LEGEND, GROWTH_CMAP, GROWTH_LABEL, MARGINAL, NAN_COLOR, neutral_lines
-from .params import Choice, SpectrumParams, controls_column, csv_download, csv_table, fmt, scene_layout
+from .params import (
+    Choice,
+    SpectrumParams,
+    controls_column,
+    csv_download,
+    csv_table,
+    fmt,
+    readable_ticks_hook,
+    scene_layout,
+)
 from .workarounds import frozen_document
 
 # --------------------------------------------------------------------------------------------
@@ -477,6 +486,20 @@ def preview_label(n: int) -> str:
 def preview_words(pv: MapPreview) -> str:
     """What a preview is, in a hover."""
     return f"preview, {pv.points} × {pv.points} points (the full map is computed at the release)"
+
+
+def seamless_cells_hook(plot: Any, element: Any) -> None:
+    """HoloViews plot hook of an opaque heat map: each cell's edge is stroked in its own fill colour, so that the
+    antialiased edges of neighbouring cells do not let the background show through as white seams (visible on the
+    96 x 96 refined map). A faded or transparent mesh keeps no stroke (it would darken the cells' edges)."""
+    readable_ticks_hook(plot, element)
+    glyph = plot.handles.get("glyph")
+    if glyph is None:
+        return
+    if glyph.fill_alpha == 1:
+        glyph.update(line_color=glyph.fill_color, line_alpha=1, line_width=0.5)
+    else:
+        glyph.update(line_alpha=0)
 
 
 def preview_title_hook(plot: Any, element: Any) -> None:
@@ -1120,6 +1143,7 @@ class StabilityMapScene(pn.viewable.Viewer):
                            vdims=[hv.Dimension("growth", label=GROWTH_LABEL), "shown", "at_x", "at_y"]).opts(
             cmap=GROWTH_CMAP, clim=(-top, top), colorbar=True, clabel=GROWTH_LABEL, framewise=True, alpha=alpha,
             clipping_colors={"NaN": NAN_COLOR}, line_alpha=0, logx=ax.log, logy=ay.log, tools=["hover"],
+            hooks=[seamless_cells_hook],
             hover_tooltips=[(ax.label, "$x"), (ay.label, "$y"), (GROWTH_LABEL, "@growth"),
                             ("computed at", f"{ax.label} = @at_x, {ay.label} = @at_y"), ("shown", "@shown")],
             responsive=True, height=460, xlim=(ax.lo, ax.hi), ylim=(ay.lo, ay.hi))

@@ -488,6 +488,25 @@ def test_the_refined_maps_csv_adds_its_refined_points(monkeypatch) -> None:
     assert "**Refined**" in scene.readout() and "refined to 40 × 40" in scene.readout()
 
 
+def test_the_opaque_map_has_no_seams_between_its_cells(small) -> None:
+    """The finished map's cells are stroked in their own fill colour (white seams showed between the 96 x 96 refined
+    cells); a faded map (stale inputs) is not stroked."""
+    from bokeh.models import GlyphRenderer
+
+    scene = StabilityMapScene()
+    _computed(scene)
+
+    def quads(fig) -> list:
+        return [r.glyph for r in fig.renderers if isinstance(r, GlyphRenderer) and type(r.glyph).__name__ == "Quad"]
+
+    (glyph,) = quads(hv.render(scene.view()[()]))
+    assert glyph.fill_alpha == 1 and glyph.line_alpha == 1 and glyph.line_color == glyph.fill_color
+    scene.params.f = 0.5  # stale: the previous map is drawn faded while the new one is computed
+    (glyph,) = quads(hv.render(scene.view()[()]))
+    assert glyph.fill_alpha < 1 and glyph.line_alpha == 0
+    scene.wait()
+
+
 def test_fig4c_csv_is_what_fig4c_shows() -> None:
     scene = StabilityMapScene()
     comment, header, data = _read_csv(scene.fig4c_download.callback())
