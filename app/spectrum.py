@@ -331,9 +331,15 @@ class SpectrumScene(pn.viewable.Viewer):
             self._following = True  # also when the release comes before the scheduled follow has run
             if not self._follow_scheduled:
                 self._follow_scheduled = True
-                pn.state.execute(self._follow_latest, schedule=True)
+                live.schedule_follow(self._scheduled_follow)
             return
         self._follow_latest()
+
+    def _scheduled_follow(self) -> None:
+        """The follow scheduled while a slider was held (:func:`app.live.schedule_follow`); nothing if the release
+        has drawn since."""
+        if self._follow_scheduled:
+            self._follow_latest()
 
     def _follow_latest(self) -> None:
         """Draw the current arguments: written into the plots while a slider is held or at its release (a slider's

@@ -46,3 +46,20 @@ def test_a_new_length_replaces_every_column_at_once() -> None:
     assert len(events) == 1 and isinstance(events[0], ColumnDataChangedEvent | ModelChangedEvent)
     assert getattr(events[0], "cols", None) in (None, ["start", "end"], ["end", "start"])  # both columns in one event
     assert {k: len(v) for k, v in layer.handles["source"].data.items()} == {"start": 0, "end": 0}
+
+
+def test_the_follows_of_every_session_share_one_rate() -> None:
+    """Follows asked for at once get consecutive slots of 1 / rate seconds (the tenth of ten sessions waits nine
+    slots); once the slots are used up, the next follow runs at once."""
+    budget = live.FollowBudget(per_second=20.0)
+    waits = [budget.reserve() for _ in range(10)]
+    assert waits[0] == 0.0
+    np.testing.assert_allclose(np.diff(waits), 0.05, atol=0.01)
+    budget._next = 0.0  # the slots all in the past: nothing waits
+    assert budget.reserve() == 0.0
+
+
+def test_unserved_a_follow_runs_at_once() -> None:
+    ran: list[int] = []
+    live.schedule_follow(lambda: ran.append(1))
+    assert ran == [1]
