@@ -26,6 +26,7 @@ from app.params import (
     LabParams,
     RuptureParams,
     SpectrumParams,
+    configure_session,
     placeholder,
     set_with_material,
 )
@@ -303,5 +304,6 @@ def create_app(args: dict[str, list[bytes]] | None = None) -> pn.template.Bootst
 if __name__.startswith("bokeh"):
     configure_gc()
     track_session()
+    configure_session()  # before the template: it adds the notification area
     create_app().servable()
     use_server_stylesheets()  # sessions created by their websocket (--num-procs, --reuse-sessions)

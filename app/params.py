@@ -27,12 +27,25 @@ from .workarounds import frozen_document
 hv.extension("bokeh", logo=False)
 # plotly.js with every page (served by this server from Panel's bundle): the Atlas tab's 3-D view is created after
 # the page has loaded (a lazily built tab), when it is too late to add a JavaScript library to the page
-pn.extension("plotly", "katex",  # katex: the equations of the Spectrum and All-branches tabs
-             # a lost server (stopped, restarted, network gone) is said on the page: the plots stop following the
-             # controls, and without it nothing but the unchanged plots would tell
-             notifications=True,
-             disconnect_notification="Connection to the asymslide server lost: the plots no longer follow the "
-                                     "controls. Reload the page once the server is back.")
+#: Panel settings every session needs. A lost server (stopped, restarted, network gone) is said on the page: the plots
+#: stop following the controls, and without it nothing but the unchanged plots would tell. Set inside a session, Panel
+#: keeps them for that session only: :func:`configure_session` sets them in each served one (app/main.py).
+SESSION_CONFIG: dict[str, Any] = {
+    "notifications": True,
+    "disconnect_notification": "Connection to the asymslide server lost: the plots no longer follow the controls. "
+                               "Reload the page once the server is back.",
+}
+pn.extension("plotly", "katex", **SESSION_CONFIG)  # katex: the equations of the Spectrum and All-branches tabs
+
+
+def configure_session() -> None:
+    """Apply :data:`SESSION_CONFIG` to the current session. Panel keeps a setting made while a session is being built
+    (``pn.extension`` above runs when this module is first imported: inside the server process's first session) for
+    that session alone. Without it, the next sessions had no notification area: no banner when the server is lost,
+    and with ``--reuse-sessions`` (every page is the first session's HTML, whose roots a session's document fills in
+    order) one root fewer, so the page's introduction was drawn in the header's busy-indicator slot."""
+    for name, value in SESSION_CONFIG.items():
+        setattr(pn.config, name, value)
 # Canvas, not WebGL: the plots hold at most a few thousand points, and copying the WebGL layer onto
 # the canvas (software GL without a GPU) was most of a browser update in Chromium's profile
 # (benchmarks/design_measurements.md). Image-based plots are unaffected.

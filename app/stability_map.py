@@ -820,10 +820,16 @@ class StabilityMapScene(pn.viewable.Viewer):
         progress of its job being computed (which the preview's label hid)."""
         if self._previewing() or not self.progress_label.object.startswith(PREVIEW_HEADING):
             return
+        self._name_progress()
+
+    def _name_progress(self) -> None:
+        """The progress bar and label of the colouring shown: the map's name when it is complete, or the progress of
+        its job being computed, or nothing."""
         plane, n, _, levels = self.map_key
         self.progress.visible = False
-        if self.colours_sliding() and self._sliding_current():
-            self.progress_label.object = f"The sliding verdict over the {plane} map ({n} × {n} points)"
+        if self.colours_sliding():
+            done = self._sliding_current()
+            self.progress_label.object = f"The sliding verdict over the {plane} map ({n} × {n} points)" if done else ""
         elif self._current():
             self.progress_label.object = f"The {plane} map ({grid_words(n, levels)})"
         else:
@@ -906,6 +912,8 @@ class StabilityMapScene(pn.viewable.Viewer):
             self.param.update(sliding_status="idle", boundary_status="idle")
         if self.preview is not None or self.preview_computation.job is not None:
             self._drop_preview()  # a preview is of one colouring: a held slider's next render starts the other's
+        if not self._previewing():
+            self._name_progress()  # the label names the colouring shown, not the one left
         self._update_download()
 
     def ensure_sliding(self) -> None:

@@ -46,6 +46,35 @@ def test_pages_use_this_servers_stylesheets_and_work(served_two_procs: ServedApp
     # browser_page fails the test on any console error (e.g. a stylesheet that did not load)
 
 
+#: where the page's roots were drawn (JS): the document's root names, the class of what the header's busy-indicator
+#: slot holds, and the top of the introduction's heading and the bottom of the header (px)
+_LAYOUT_JS = """() => {
+  const busy = document.querySelector('#header .pn-busy-container [data-root-id] > div');
+  return {roots: Bokeh.documents[0].roots().map(r => r.name), busy: busy ? busy.className : null,
+          header_bottom: document.getElementById('header').getBoundingClientRect().bottom};
+}"""
+
+
+@pytest.mark.ui
+@pytest.mark.parametrize("visit", range(3))
+def test_every_session_fills_the_cached_pages_slots_in_order(served_two_procs: ServedApp, browser_page,
+                                                              visit: int) -> None:
+    """Issue 33's final tour: from the second page of a server process on, the introduction was drawn inside the blue
+    header and everything below moved up one slot. With --reuse-sessions every page is the first session's HTML, and
+    a session's document fills its root slots in order; Panel kept `notifications=True` (set while the first session
+    was built) for that session only, so later documents had one root fewer -- and no lost-connection banner."""
+    page = browser_page
+    open_app(page, served_two_procs.url + f"?gamma={4 + visit}")
+    layout = page.evaluate(_LAYOUT_JS)
+    assert "notifications" in layout["roots"], layout["roots"]  # the lost-connection banner's area
+    assert layout["busy"] is not None and "loader" in layout["busy"], layout  # Panel's spinner, not a main item
+    heading = page.get_by_role("heading", name="Frictional sliding without reflection symmetry", exact=True).first
+    box = heading.bounding_box()
+    assert box is not None and box["y"] >= layout["header_bottom"], (box, layout)  # in the page, below the header
+    tab = page.locator(".bk-tab", has_text="Spectrum").first.bounding_box()
+    assert tab is not None and tab["y"] > box["y"]  # the tabs below the introduction
+
+
 @pytest.mark.parametrize(("path", "reuse", "expected"), [
     ("/main", True, True),  # the page request's session: kept for rendering pages
     ("/main/ws", True, False),  # a user's session, built when its websocket connected

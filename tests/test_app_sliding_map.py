@@ -288,6 +288,24 @@ def test_colouring_by_the_rayleigh_branch_is_the_papers_map_and_stops_the_slidin
     assert not scene.map_download.disabled
 
 
+def test_the_progress_label_names_the_colouring_shown(small) -> None:
+    """Final tour of issue 33: after switching the colouring to the Rayleigh branch the label above the map still read
+    "The sliding verdict over the β-γ map". It names the colouring shown, each way, with no render in between."""
+    scene = StabilityMapScene(plane="β-γ")
+    _sliding(scene)
+    assert scene.progress_label.object == "The sliding verdict over the β-γ map (12 × 12 points)"
+    scene.verdict = slm.RAYLEIGH
+    assert scene.progress_label.object == "The β-γ map (12 × 12 points)" and not scene.progress.visible
+    scene.verdict = slm.SLIDING  # the sliding map of these inputs is still held: shown again at once
+    assert scene.progress_label.object == "The sliding verdict over the β-γ map (12 × 12 points)"
+    scene.verdict = slm.RAYLEIGH
+    scene.params.beta = 0.31  # a new Rayleigh map is computed, then back to the sliding colouring: not the stale name
+    scene.verdict = slm.SLIDING
+    assert not scene.progress_label.object.startswith("The β-γ map"), scene.progress_label.object
+    _sliding(scene)
+    assert scene.progress_label.object == "The sliding verdict over the β-γ map (12 × 12 points)"
+
+
 def test_new_inputs_cancel_the_sliding_job_and_start_the_new_one(small, monkeypatch) -> None:
     go_on = threading.Event()
     real = slm.compute_chunk
@@ -393,12 +411,18 @@ def test_the_map_says_where_only_another_branch_is_unstable(served_app: str, bro
     assert any(s.startswith("unstable: intersonic") for s in d["sliding"])
     assert any(s.startswith("stable: no root") for s in d["sliding"])
     save_screenshot(page, "map_sliding_beta_gamma.png", full_page=False)
-    page.get_by_role("button", name=slm.RAYLEIGH).click()
-    page.locator("p", has_text="colour by the sliding verdict to compute it").first.wait_for(timeout=60_000)
-    page.wait_for_function(f"() => ({_HEAT_JS})() === null", timeout=60_000)
-    page.get_by_role("button", name=slm.SLIDING).click()
-    page.wait_for_function(f"() => ({_HEAT_JS})() !== null", timeout=60_000)
-    page.locator("p", has_text="The star's cell, sliding").first.wait_for(timeout=60_000)
+    sliding_label = "The sliding verdict over the β-γ map (24 × 24 points)"
+    page.get_by_text(sliding_label, exact=True).first.wait_for(timeout=60_000)
+    for _ in range(2):  # there and back twice: the label above the map names the colouring shown
+        page.get_by_role("button", name=slm.RAYLEIGH).click()
+        page.locator("p", has_text="colour by the sliding verdict to compute it").first.wait_for(timeout=60_000)
+        page.wait_for_function(f"() => ({_HEAT_JS})() === null", timeout=60_000)
+        page.get_by_text("The β-γ map (24 × 24 points)", exact=True).first.wait_for(timeout=60_000)
+        assert page.get_by_text(sliding_label, exact=True).count() == 0
+        page.get_by_role("button", name=slm.SLIDING).click()
+        page.wait_for_function(f"() => ({_HEAT_JS})() !== null", timeout=60_000)
+        page.locator("p", has_text="The star's cell, sliding").first.wait_for(timeout=60_000)
+        page.get_by_text(sliding_label, exact=True).first.wait_for(timeout=60_000)
     assert math.isfinite(len(d["sliding"])) and len(d["sliding"]) == 24 * 24
     assert page.console_errors == []
 
