@@ -220,7 +220,11 @@ def compute_chunk(plane: str, n: int, start: int, stop: int, fixed: tuple[tuple[
     p = dict(fixed)
     p[ax.name] = x[None, :]
     p[ay.name] = y[start:stop, None]
-    r = model.growth_analysis(KH, **p)
+    return _growth_fields(model.growth_analysis(KH, **p))
+
+
+def _growth_fields(r: model.GrowthResult) -> dict:
+    """The map's fields of a :func:`model.growth_analysis` result, as arrays."""
     return {"growth": np.asarray(r.growth, float), "kH_at_max": np.asarray(r.kH_at_max, float),
             "n_masked": np.asarray(r.n_masked, int)}
 
@@ -366,9 +370,7 @@ def evaluate_points(plane: str, fixed: tuple[tuple[str, float], ...], xs: np.nda
     """The Rayleigh branch's max growth (:func:`model.growth_analysis`, as :func:`compute_chunk`) at the points
     (xs[i], ys[i]) of `plane`."""
     ax, ay = PLANES[plane]
-    r = model.growth_analysis(KH, **dict(fixed), **{ax.name: xs, ay.name: ys})
-    return {"growth": np.asarray(r.growth, float), "kH_at_max": np.asarray(r.kH_at_max, float),
-            "n_masked": np.asarray(r.n_masked, int)}
+    return _growth_fields(model.growth_analysis(KH, **dict(fixed), **{ax.name: xs, ay.name: ys}))
 
 
 def refine_map(plane: str, x: np.ndarray, y: np.ndarray, base: dict, levels: int,
