@@ -28,7 +28,7 @@ PYTEST_ARGS ?=
 # numba compiles once and keeps its machine code here (ignored by git)
 export NUMBA_CACHE_DIR := $(CURDIR)/.numba_cache
 
-.PHONY: help venv lock serve test screenshots bench lint docker-smoke check clean
+.PHONY: help venv lock serve test test-fast screenshots bench lint docker-smoke check clean
 
 help:  ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/' | expand -t 10
@@ -61,12 +61,17 @@ test: venv  ## ruff, then every test (browser tests need /usr/bin/chromium)
 	  echo "SKIPPING browser tests: $(CHROMIUM) not found (apt-get install -y chromium)"; fi
 	$(PY) -m pytest $(PYTEST_ARGS)
 
+# the fast lane: the model and the atlas layer, without the tests marked slow (tests/<layer>/: one folder per layer)
+test-fast: venv  ## ruff, then the model's and the atlas engine's tests not marked slow (a minute with numba's cache warm)
+	$(VENV)/bin/ruff check $(LINT_DIRS)
+	$(PY) -m pytest tests/model tests/engine -m "not slow" $(PYTEST_ARGS)
+
 screenshots: venv  ## refresh the README's screenshots in docs/ (make test writes them to build/screenshots/)
-	ASYMSLIDE_UPDATE_SCREENSHOTS=1 $(PY) -m pytest -m ui tests/test_ui_smoke.py tests/test_app_atlas.py \
-	  tests/test_app_lab.py tests/test_app_rupture.py tests/test_journeys.py::test_phone_layout_reflows_at_390_px \
-	  tests/test_journeys.py::test_the_spectrum_names_both_verdicts_where_only_another_branch_is_unstable \
-	  tests/test_app_sliding_map.py::test_the_map_says_where_only_another_branch_is_unstable \
-	  tests/test_app_atlas_sliding.py::test_the_atlas_cell_says_where_only_another_branch_is_unstable
+	ASYMSLIDE_UPDATE_SCREENSHOTS=1 $(PY) -m pytest -m ui tests/browser/test_ui_smoke.py tests/app/test_app_atlas.py \
+	  tests/app/test_app_lab.py tests/app/test_app_rupture.py tests/browser/test_journeys.py::test_phone_layout_reflows_at_390_px \
+	  tests/browser/test_journeys.py::test_the_spectrum_names_both_verdicts_where_only_another_branch_is_unstable \
+	  tests/app/test_app_sliding_map.py::test_the_map_says_where_only_another_branch_is_unstable \
+	  tests/app/test_app_atlas_sliding.py::test_the_atlas_cell_says_where_only_another_branch_is_unstable
 
 # every process a benchmark starts carries this id in its environment; the last step fails if one is left
 bench: export ASYMSLIDE_RUN_ID := bench-$(shell date +%s%N)

@@ -25,7 +25,7 @@ CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic"
                  "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 #: how long the page may take to answer at all (a broken image never does)
 PAGE_TIMEOUT = 180.0
-#: titles of the page's Bokeh figures (as tests/test_ui_smoke.py)
+#: titles of the page's Bokeh figures (as tests/browser/test_ui_smoke.py)
 FIGURE_TITLES = ("() => Array.from(Bokeh.documents[0].all_models)"
                  ".filter(m => m.title && m.title.text && m.x_range).map(m => m.title.text)")
 #: the sum and size of the finite values of the Atlas tab's heat map, or null before it is drawn

@@ -768,7 +768,7 @@ class AtlasScene(pn.viewable.Viewer):
         # a MultiChoice: the order of the picks is the order of the 3-D view's axes (and of the URL's surface=). Its
         # Choices.js box logs "Deprecation warning: allowHTML will default to false" in the console: Bokeh creates it
         # without that option (bokeh-widgets.js, MultiChoiceView.render) and the model has no property to pass it
-        # (tests/test_phone_layout.py ALLOWED_CONSOLE).
+        # (tests/browser/test_phone_layout.py ALLOWED_CONSOLE).
         self.surface_select = pn.widgets.MultiChoice(label="3-D axes (three)", options={}, max_items=3,
                                                      sizing_mode="stretch_width", max_width=400)
         self._syncing = False

@@ -10,7 +10,7 @@ a HoloViews redraw of the same inputs would show. At the release the scene needs
 written are the released ones (app.spectrum.SpectrumScene._redraw).
 
 This reads ``pn.pane.HoloViews._plots`` (the rendered plot of each root), which is not public Panel API: the tests
-of the live path (tests/test_app_spectrum.py) fail if that changes, and :func:`push` then returns False and the
+of the live path (tests/app/test_app_spectrum.py) fail if that changes, and :func:`push` then returns False and the
 scene falls back to the full redraw (correct, only slower).
 """
 

@@ -97,7 +97,7 @@ ELEMENT_KINDS = ("Curve", "Scatter", "Points", "Path", "QuadMesh", "HLine", "VLi
                  "Area", "Spread", "Image", "HSpans", "Segments", "Rectangles")
 # Axes follow the data when the parameters change. HoloViews takes `framewise` from each element's
 # options: set on the Overlays only (as before), every plot kept the ranges of its first frame and a
-# curve that grew beyond them was cut off (tests/test_app_ranges.py). Every element's plot also runs
+# curve that grew beyond them was cut off (tests/app/test_app_ranges.py). Every element's plot also runs
 # readable_ticks_hook: the hooks of an element's plot run even when it is overlaid, and the app sets hooks on
 # Overlays only, so none replaces it.
 hv.opts.defaults(*(getattr(hv.opts, kind)(framewise=True, hooks=[readable_ticks_hook]) for kind in ELEMENT_KINDS))

@@ -1,5 +1,5 @@
-"""Every Panel/Bokeh workaround of the app, in one place (not physics, not layout), each written for and checked
-against the library versions in :data:`CHECKED_WITH` (the pins of requirements.lock). tests/test_workarounds.py fails
+"""Every Panel/Bokeh workaround of the app, in one place (not physics, not layout), each written for and checked against
+the library versions in :data:`CHECKED_WITH` (the pins of requirements.lock). tests/app/test_workarounds.py fails
 when the installed Panel or Bokeh is another version: then re-check each workaround below (is it still needed, does
 it still patch what it patches?) and update :data:`CHECKED_WITH` and the lock together.
 
@@ -26,7 +26,7 @@ only when it renders the HTML page *with the session's document*: it then record
 
 Those sessions then load ~8 stylesheets from the CDN: offline, the requests fail and the page loses
 Panel's styles (loading spinner, alerts, Markdown, buttons, the Bootstrap theme);
-tests/test_app_multiprocess.py shows it. :func:`use_server_stylesheets` applies to such a session what
+tests/browser/test_app_multiprocess.py shows it. :func:`use_server_stylesheets` applies to such a session what
 Panel applies to a rendered page.
 
 A second way to the CDN: with ``pn.Tabs(dynamic=True)`` a tab that is switched away from keeps its panes'

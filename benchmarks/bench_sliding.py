@@ -184,7 +184,7 @@ def track_fraction(results: dict[float, list[dict]], dense: dict[float, list[tup
 
 def oracle_errors(n: int = 8) -> str:
     """The fastest root and the count above the floor against the oracle on a few of the test's random cases."""
-    from tests.test_sliding import ORACLE_CASES
+    from tests.model.test_sliding import ORACLE_CASES
 
     worst, agree, roots = 0.0, 0, 0
     for kH, p, floor in ORACLE_CASES[:: max(1, len(ORACLE_CASES) // n)]:
@@ -197,7 +197,8 @@ def oracle_errors(n: int = 8) -> str:
             roots += 1
             worst = max(worst, abs(complex(fm.z) - complex(z_o)) / abs(complex(z_o)))
     return (f"\nAgainst the oracle (tests/oracle.py §8, 20 digits, its own contour sampling) on "
-            f"{len(ORACLE_CASES[:: max(1, len(ORACLE_CASES) // n)])} of tests/test_sliding.py's random cases: counts "
+            f"{len(ORACLE_CASES[:: max(1, len(ORACLE_CASES) // n)])} of tests/model/test_sliding.py's random cases: "
+            "counts "
             f"above the floor equal in {agree}; the fastest root's largest relative error {worst:.1e} "
             f"({roots} cases with a root).\n")
 

@@ -1,6 +1,6 @@
 """Accuracy of the certified thresholds against the independent oracle's neutral modes (issue 24, point 6).
 
-Random parameter sets (half finite eta, most Delta < 1 with xi > 0; the sets of tests/test_boundary.py), every
+Random parameter sets (half finite eta, most Delta < 1 with xi > 0; the sets of tests/model/test_boundary.py), every
 crossing in gamma (and, for sets with a gamma, in eta) in the default ranges: each certified threshold is compared
 with tests/oracle.py's neutral mode (Newton on the three real equations at 50 digits, started from the model's);
 the relative errors of the threshold, of kH and of Re z are summarised.
@@ -25,7 +25,7 @@ from tests import oracle  # noqa: E402
 
 
 def random_sets(n: int, seed: int, which: str) -> list[dict]:
-    """As tests/test_boundary.py's _random_sets (and, for eta, a gamma in [2, 30] instead of eta)."""
+    """As tests/model/test_boundary.py's _random_sets (and, for eta, a gamma in [2, 30] instead of eta)."""
     rng = np.random.default_rng(seed)
     out = []
     for i in range(n):

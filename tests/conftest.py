@@ -22,6 +22,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.support.layers import LAYERS
 from tests.support.processes import MARKER, stop_marked
 
 CHROMIUM = Path("/usr/bin/chromium")
@@ -52,6 +53,8 @@ LEFTOVER_GRACE = float(os.environ.get("ASYMSLIDE_LEFTOVER_GRACE", "20"))
 
 
 def pytest_configure(config: pytest.Config) -> None:
+    for layer, selects in LAYERS.items():  # each test folder's conftest marks its tests with its layer's name
+        config.addinivalue_line("markers", f"{layer}: {selects}")
     config.addinivalue_line(
         "markers", "expected_errors(server=(), browser=()): regular expressions of server log errors and browser "
                    "console/page errors a test provokes on purpose (any other one fails the test)")
@@ -104,14 +107,16 @@ def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     changed the working tree.
 
     multiprocessing's resource tracker (started for spawned processes: the robustness worker, Dask's local
-    clusters) belongs to this process and would end with it; it is stopped first, as multiprocessing itself
-    does at exit."""
+    clusters, the app's worker pool) belongs to this process and ends with it; it is stopped after the check, as
+    multiprocessing itself does at exit. (Stopped before, it waited for ever on a spawned process left running,
+    which holds its pipe open: the session hung instead of failing.)"""
     from multiprocessing import resource_tracker
 
-    stop_tracker = getattr(resource_tracker._resource_tracker, "_stop", None)
+    tracker = resource_tracker._resource_tracker
+    lines = stop_marked(RUN_ID, LEFTOVER_GRACE, exclude=(os.getpid(), getattr(tracker, "_pid", None) or -1))
+    stop_tracker = getattr(tracker, "_stop", None)
     if stop_tracker is not None:
         stop_tracker()
-    lines = stop_marked(RUN_ID, LEFTOVER_GRACE, exclude=(os.getpid(),))
     changed = _worktree_changes()
     reporter = session.config.pluginmanager.get_plugin("terminalreporter")
     if lines and reporter is not None:
@@ -404,6 +409,19 @@ def worker_pool():
 
     yield
     jobs.shutdown_pools(terminate=True)  # a call still running (a cancelled job's) ends now
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _app_worker_pools_end_with_the_session() -> Iterator[None]:
+    """The app's worker pools (app.jobs.process_pool) live as long as their process, as in a server: a headless
+    scene test starts one and the next tests reuse it. The test session is that process: they are shut at its end
+    (before the check that no process outlives the session)."""
+    yield
+    import sys
+
+    jobs = sys.modules.get("app.jobs")
+    if jobs is not None:
+        jobs.shutdown_pools(terminate=True)
 
 
 @pytest.fixture(scope="session")

@@ -34,10 +34,10 @@ module. With numba's own cache, after a change of (say) ``elementary.py`` a kern
 loaded with the old code of the elementary functions. :func:`jitted` therefore gives every function a cache
 (:class:`_common.KernelCache`) whose stamp also holds :data:`_common.SOURCES`, the sha256 of all modules of this
 package, computed at import: a change of any kernel module makes every cached kernel stale, and numba compiles it
-again (and overwrites the stale entry) at its next call. tests/test_kernel_cache.py shows it on a copy: a caller is
-recompiled after a change of its callee's module, where numba's own cache serves the stale code.
+again (and overwrites the stale entry) at its next call. tests/model/test_kernel_cache.py shows it on a copy: a
+caller is recompiled after a change of its callee's module, where numba's own cache serves the stale code.
 
-This module re-exports what the rest of model uses (and the pole-dense test of tests/test_boundary.py).
+This module re-exports what the rest of model uses (and the pole-dense test of tests/model/test_boundary.py).
 """
 
 from ._common import jitted

@@ -6,7 +6,7 @@ only that stamp when it loads the function again. A kernel compiles every kernel
 change keeps running the old code of a callee in another module that did. :class:`KernelCache` stamps every entry
 with the file's stamp *and* :data:`SOURCES`, the sha256 of every module of this package: a change of any kernel
 module invalidates the cache of every kernel (and of every function compiled with :func:`jitted` elsewhere, such as
-model.modes). The package docstring describes the mechanism; tests/test_kernel_cache.py shows it on a copy.
+model.modes). The package docstring describes the mechanism; tests/model/test_kernel_cache.py shows it on a copy.
 """
 
 from __future__ import annotations

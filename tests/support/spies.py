@@ -95,3 +95,16 @@ def spy_calls(monkeypatch: pytest.MonkeyPatch, module: types.ModuleType, calls: 
     if isinstance(real_model, types.ModuleType):
         monkeypatch.setattr(module, "model", _ModelSpy(real_model, calls))
     return calls
+
+
+def spying(*spied: tuple[types.ModuleType, Calls]) -> Callable[..., None]:
+    """The autouse fixture of a scene's test module: empty caches (``fresh_caches``), then for each (app module,
+    counter) pair the counter cleared and the module's spies installed. Use: ``_spies = spying((sp, calls))``."""
+
+    @pytest.fixture(autouse=True)
+    def _spies(fresh_caches: None, monkeypatch: pytest.MonkeyPatch) -> None:
+        for module, calls in spied:
+            calls.clear()
+            spy_calls(monkeypatch, module, calls)
+
+    return _spies

@@ -1,0 +1,316 @@
+"""What the wheel installs: the import names model, app and asymslide (kept short on purpose, see the README's
+"Installation and packaging"), every data file the app needs, and the asymslide console script."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+import asymslide
+from asymslide import cli
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory: pytest.TempPathFactory) -> zipfile.ZipFile:
+    """The wheel built from a copy of the working tree (setuptools writes build/ into the tree it builds)."""
+    out = tmp_path_factory.mktemp("wheel")
+    src = out / "src"
+    shutil.copytree(ROOT, src, ignore=shutil.ignore_patterns(".venv", ".git", "build", "*.egg-info", "__pycache__",
+                                                              ".numba_cache", ".pytest_cache", ".hypothesis"))
+    subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", "-w", str(out), str(src)],
+                   check=True, capture_output=True, timeout=600)
+    (path,) = out.glob("asymslide-*.whl")
+    return zipfile.ZipFile(path)
+
+
+@pytest.mark.slow
+def test_wheel_installs_four_import_names_and_the_data_files(wheel: zipfile.ZipFile) -> None:
+    names = wheel.namelist()
+    top = {n.split("/")[0] for n in names if not n.split("/")[0].endswith((".dist-info", ".data"))}
+    assert top == set(asymslide.IMPORT_NAMES)
+    for needed in ("app/presets.json", "app/static/asymslide.css", "app/static/logo.svg", "app/static/favicon.svg",
+                   "model/materials.json", "app/reference/physics.md", "app/main.py", "asymslide/cli.py",
+                   "atlas_engine/sweep.py"):
+        assert needed in names, needed
+    assert not [n for n in names if n.startswith(("tests/", "benchmarks/"))]
+    # every module of the model, its subpackages' included (pyproject.toml lists the packages one by one)
+    modules = {p.relative_to(ROOT).as_posix() for p in (ROOT / "model").rglob("*.py") if "__pycache__" not in p.parts}
+    assert modules - set(names) == set()
+    entry = next(n for n in names if n.endswith("entry_points.txt"))
+    assert "asymslide = asymslide.cli:main" in wheel.read(entry).decode()
+
+
+def test_a_clash_of_import_names_is_reported(monkeypatch: pytest.MonkeyPatch) -> None:
+    fake = {"model": ["asymslide", "someone-elses-model"], "app": ["asymslide"], "asymslide": ["asymslide"]}
+    monkeypatch.setattr(asymslide, "packages_distributions", lambda: fake)
+    assert asymslide.import_name_clashes() == {"model": ["someone-elses-model"]}
+
+
+def test_this_environment_has_no_clash() -> None:
+    assert asymslide.import_name_clashes() == {}
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# extras: `pip install asymslide` gives the model; [atlas] the engine; [app] the web app
+# ---------------------------------------------------------------------------------------------------------------
+
+#: what the core install provides: the model's dependencies
+CORE = ("numpy", "scipy", "numba", "llvmlite")
+
+
+def _core_only_python(tmp_path: Path) -> Path:
+    """A virtual environment holding only what `pip install asymslide` installs: the model's dependencies (linked
+    from this environment), asymslide's metadata and its source tree (a .pth file), and nothing else."""
+    import sysconfig
+
+    venv = tmp_path / "core-only"
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
+    site = Path(sysconfig.get_path("purelib"))
+    (target,) = venv.glob("lib/python*/site-packages")
+    wanted = {name.lower() for name in (*CORE, "asymslide")}
+    for entry in site.iterdir():
+        if entry.name.split("-")[0].split(".")[0].lower() in wanted and not entry.name.endswith(".pth"):
+            (target / entry.name).symlink_to(entry)
+    (target / "asymslide-source.pth").write_text(f"{ROOT}\n")
+    return venv / "bin" / "python"
+
+
+@pytest.mark.slow
+def test_the_core_install_gives_the_model_and_each_command_names_its_extra(tmp_path: Path) -> None:
+    python = _core_only_python(tmp_path)
+    model = subprocess.run([str(python), "-c", "import model; "
+                            "print(float(model.rayleigh_speed(0.25)), model.__file__)"],
+                           capture_output=True, text=True, timeout=300)
+    assert model.returncode == 0, model.stderr
+    import model as here
+
+    assert float(model.stdout.split()[0]) == float(here.rayleigh_speed(0.25))  # the same model, from the core alone
+    assert model.stdout.split()[1].startswith(str(ROOT))
+    hidden = subprocess.run([str(python), "-c", "import panel"], capture_output=True, text=True, timeout=60)
+    assert "No module named 'panel'" in hidden.stderr  # the environment really lacks the app's dependencies
+    for command, extra, missing in ((["serve"], "app", "panel"),
+                                    (["sweep", "--axis", "gamma=1:2:2", "--out", str(tmp_path / "a.zarr")],
+                                     "atlas", "xarray"),
+                                    (["info", str(tmp_path / "a.zarr")], "atlas", "dask")):
+        run = subprocess.run([str(python), "-m", "asymslide", *command], capture_output=True, text=True, timeout=120)
+        assert run.returncode == cli.EXIT_MISSING_EXTRA, run.stderr
+        assert f"pip install 'asymslide[{extra}]'" in run.stderr and missing in run.stderr, run.stderr
+        assert "Traceback" not in run.stderr
+        assert not (tmp_path / "a.zarr").exists()
+    version = subprocess.run([str(python), "-m", "asymslide", "--version"], capture_output=True, text=True,
+                             timeout=60)
+    assert version.returncode == 0 and version.stdout.startswith("asymslide ")
+
+
+def test_a_missing_extra_is_named_before_the_command_runs(monkeypatch: pytest.MonkeyPatch,
+                                                           capsys: pytest.CaptureFixture[str]) -> None:
+    real = cli.metadata.distribution
+
+    def without_panel(name: str):
+        if name.lower() == "panel":
+            raise cli.metadata.PackageNotFoundError(name)
+        return real(name)
+
+    monkeypatch.setattr(cli.metadata, "distribution", without_panel)
+    monkeypatch.setattr(cli, "_serve", lambda _args: pytest.fail("the server was started"))
+    assert cli.missing_requirements("app") == ["panel"]
+    assert cli.missing_requirements("atlas") == []
+    assert cli.main(["serve"]) == cli.EXIT_MISSING_EXTRA
+    err = capsys.readouterr().err
+    assert "'asymslide serve' needs the web app's dependencies" in err and "(missing: panel)" in err
+    assert "pip install 'asymslide[app]'" in err
+
+
+def test_nested_extras_are_followed(monkeypatch: pytest.MonkeyPatch) -> None:
+    """[app] requires asymslide[atlas], which requires dask[distributed]: a missing 'distributed' is found."""
+    real = cli.metadata.distribution
+
+    def without_distributed(name: str):
+        if name.lower() == "distributed":
+            raise cli.metadata.PackageNotFoundError(name)
+        return real(name)
+
+    monkeypatch.setattr(cli.metadata, "distribution", without_distributed)
+    assert cli.missing_requirements("app") == ["distributed"]
+    assert cli.missing_requirements("nonexistent-extra") == []
+    assert cli.missing_requirements("app", dist="no-such-distribution") is None
+
+
+def test_this_environment_has_every_extra() -> None:
+    for extra in ("atlas", "app", "test", "bench", "dev"):
+        assert cli.missing_requirements(extra) == [], extra
+
+
+def _pyproject() -> dict:
+    import tomllib
+
+    return tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+
+
+def _requirement_name(line: str) -> str:
+    return re.match(r"[A-Za-z0-9][A-Za-z0-9._-]*", line).group(0)
+
+
+def _closure(requirements: list[str]) -> set[str]:
+    """Canonical names of the distributions these requirements install, through every dependency (installed
+    metadata; extras of other distributions followed)."""
+    from importlib import metadata
+
+    seen: set[str] = set()
+    todo = [(r, None) for r in requirements]
+    while todo:
+        line, _ = todo.pop()
+        match = re.match(r"\s*([A-Za-z0-9][A-Za-z0-9._-]*)\s*(?:\[([^\]]*)\])?[^;]*(?:;(.*))?$", line)
+        name, extras, _marker = match.groups()
+        extras = {e.strip() for e in (extras or "").split(",") if e.strip()}
+        key = _canonical(name) + "[" + ",".join(sorted(extras)) + "]"
+        if key in seen:
+            continue
+        seen.add(key)
+        if name.lower() == "asymslide":
+            todo += [(r, None) for e in extras for r in _pyproject()["optional-dependencies"][e]]
+            continue
+        for req in metadata.requires(name) or []:
+            marker = req.partition(";")[2]
+            extra = re.search(r"""extra\s*==\s*["']([^"']+)["']""", marker)
+            if extra is not None and extra.group(1) not in extras:
+                continue
+            if marker.strip() and extra is None and not _marker_applies(marker):
+                continue
+            todo.append((req, None))
+    return {k.partition("[")[0] for k in seen} - {"asymslide"}
+
+
+def _marker_applies(marker: str) -> bool:
+    """Evaluate a dependency's environment marker (packaging is installed with the app's dependencies)."""
+    from packaging.markers import Marker
+
+    return Marker(marker).evaluate({"extra": ""})
+
+
+def _canonical(name: str) -> str:
+    return re.sub(r"[-_.]+", "-", name).lower()
+
+
+#: the import names each layer may use, besides the standard library and the project's own packages
+LAYER_FILES = {
+    "core": ["model/**/*.py", "asymslide/__init__.py", "asymslide/__main__.py", "asymslide/warmup.py"],
+    "atlas": ["atlas_engine/*.py", "asymslide/cli.py"],
+    "app": ["app/*.py", "asymslide/serve.py"],
+}
+
+
+def _top_level_imports(path: Path) -> set[str]:
+    """The top-level names a module imports (absolute imports; relative ones stay in its own package)."""
+    import ast
+
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            names |= {alias.name.partition(".")[0] for alias in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names.add(node.module.partition(".")[0])
+    return names
+
+
+def _third_party_imports(path: Path) -> set[str]:
+    return _top_level_imports(path) - set(sys.stdlib_module_names) - set(asymslide.IMPORT_NAMES) - {"__future__"}
+
+
+def test_every_import_of_a_layer_is_installed_by_its_extra() -> None:
+    """model/ needs only the core dependencies, the atlas engine only [atlas], the app only [app]."""
+    from importlib.metadata import packages_distributions
+
+    project = _pyproject()
+    extras = project["optional-dependencies"]
+    provided = {
+        "core": _closure(project["dependencies"]),
+        "atlas": _closure(project["dependencies"] + extras["atlas"]),
+        "app": _closure(project["dependencies"] + extras["app"]),
+    }
+    providers = packages_distributions()
+    problems = []
+    for layer, patterns in LAYER_FILES.items():
+        for path in sorted(p for pattern in patterns for p in ROOT.glob(pattern)):
+            for module in sorted(_third_party_imports(path)):
+                dists = {_canonical(d) for d in providers.get(module, [module])}
+                if not dists & provided[layer]:
+                    problems.append(f"{path.relative_to(ROOT)} imports {module} ({', '.join(sorted(dists))}), "
+                                    f"not installed by the {layer} requirements")
+    assert problems == []
+    assert {_canonical(_requirement_name(r)) for r in project["dependencies"]} == {"numpy", "scipy", "numba"}
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the lock: one file for the .venv and the image
+# ---------------------------------------------------------------------------------------------------------------
+
+LOCK = ROOT / "requirements.lock"
+
+
+def _locked() -> dict[str, str]:
+    pins = {}
+    for line in LOCK.read_text().splitlines():
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        match = re.fullmatch(r"([A-Za-z0-9][A-Za-z0-9._-]*)==([^\s;]+)", line.strip())
+        assert match is not None, f"not a plain pin usable as a pip constraint: {line!r}"
+        pins[_canonical(match.group(1))] = match.group(2)
+    return pins
+
+
+def test_the_lock_pins_everything_every_extra_installs() -> None:
+    project = _pyproject()
+    everything = _closure(project["dependencies"] + [r for rs in project["optional-dependencies"].values()
+                                                     for r in rs])
+    pins = _locked()
+    assert sorted(everything - set(pins)) == []
+    assert "asymslide" not in pins and "pip" not in pins
+
+
+def test_this_environment_runs_the_locked_versions() -> None:
+    """make test runs against requirements.lock: every locked distribution installed here has its pinned version."""
+    from importlib import metadata
+
+    pins = _locked()
+    installed = {_canonical(d.metadata["Name"]): d.version for d in metadata.distributions()}
+    wrong = {name: (installed[name], pin) for name, pin in pins.items() if name in installed and installed[name] != pin}
+    assert wrong == {}, "installed != locked (run make venv)"
+    assert set(pins) <= set(installed)
+
+
+#: the project's layers from the bottom up (ARCHITECTURE.md): a module may import its own layer and those below
+LAYERS = ("model", "atlas_engine", "app", "asymslide")
+
+
+def _project_imports(path: Path) -> set[str]:
+    """The project packages a module imports."""
+    return _top_level_imports(path) & set(LAYERS)
+
+
+def test_no_import_runs_back_up_a_layer() -> None:
+    """model -> atlas_engine -> app -> asymslide: each package imports only its own layer and those below it."""
+    assert set(LAYERS) == set(asymslide.IMPORT_NAMES)
+    upward = []
+    for level, package in enumerate(LAYERS):
+        allowed = set(LAYERS[:level + 1])
+        for path in sorted((ROOT / package).rglob("*.py")):
+            if bad := _project_imports(path) - allowed:
+                upward.append(f"{path.relative_to(ROOT)} imports {', '.join(sorted(bad))}")
+    assert upward == []
+
+
+def test_the_app_opens_atlases_only_through_the_store() -> None:
+    """app/ never reads Zarr itself: xarray and zarr are the atlas layer's (atlas_engine.store opens atlases)."""
+    readers = [f"{path.relative_to(ROOT)} imports {', '.join(sorted(bad))}"
+               for path in sorted((ROOT / "app").rglob("*.py"))
+               if (bad := _third_party_imports(path) & {"xarray", "zarr"})]
+    assert readers == []

@@ -1,0 +1,12 @@
+"""The tests of the physics (model/) against the oracle, properties and bad input. Each test here is marked ``model``
+(tests/support/layers.py)."""
+
+from pathlib import Path
+
+import pytest
+
+from tests.support.layers import mark_layer
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    mark_layer(items, Path(__file__).parent)
