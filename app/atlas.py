@@ -163,8 +163,8 @@ def read_only_message(directory: Path, exc: OSError) -> str:
 
 Atlas = store.Atlas
 CROSSING_VARIABLES = store.CROSSING_VARIABLES
-#: verdict class of an undetermined point (model.VERDICTS)
-UNDETERMINED = 2
+#: verdict class of an undetermined point
+UNDETERMINED = model.Verdict.UNDETERMINED
 
 
 #: the refused sign changes of the boundary in a few words (the full texts: model.CROSSING_STATUS)
@@ -668,7 +668,7 @@ def verdict_coverage(verdict: np.ndarray, reason: np.ndarray) -> str:
     are undetermined."""
     v, r = np.asarray(verdict), np.asarray(reason)
     computed = v >= 0
-    certified = int(np.isin(v, (0, 1)).sum())
+    certified = int(np.isin(v, (model.Verdict.STABLE, model.Verdict.UNSTABLE)).sum())
     why = ", ".join(f"{short_reason(code, model.VERDICT_STATUS)} {int(((v == UNDETERMINED) & (r == code)).sum())}"
                     for code in np.unique(r[v == UNDETERMINED]))
     share = f"{100 * certified / max(int(computed.sum()), 1):.1f} %"
@@ -681,10 +681,10 @@ def crossing_coverage(reason: np.ndarray, which: str = "Thresholds in γ") -> st
     """The readout line of an atlas's boundary in γ: certified thresholds and refused sign changes by reason."""
     r = np.asarray(reason)
     points = r.reshape(-1, r.shape[-1])
-    certified = int(np.isin(r, (0, 1)).sum())
-    complete = int(np.all((points < 0) | np.isin(points, (0, 1)), axis=1).sum())
+    certified = int(np.isin(r, model.CERTIFIED_CROSSINGS).sum())
+    complete = int(np.all((points < 0) | np.isin(points, model.CERTIFIED_CROSSINGS), axis=1).sum())
     refused = ", ".join(f"{REFUSED_CROSSING.get(int(code), f'reason {int(code)}')} {int((r == code).sum())}"
-                        for code in np.unique(r[(r >= 0) & ~np.isin(r, (0, 1))]))
+                        for code in np.unique(r[(r >= 0) & ~np.isin(r, model.CERTIFIED_CROSSINGS)]))
     return (f"**{which}** {certified} certified crossing(s); every sign change certified at {complete} of "
             f"{points.shape[0]} points of the other axes" + (f"; refused (×, not thresholds): {refused}" if refused
                                                              else ""))
@@ -1066,7 +1066,7 @@ class AtlasScene(pn.viewable.Viewer):
                 runs = _runs(shown(value), along, np.isfinite(value) & (direction == sign))
                 out.lines.setdefault(sign, []).extend(xy(*run) for run in runs)
         reason, location = c["gamma_c_crossing_reason"], c["gamma_c_location"].astype(float)
-        bad = np.isfinite(location) & (reason >= 0) & ~np.isin(reason, (0, 1))
+        bad = np.isfinite(location) & (reason >= 0) & ~np.isin(reason, model.CERTIFIED_CROSSINGS)
         rows = np.nonzero(bad)
         px, py = xy(shown(location[bad]), along[rows[0]])
         why = np.array([REFUSED_CROSSING.get(int(r), f"reason {int(r)}") for r in reason[bad]], dtype=object)

@@ -133,7 +133,7 @@ def sliding_lab_lines(d: dict) -> list[str]:
     """The readout of :func:`compute_lab_sliding`: the fastest-growing mode of every branch in lab units."""
     lo, hi = d["range"]
     scope = f"every branch, Im c/c_s ≥ {d['floor']:g}, kH {lo:g} to {hi:g}"
-    if d["verdict"] == 0:
+    if d["verdict"] == model.Verdict.STABLE:
         return [f"**Sliding stable** ({scope}): no mode of any branch grows"]
     if "bound" in d:
         b = d["bound"]
@@ -142,8 +142,8 @@ def sliding_lab_lines(d: dict) -> list[str]:
                 f"({FAMILY_NAMES.get(d['bound_family'], 'family unknown')}, at kH = {fmt(d['bound_kH'])}) grows at "
                 f"{fmt(b['growth_rate'])} 1/s (λ = {fmt(b['wavelength'] * 1e3)} mm, e-folding time "
                 f"{fmt(b['e_folding_time'] * 1e3)} ms): the fastest grows at least as fast"]
-    if d["verdict"] == 2 or "peak" not in d:
-        what = "undetermined" if d["verdict"] == 2 else "unstable"
+    if d["verdict"] == model.Verdict.UNDETERMINED or "peak" not in d:
+        what = "undetermined" if d["verdict"] == model.Verdict.UNDETERMINED else "unstable"
         return [f"**Sliding {what}** ({scope}): {model.SLIDING_STATUS[d['reason']]}"]
     pk = d["peak"]
     sign = "≥ " if d["lower_bound"] else ""

@@ -19,6 +19,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+import model
+
 from . import jobs, sliding_work
 
 #: columns of the map per call of the model (how often a cancelled job can stop: ~1 s at η = ∞)
@@ -26,7 +28,7 @@ COLUMNS_PER_CHUNK = 2
 #: the crossings a column of a map may have (model.critical_gammas' max_crossings; the Rayleigh branch's too)
 MAX_CROSSINGS = 4
 #: reason codes of a certified crossing (model.CROSSING_STATUS: a neutral mode, or one at an end of the kH range)
-CERTIFIED = (0, 1)
+CERTIFIED = model.CERTIFIED_CROSSINGS
 #: the per-crossing fields kept (each n_columns × MAX_CROSSINGS)
 FIELDS = ("value", "location", "direction", "reason", "kH", "z")
 

@@ -48,6 +48,8 @@ def floor_value(choice: str, finite_eta: bool) -> float:
     return float(choice)
 
 #: the verdicts the map can be coloured by (the URL words after the arrow)
+#: the verdict classes (model.Verdict), as the sliding map compares its int8 fields with them
+STABLE, UNSTABLE, UNDETERMINED = model.Verdict
 SLIDING, RAYLEIGH = "sliding (every branch)", "Rayleigh branch"
 VERDICT_WORDS = {SLIDING: "sliding", RAYLEIGH: "rayleigh"}
 
@@ -185,19 +187,20 @@ def compute_sliding_map(key: tuple, x: np.ndarray, y: np.ndarray, names: tuple[s
 def hover_text(verdict: np.ndarray, reason: np.ndarray, family: np.ndarray, floor: float) -> np.ndarray:
     """A cell's verdict in words (for the hover): 'unstable: intersonic guided mode', 'stable above the floor'...."""
     out = np.full(verdict.shape, "not computed", dtype=object)
-    out[verdict == 0] = f"stable: no root of any branch with Im z ≥ {floor:g}"
-    out[verdict == 2] = "undetermined"
+    out[verdict == STABLE] = f"stable: no root of any branch with Im z ≥ {floor:g}"
+    out[verdict == UNDETERMINED] = "undetermined"
     for code, name in FAMILY_NAMES.items():
-        out[(verdict == 1) & (family == code)] = f"unstable: {name}"
-    out[(verdict == 1) & (family < 0)] = "unstable (maximum not certified)"
-    out[(verdict == 2) & (reason == 2)] = "undetermined: the window at the floor is too wide"
-    out[(verdict == 2) & (reason == 3)] = "undetermined: the contour count failed"
+        out[(verdict == UNSTABLE) & (family == code)] = f"unstable: {name}"
+    out[(verdict == UNSTABLE) & (family < 0)] = "unstable (maximum not certified)"
+    undetermined = verdict == UNDETERMINED
+    out[undetermined & (reason == model.SlidingReason.WIDE)] = "undetermined: the window at the floor is too wide"
+    out[undetermined & (reason == model.SlidingReason.FAILED)] = "undetermined: the contour count failed"
     return out
 
 
 def family_counts(verdict: np.ndarray, family: np.ndarray) -> str:
     """The unstable points by the family of their fastest mode: "intersonic guided mode 15, ..." ("" if none)."""
-    unstable = np.asarray(verdict) == 1
+    unstable = np.asarray(verdict) == UNSTABLE
     fam = np.asarray(family)
     return ", ".join(f"{name} {int((unstable & (fam == code)).sum())}" for code, name in FAMILY_NAMES.items()
                      if (unstable & (fam == code)).any())
@@ -208,7 +211,7 @@ def cell_text(*, verdict: int, reason: int, family: int, growth: float, kH: floa
     """One point's sliding verdict in words, with the fastest mode's growth, kH and z where it is certified (the
     readouts of the Stability map's star cell and of a clicked Atlas cell)."""
     text = hover_text(np.array([int(verdict)]), np.array([int(reason)]), np.array([int(family)]), floor)[0]
-    if int(verdict) == 1 and np.isfinite(growth):
+    if int(verdict) == UNSTABLE and np.isfinite(growth):
         text += (f", max Im[c/c_s] {'≥' if lower_bound else '='} {fmt(float(growth))} at kH = {fmt(float(kH))}, "
                  f"z = {fmt(float(re_z), 6)} + {fmt(float(growth))}i")
     return text

@@ -247,9 +247,9 @@ def sliding_lines(d: dict | None, progress: str = "") -> list[str]:
         return [f"**Sliding, every branch**: computing{' (' + progress + ')' if progress else ''}…"]
     lo, hi = d["range"]
     scope = f"every branch, Im z ≥ {d['floor']:g}, kH {lo:g} to {hi:g}"
-    if d["verdict"] == 0:
+    if d["verdict"] == model.Verdict.STABLE:
         return [f"**Sliding stable** ({scope}): no root of any branch grows"]
-    if d["verdict"] == 2:
+    if d["verdict"] == model.Verdict.UNDETERMINED:
         return [f"**Sliding undetermined** ({scope}): {model.SLIDING_STATUS[d['reason']]}"]
     if not math.isfinite(d["max"]):
         return [f"**Sliding unstable** ({scope}): {model.SLIDING_STATUS[d['reason']]}"]

@@ -290,7 +290,7 @@ def fig4c_sliding_text(d: dict) -> str:
             f"{beta.size} β (triangles)")
     if found.any():
         text += f": χ_c from {fmt(float(np.nanmin(chi)))} to {fmt(float(np.nanmax(chi)))}"
-        at_end = found & (d["reason"] == 1)
+        at_end = found & (d["reason"] == model.CrossingReason.EDGE)
         if at_end.any():
             text += (f"; at {int(at_end.sum())} β its neutral mode is at kH = {fmt(float(np.nanmax(d['kH'][at_end])))}"
                      f", the end of the kH range searched (z = {fmt(float(d['z'][at_end][0]), 6)}: a root just beyond "
@@ -1205,7 +1205,7 @@ class StabilityMapScene(pn.viewable.Viewer):
             words, shown = np.full(shape, "not computed yet", dtype=object), np.full(shape, "", dtype=object)
         else:
             d = sl.shown()
-            growth = np.where(d["verdict"] == 1, d["growth"], np.nan)
+            growth = np.where(d["verdict"] == model.Verdict.UNSTABLE, d["growth"], np.nan)
             kh, rez = d["kH_at_max"], d["re_z"]
             words = sm.hover_text(d["verdict"], d["reason"], d["family"], sl.floor)
             shown = np.where(sl.exact(), "this point", np.where(d["verdict"] >= 0, "preview: its block's lower-left "

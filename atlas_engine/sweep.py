@@ -1318,7 +1318,7 @@ def _adaptive_store_lines(ds) -> Iterator[str]:
 
 def _gamma_c_lines(gc: np.ndarray, reason: np.ndarray, which: str = "gamma_c") -> Iterator[str]:
     """Where the threshold was found, its range, and the count of each reason it was not."""
-    ok = reason == 0
+    ok = reason == model.ThresholdReason.FOUND
     yield (f"  {which}: found at {int(ok.sum())} of {gc.size} points"
            + (f", range {np.nanmin(gc):.6g} .. {np.nanmax(gc):.6g}" if ok.any() else ""))
     for code, text in model.THRESHOLD_STATUS.items():
@@ -1356,12 +1356,13 @@ def _verdict_lines(verdict: np.ndarray, reason: np.ndarray, which: str = "Raylei
     if not n:
         yield f"  {which} verdict: no cell computed yet"
         return
-    cert = np.isin(verdict, (0, 1)) & done
+    cert = np.isin(verdict, (model.Verdict.STABLE, model.Verdict.UNSTABLE)) & done
     yield (f"  {which} verdict coverage: {100 * cert.sum() / n:.1f} % of {n} computed cells certified (stable "
-           f"{100 * (verdict == 0).sum() / n:.1f} %, unstable {100 * (verdict == 1).sum() / n:.1f} %), undetermined "
-           f"{100 * (verdict == 2).sum() / n:.1f} %")
+           f"{100 * (verdict == model.Verdict.STABLE).sum() / n:.1f} %, unstable "
+           f"{100 * (verdict == model.Verdict.UNSTABLE).sum() / n:.1f} %), undetermined "
+           f"{100 * (verdict == model.Verdict.UNDETERMINED).sum() / n:.1f} %")
     for code, text in status.items():
-        k = int(((reason == code) & (verdict == 2)).sum())
+        k = int(((reason == code) & (verdict == model.Verdict.UNDETERMINED)).sum())
         if k:
             yield f"    undetermined, reason {code} at {k} cells: {text.removeprefix('undetermined: ')}"
 

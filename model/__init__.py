@@ -17,27 +17,27 @@ Rayleigh branch of the spectrum (§3, §4, §8)
     reasons: :data:`STATUS`), :func:`linear_expansion` (Eq. S-dz).
 
 Stability (§4, §9)
-    :func:`growth_analysis` returning :class:`GrowthResult` (the continuous max growth over the kH range and
-    its verdict: :data:`VERDICTS`, :data:`VERDICT_STATUS`, :func:`verdict_class`), :func:`growth_chunk` (one chunk
-    of a stability map, for distributed sweeps; rows :data:`GROWTH_ROWS`), :func:`max_growth`,
-    :func:`unstable_band`; thresholds as certified neutral modes: :func:`critical_gammas`, :func:`critical_etas`
-    (every crossing, :class:`Crossings`, reason codes :data:`CROSSING_STATUS`), :func:`critical_gamma`,
-    :func:`critical_eta` (the first certified crossing) and, for whole chunks at once, :func:`crossings_chunk`,
-    :func:`threshold_chunk` returning :class:`ThresholdChunk`, :func:`critical_gamma_chunk`,
-    :func:`critical_eta_chunk` (reason codes :data:`THRESHOLD_STATUS`); :func:`min_gy_at_rayleigh_speed`,
-    :func:`criterion_chi`,
-    :func:`criterion_gy_level` (Eq. criterion), :func:`critical_chi` (Fig. 4c), :func:`stability_verdict`
-    returning :class:`StabilityVerdict`, :func:`stable`.
+    :func:`growth_analysis` returning :class:`GrowthResult` (the continuous max growth over the kH range and its
+    verdict: :class:`Verdict`, :data:`VERDICTS`, :data:`VERDICT_STATUS`, :func:`verdict_class`),
+    :func:`growth_chunk` (one chunk of a stability map, for distributed sweeps; rows :data:`GROWTH_ROWS`),
+    :func:`max_growth`, :func:`unstable_band`; thresholds as certified neutral modes: :func:`critical_gammas`,
+    :func:`critical_etas` (every crossing, :class:`Crossings`, reason codes :class:`CrossingReason` and
+    :data:`CROSSING_STATUS`, the certified ones :data:`CERTIFIED_CROSSINGS`), :func:`critical_gamma`, :func:`critical_eta` (the first certified crossing) and, for
+    whole chunks at once, :func:`crossings_chunk`, :func:`threshold_chunk` returning :class:`ThresholdChunk`,
+    :func:`critical_gamma_chunk`, :func:`critical_eta_chunk` (reason codes :class:`ThresholdReason`,
+    :data:`THRESHOLD_STATUS`); :func:`min_gy_at_rayleigh_speed`, :func:`criterion_chi`, :func:`criterion_gy_level`
+    (Eq. criterion), :func:`critical_chi` (Fig. 4c), :func:`stability_verdict` returning :class:`StabilityVerdict`,
+    :func:`stable`.
 
 All branches (§10)
     :func:`unstable_modes`, :func:`unstable_count` (argument principle in a stated window).
 
 The whole spectrum: is steady sliding stable? (§14)
-    :func:`root_window` (where the roots with Im z >= floor can be: a theorem), :func:`fastest_mode` (the root
-    of largest Im z over every branch at each kH, certified, its family :data:`FAMILIES` and the count above the
-    floor, :class:`FastestMode`, :data:`MODE_STATUS`), :func:`sliding_analysis` (over a kH range: the maximum of
-    that growth and of the temporal rate, and the sliding verdict beside the Rayleigh branch's,
-    :class:`SlidingResult`, :data:`SLIDING_STATUS`), :func:`sliding_chunk` (a chunk for sweeps, rows
+    :func:`root_window` (where the roots with Im z >= floor can be: a theorem), :func:`fastest_mode` (the root of
+    largest Im z over every branch at each kH, certified, its family :data:`FAMILIES` and the count above the floor,
+    :class:`FastestMode`, :data:`MODE_STATUS`), :func:`sliding_analysis` (over a kH range: the maximum of that
+    growth and of the temporal rate, and the sliding verdict beside the Rayleigh branch's, :class:`SlidingResult`,
+    :class:`SlidingReason`, :data:`SLIDING_STATUS`), :func:`sliding_chunk` (a chunk for sweeps, rows
     :data:`SLIDING_ROWS`; its reason codes as verdict classes :func:`sliding_verdict`, its family row as codes
     :func:`family_codes`); :data:`DEFAULT_FLOOR`, :data:`SLIDING_KH`.
 
@@ -146,6 +146,7 @@ from .sliding import (
     SLIDING_ROWS,
     SLIDING_STATUS,
     FastestMode,
+    SlidingReason,
     SlidingResult,
     family_codes,
     fastest_mode,
@@ -161,6 +162,7 @@ from .stability import (
     VERDICTS,
     GrowthResult,
     StabilityVerdict,
+    Verdict,
     criterion_chi,
     criterion_gy_level,
     critical_chi,
@@ -184,10 +186,13 @@ from .thin_on_thick import (
     thin_on_thick_response,
 )
 from .thresholds import (
+    CERTIFIED_CROSSINGS,
     CROSSING_STATUS,
     THRESHOLD_STATUS,
+    CrossingReason,
     Crossings,
     ThresholdChunk,
+    ThresholdReason,
     critical_eta,
     critical_eta_chunk,
     critical_etas,
@@ -205,6 +210,7 @@ __all__ = [
     "SLIDING_KH",
     "SLIDING_ROWS",
     "SLIDING_STATUS",
+    "SlidingReason",
     "FastestMode",
     "SlidingResult",
     "fastest_mode",
@@ -226,16 +232,20 @@ __all__ = [
     "critical_etas",
     "critical_gamma",
     "critical_gammas",
+    "CERTIFIED_CROSSINGS",
     "CROSSING_STATUS",
+    "CrossingReason",
     "Crossings",
     "crossings_chunk",
     "GROWTH_ROWS",
     "VERDICT_STATUS",
     "VERDICTS",
+    "Verdict",
     "verdict_class",
     "criterion_chi",
     "criterion_gy_level",
     "THRESHOLD_STATUS",
+    "ThresholdReason",
     "ThresholdChunk",
     "threshold_chunk",
     "critical_gamma_chunk",

@@ -23,6 +23,7 @@ from __future__ import annotations
 import heapq
 import math
 from dataclasses import dataclass
+from enum import IntEnum
 
 import numpy as np
 
@@ -33,7 +34,7 @@ from ._kernels.window import exclusion_radius, top_of_roots
 from ._sliding_cuts import CHARTS, CutCharts
 from ._validate import check
 from .modes import AXIS_HMIN, MAX_LADDER_POLES, MAX_SHIFTS, REL_HMIN, SHIFT, SHIFT_GROWTH, _Problem, _roots_from_sums
-from .stability import GROWTH_ROWS, GrowthResult
+from .stability import GROWTH_ROWS, GrowthResult, Verdict
 
 __all__ = [
     "DEFAULT_FLOOR",
@@ -415,7 +416,20 @@ def root_window(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, floor=DE
 # over a kH range
 # ------------------------------------------------------------------------------------------------
 
-S_STABLE, S_UNSTABLE, S_WIDE, S_FAILED, S_UNSTABLE_UNCERTIFIED_MAX = 0, 1, 2, 3, 4
+
+
+class SlidingReason(IntEnum):
+    """Why the sliding verdict is what it is (SlidingResult.verdict_reason; atlases' ``verdict_reason_all``): the
+    keys of :data:`SLIDING_STATUS`."""
+
+    STABLE = 0
+    UNSTABLE = 1
+    WIDE = 2
+    FAILED = 3
+    UNSTABLE_UNCERTIFIED_MAX = 4
+
+
+S_STABLE, S_UNSTABLE, S_WIDE, S_FAILED, S_UNSTABLE_UNCERTIFIED_MAX = SlidingReason
 #: reason codes of the sliding verdict (SlidingResult.verdict_reason; atlases' ``verdict_reason_all``)
 SLIDING_STATUS = {
     S_STABLE: "stable: at every kH of the range, no root of any branch has Im z >= floor (the window's count is 0)",
@@ -971,7 +985,8 @@ def sliding_verdict(reason: np.ndarray) -> np.ndarray:
     (:data:`SLIDING_STATUS`, e.g. :func:`sliding_chunk`'s ``verdict_reason_all`` row)."""
     reason = np.asarray(reason)
     unstable = np.isin(reason, (S_UNSTABLE, S_UNSTABLE_UNCERTIFIED_MAX))
-    return np.where(reason == S_STABLE, 0, np.where(unstable, 1, 2)).astype(np.int8)
+    return np.where(reason == S_STABLE, Verdict.STABLE,
+                    np.where(unstable, Verdict.UNSTABLE, Verdict.UNDETERMINED)).astype(np.int8)
 
 
 def family_codes(row: np.ndarray) -> np.ndarray:

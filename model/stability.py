@@ -9,6 +9,7 @@ import math
 import os
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from enum import IntEnum
 
 import numpy as np
 from scipy import optimize
@@ -80,14 +81,26 @@ VERDICT_STATUS = {
     "and many other roots lie just above the poles (docs/physics.md §9), and it does not grow elsewhere",
     K.V_MARGINAL: "undetermined: |max growth| is not above its error estimate",
 }
-#: the verdict classes (GrowthResult.verdict; atlases' ``verdict``)
-VERDICTS = {0: "stable", 1: "unstable", 2: "undetermined"}
+
+
+class Verdict(IntEnum):
+    """The verdict classes of the Rayleigh branch and of sliding over every branch (GrowthResult.verdict,
+    SlidingResult.verdict; atlases' ``verdict`` and ``verdict_all``, int8)."""
+
+    STABLE = 0
+    UNSTABLE = 1
+    UNDETERMINED = 2
+
+
+#: the verdict classes' names, by code
+VERDICTS = {v: v.name.lower() for v in Verdict}
 
 
 def verdict_class(reason: np.ndarray) -> np.ndarray:
-    """The verdict class (0 stable, 1 unstable, 2 undetermined) of verdict reason codes (NaN or < 0: 2)."""
+    """The :class:`Verdict` (int8: 0 stable, 1 unstable, 2 undetermined) of verdict reason codes (NaN or < 0: 2)."""
     r = np.asarray(reason, dtype=float)
-    return np.where(r == K.V_STABLE, 0, np.where(r == K.V_UNSTABLE, 1, 2)).astype(np.int8)
+    return np.where(r == K.V_STABLE, Verdict.STABLE,
+                    np.where(r == K.V_UNSTABLE, Verdict.UNSTABLE, Verdict.UNDETERMINED)).astype(np.int8)
 
 
 #: rows of :func:`growth_chunk`'s result

@@ -31,6 +31,7 @@ import math
 import os
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
+from enum import IntEnum
 from typing import NamedTuple
 
 import numpy as np
@@ -63,14 +64,24 @@ NEUTRAL_TRIES = 3  # the neutral mode is tried at the first NEUTRAL_TRIES steps 
 EDGE_S = 1e-12  # a maximum within this of an end of the kH range (in ln kH) is at that end
 MAX_CROSSINGS = 4  # crossings returned per parameter set (the count may be larger)
 
-# crossing reason codes (Crossings.reason)
-X_CERTIFIED = 0
-X_EDGE = 1
-X_JUMP_MASKED = 2
-X_JUMP = 3
-X_POLE_DENSE = 4
-X_UNDEFINED = 5
-X_NOT_CERTIFIED = 6
+
+
+class CrossingReason(IntEnum):
+    """Whether a sign change of the max growth is a threshold, and why not (Crossings.reason; atlases'
+    ``gamma_c_crossing_reason``): the keys of :data:`CROSSING_STATUS`."""
+
+    CERTIFIED = 0
+    EDGE = 1
+    JUMP_MASKED = 2
+    JUMP = 3
+    POLE_DENSE = 4
+    UNDEFINED = 5
+    NOT_CERTIFIED = 6
+
+
+X_CERTIFIED, X_EDGE, X_JUMP_MASKED, X_JUMP, X_POLE_DENSE, X_UNDEFINED, X_NOT_CERTIFIED = CrossingReason
+#: the reasons of a certified crossing, a threshold: a neutral mode, or one at an end of the kH range
+CERTIFIED_CROSSINGS = (CrossingReason.CERTIFIED, CrossingReason.EDGE)
 #: what the reason codes of a crossing mean (Crossings.reason; atlases' ``gamma_c_crossing_reason``)
 CROSSING_STATUS = {
     X_CERTIFIED: "certified: a neutral mode (real z, Im z stationary in kH) on the Rayleigh branch where the max "
@@ -86,8 +97,22 @@ CROSSING_STATUS = {
     X_NOT_CERTIFIED: "not certified: no neutral mode converged in the bracket, or it failed a certificate",
 }
 
-# threshold (first certified crossing) reason codes: the point-level summary
-T_FOUND, T_STABLE, T_UNSTABLE, T_UNDEFINED, T_NOT_CERTIFIED, T_JUMP, T_POLE_DENSE = 0, 1, 2, 3, 4, 5, 6
+
+
+class ThresholdReason(IntEnum):
+    """The point-level summary of a threshold search (the first certified crossing): the keys of
+    :data:`THRESHOLD_STATUS` (:func:`threshold_chunk`, :func:`critical_gamma_chunk`; atlases' ``gamma_c_reason``)."""
+
+    FOUND = 0
+    STABLE = 1
+    UNSTABLE = 2
+    UNDEFINED = 3
+    NOT_CERTIFIED = 4
+    JUMP = 5
+    POLE_DENSE = 6
+
+
+T_FOUND, T_STABLE, T_UNSTABLE, T_UNDEFINED, T_NOT_CERTIFIED, T_JUMP, T_POLE_DENSE = ThresholdReason
 #: reason codes of :func:`threshold_chunk` / :func:`critical_gamma_chunk` (int8), like :data:`model.spectrum.STATUS`
 THRESHOLD_STATUS = {
     T_FOUND: "found: the first certified crossing (a neutral mode where the max growth changes sign)",
