@@ -22,12 +22,12 @@ Stability (§4, §9)
     :func:`growth_chunk` (one chunk of a stability map, for distributed sweeps; rows :data:`GROWTH_ROWS`),
     :func:`max_growth`, :func:`unstable_band`; thresholds as certified neutral modes: :func:`critical_gammas`,
     :func:`critical_etas` (every crossing, :class:`Crossings`, reason codes :class:`CrossingReason` and
-    :data:`CROSSING_STATUS`, the certified ones :data:`CERTIFIED_CROSSINGS`), :func:`critical_gamma`, :func:`critical_eta` (the first certified crossing) and, for
-    whole chunks at once, :func:`crossings_chunk`, :func:`threshold_chunk` returning :class:`ThresholdChunk`,
-    :func:`critical_gamma_chunk`, :func:`critical_eta_chunk` (reason codes :class:`ThresholdReason`,
-    :data:`THRESHOLD_STATUS`); :func:`min_gy_at_rayleigh_speed`, :func:`criterion_chi`, :func:`criterion_gy_level`
-    (Eq. criterion), :func:`critical_chi` (Fig. 4c), :func:`stability_verdict` returning :class:`StabilityVerdict`,
-    :func:`stable`.
+    :data:`CROSSING_STATUS`, the certified ones :data:`CERTIFIED_CROSSINGS`), :func:`critical_gamma`,
+    :func:`critical_eta` (the first certified crossing) and, for whole chunks at once, :func:`crossings_chunk`,
+    :func:`threshold_chunk` returning :class:`ThresholdChunk`, :func:`critical_gamma_chunk`,
+    :func:`critical_eta_chunk` (reason codes :class:`ThresholdReason`, :data:`THRESHOLD_STATUS`);
+    :func:`min_gy_at_rayleigh_speed`, :func:`criterion_chi`, :func:`criterion_gy_level` (Eq. criterion),
+    :func:`critical_chi` (Fig. 4c), :func:`stability_verdict` returning :class:`StabilityVerdict`, :func:`stable`.
 
 All branches (§10)
     :func:`unstable_modes`, :func:`unstable_count` (argument principle in a stated window).
