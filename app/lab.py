@@ -43,6 +43,7 @@ from .params import (
     declared_parameters,
     fmt,
     follow_material,
+    model_args,
     zero_line_hook,
 )
 from .workarounds import frozen_document
@@ -234,8 +235,7 @@ def slider_values(derived: dict[str, float]) -> tuple[dict[str, float | bool], l
 def _model_args(values: dict[str, float | bool]) -> tuple[float, ...]:
     """(γ, f, β, η, Δ, ξ) of SpectrumParams values, normalised as :meth:`SpectrumParams.model_args` (ξ = 0 at Δ = 1)."""
     eta = math.inf if values["eta_infinite"] else 10.0 ** values["log10_eta"]
-    xi = 0.0 if values["Delta"] == 1 else values["xi"]
-    return (values["gamma"], values["f"], values["beta"], eta, values["Delta"], xi)
+    return model_args(values["gamma"], values["f"], values["beta"], eta, values["Delta"], values["xi"])
 
 
 def _show(x: float) -> str:
@@ -419,7 +419,7 @@ class LabScene(pn.viewable.Viewer):
         if "error" in d:
             return None
         p = d["params"]
-        return (p["gamma"], p["f"], p["beta"], p["eta"], p["Delta"], 0.0 if p["Delta"] == 1 else p["xi"])
+        return model_args(p["gamma"], p["f"], p["beta"], p["eta"], p["Delta"], p["xi"])
 
     def data(self) -> dict | None:
         """The lab spectrum (None for bad input)."""

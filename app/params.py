@@ -266,6 +266,12 @@ _DEFAULT = {name: p.default for name, p in model.PARAMETERS.items()}
 _MEANING = {name: p.description for name, p in model.PARAMETERS.items()}
 
 
+def model_args(gamma: float, f: float, beta: float, eta: float, Delta: float, xi: float) -> tuple[float, ...]:
+    """(γ, f, β, η, Δ, ξ) as every scene passes them to the model: floats, and ξ = 0 at Δ = 1 (ξ does not enter F
+    then), so that moving the ξ slider at Δ = 1 is not a new cache key. The one place this rule is written."""
+    return (float(gamma), float(f), float(beta), float(eta), float(Delta), 0.0 if Delta == 1 else float(xi))
+
+
 class SpectrumParams(param.Parameterized):
     """The physical parameters of the spectrum (paper Sect. IV; docs/physics.md §1), shared by the Spectrum,
     Stability-map and All-branches scenes. Defaults: the paper's, declared once in model.PARAMETERS (γ = 3, f = 0.9,
@@ -298,10 +304,8 @@ class SpectrumParams(param.Parameterized):
         return math.inf if self.eta_infinite else 10.0**self.log10_eta
 
     def model_args(self) -> tuple[float, float, float, float, float, float]:
-        """(gamma, f, beta, eta, Delta, xi) as passed to the model; xi is normalised to 0 when Delta == 1
-        (it does not enter F then), so that changing it is not a new cache key."""
-        xi = 0.0 if self.Delta == 1 else float(self.xi)
-        return (float(self.gamma), float(self.f), float(self.beta), float(self.eta), float(self.Delta), xi)
+        """(gamma, f, beta, eta, Delta, xi) as passed to the model (:func:`model_args`)."""
+        return model_args(self.gamma, self.f, self.beta, self.eta, self.Delta, self.xi)
 
     @classmethod
     def declaration(cls, model_arg: str) -> Physical:

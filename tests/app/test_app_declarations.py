@@ -147,3 +147,21 @@ def test_log_slider_values_read_in_one_style(browser_page) -> None:
     shown = browser_page.evaluate("([code, ticks]) => ticks.map(t => new Function('tick', code)(t))",
                                   [LOG10_TICKS, [8, 5.4, 4, 2, 0, -1, -1.3, -2, -2.5, 0.6]])
     assert shown == ["10⁸", "2.51×10⁵", "10⁴", "100", "1", "0.1", "0.0501", "0.01", "3.16×10⁻³", "3.98"]
+
+
+def test_xi_at_delta_one_is_normalised_in_one_place() -> None:
+    """ξ does not enter F at Δ = 1: every scene's model arguments (the sliders' and the lab setting's) carry ξ = 0
+    there, through the one function app.params.model_args."""
+    import re
+    from pathlib import Path
+
+    import app
+    from app.params import SpectrumParams, model_args
+
+    assert SpectrumParams(Delta=1.0, xi=5.0).model_args() == SpectrumParams(Delta=1.0, xi=0.0).model_args()
+    assert SpectrumParams(Delta=0.5, xi=5.0).model_args()[-1] == 5.0
+    assert model_args(3, 0.9, 0.3, float("inf"), 1, 2.0) == (3.0, 0.9, 0.3, float("inf"), 1.0, 0.0)
+    rule = re.compile(r"0\.0 if .*Delta\W* == 1")
+    written = [f"{p.name}:{i}" for p in Path(app.__file__).parent.glob("*.py")
+               for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if rule.search(line)]
+    assert written == [f"params.py:{model_args.__code__.co_firstlineno + 3}"], written
