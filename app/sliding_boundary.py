@@ -27,8 +27,6 @@ from . import jobs, sliding_work
 COLUMNS_PER_CHUNK = 2
 #: the crossings a column of a map may have (model.critical_gammas' max_crossings; the Rayleigh branch's too)
 MAX_CROSSINGS = 4
-#: reason codes of a certified crossing (model.CROSSING_STATUS: a neutral mode, or one at an end of the kH range)
-CERTIFIED = model.CERTIFIED_CROSSINGS
 #: the per-crossing fields kept (each n_columns × MAX_CROSSINGS)
 FIELDS = ("value", "location", "direction", "reason", "kH", "z")
 
@@ -76,8 +74,8 @@ def compute_boundary(key: tuple, x: np.ndarray, x_name: str, gamma_range: tuple[
 def crossing_counts(c: dict) -> tuple[int, int]:
     """(certified thresholds, sign changes that are not thresholds) among the crossings `c` of a map's columns (the
     Rayleigh branch's, app.stability_map.compute_crossings, or this boundary's)."""
-    certified = int((np.isin(c["reason"], CERTIFIED) & np.isfinite(c["value"])).sum())
-    refused = int(((c["reason"] >= 0) & ~np.isin(c["reason"], CERTIFIED)).sum())
+    certified = int((np.isin(c["reason"], model.CERTIFIED_CROSSINGS) & np.isfinite(c["value"])).sum())
+    refused = int(((c["reason"] >= 0) & ~np.isin(c["reason"], model.CERTIFIED_CROSSINGS)).sum())
     return certified, refused
 
 

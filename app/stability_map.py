@@ -388,9 +388,9 @@ def crossing_columns(n: int, levels: int) -> int:
     return n * 2 if levels else n
 
 
-#: the crossings a map column may have, and the reason codes of a certified one (model.CROSSING_STATUS): the same
-#: for the Rayleigh branch's neutral curve and the sliding boundary
-MAX_MAP_CROSSINGS, CERTIFIED_CROSSINGS = sb.MAX_CROSSINGS, sb.CERTIFIED
+#: the crossings a map column may have: the same for the Rayleigh branch's neutral curve and the sliding boundary
+#: (a certified one: model.CERTIFIED_CROSSINGS)
+MAX_MAP_CROSSINGS = sb.MAX_CROSSINGS
 
 
 @pn.cache(max_items=64)
@@ -418,7 +418,7 @@ def crossing_lines(c: dict) -> tuple[list[tuple[np.ndarray, np.ndarray]], dict[s
     the same directions, so a curve is never drawn across a column where a crossing appears or vanishes), the
     certified points, and the sign changes that are not thresholds (jumps, pole-dense, not certified)."""
     x, value, direction, reason = c["x"], c["value"], c["direction"], c["reason"]
-    certified = np.isin(reason, CERTIFIED_CROSSINGS) & np.isfinite(value)
+    certified = np.isin(reason, model.CERTIFIED_CROSSINGS) & np.isfinite(value)
     lines = []
     for i in range(x.size - 1):
         a, b = certified[i], certified[i + 1]
@@ -427,7 +427,7 @@ def crossing_lines(c: dict) -> tuple[list[tuple[np.ndarray, np.ndarray]], dict[s
         for ya, yb in zip(value[i][a], value[i + 1][b], strict=True):
             lines.append((np.array([x[i], x[i + 1]]), np.array([ya, yb])))
     cols = np.broadcast_to(x[:, None], value.shape)
-    refused = (reason >= 0) & ~np.isin(reason, CERTIFIED_CROSSINGS)
+    refused = (reason >= 0) & ~np.isin(reason, model.CERTIFIED_CROSSINGS)
     return lines, {"x": cols[certified], "y": value[certified], "direction": direction[certified],
                    "refused_x": cols[refused], "refused_y": c["location"][refused], "refused_reason": reason[refused]}
 

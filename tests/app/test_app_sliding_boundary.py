@@ -48,7 +48,7 @@ def test_the_boundary_is_the_models_crossings_at_every_column(computed) -> None:
     np.testing.assert_array_equal(b["direction"], ref.direction)
     np.testing.assert_allclose(b["value"], ref.value, rtol=1e-12, equal_nan=True)
     assert b["done"].all() and np.array_equal(b["x"], X) and b["cached"] == 0
-    certified = np.isin(b["reason"], sb.CERTIFIED) & np.isfinite(b["value"])
+    certified = np.isin(b["reason"], model.CERTIFIED_CROSSINGS) & np.isfinite(b["value"])
     assert certified[1:].any(axis=1).all()  # f = 0.6 and 0.9 have a threshold of sliding in (0.1, 30)
     assert "certified threshold(s) at 3 of 3 x values" in sb.summary(b)
 
