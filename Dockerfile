@@ -29,7 +29,7 @@ WORKDIR /src
 COPY pyproject.toml README.md ./
 COPY model/ model/
 COPY app/ app/
-COPY atlas_engine/ atlas_engine/
+COPY atlas/ atlas/
 COPY asymslide/ asymslide/
 COPY static/ static/
 COPY docs/physics.md docs/physics.md
@@ -88,7 +88,7 @@ RUN groupadd --gid 10001 asymslide \
     && useradd --uid 10001 --gid 10001 --create-home --shell /usr/sbin/nologin asymslide \
     && install -d -o 10001 -g 10001 -m 0755 /atlases "$NUMBA_CACHE_DIR" \
     && setpriv --reuid=10001 --regid=10001 --clear-groups -- asymslide warmup \
-    && python -c "import app, model, asymslide; assert all('/site-packages/' in m.__file__ for m in (app, model, asymslide))"
+    && python -c "from asymslide import app, atlas, model; assert all('/site-packages/asymslide/' in m.__file__ for m in (app, atlas, model))"
 
 COPY --chmod=0755 docker/entrypoint.sh /usr/local/bin/asymslide-entrypoint
 

@@ -23,7 +23,7 @@ import numpy as np
 import panel as pn
 import param
 
-import model
+from asymslide import model
 
 from .common import FAMILY_NAMES
 from .docs import reference_card

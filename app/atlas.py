@@ -1,7 +1,7 @@
 """Scene "Atlas": a stored stability atlas (``asymslide sweep``), explored slice by slice.
 
 An atlas is the Rayleigh branch's maximal growth rate on an N-D grid of (γ, f, β, η, Δ, ξ), with the exact threshold
-γ_c over the other axes (atlas_engine/sweep.py; docs/physics.md §9). This scene shows any two axes as a heat map of the
+γ_c over the other axes (atlas/sweep.py; docs/physics.md §9). This scene shows any two axes as a heat map of the
 growth with the neutral curve (growth = 0) and, where γ is one of the two, the slice of the γ_c surface; the other axes
 are sliders that snap to the grid. A slice change only reads the stored cube (no model function is called). A 3-D
 view shows the neutral surface (growth = 0) over three chosen axes, and a click on a cell sets the shared parameters
@@ -30,12 +30,12 @@ from pathlib import Path
 import numpy as np
 import panel as pn
 import param
+from asymslide.atlas import store
+from asymslide.atlas import sweep as engine
+from asymslide.atlas.adaptive import refinement_text
 from bokeh.models import CustomJSTickFormatter
 
-import model
-from atlas_engine import store
-from atlas_engine import sweep as engine
-from atlas_engine.adaptive import refinement_text
+from asymslide import model
 
 from . import jobs
 from . import sliding_map as slm
@@ -158,7 +158,7 @@ def read_only_message(directory: Path, exc: OSError) -> str:
 
 
 # ------------------------------------------------------------------------------------------------
-# an atlas in memory (atlas_engine.store)
+# an atlas in memory (asymslide.atlas.store)
 # ------------------------------------------------------------------------------------------------
 
 Atlas = store.Atlas

@@ -10,7 +10,7 @@ import contourpy
 import numpy as np
 from bokeh.palettes import RdBu11
 
-import model
+from asymslide import model
 
 #: |max growth| at or below this is drawn as neutral: not counted unstable and not a neutral-curve crossing (where
 #: the branch only tends to Im z = 0 at the end of the kH grid the maximum is 0 up to round-off)

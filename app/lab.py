@@ -30,7 +30,7 @@ import panel as pn
 import param
 from bokeh.models import CustomJSTickFormatter, LinearAxis
 
-import model
+from asymslide import model
 
 from . import spectrum as sp
 from .common import FAMILY_NAMES

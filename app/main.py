@@ -12,13 +12,11 @@ from functools import partial
 
 import panel as pn
 import param
-from bokeh.models import Tooltip
-
-from app import jobs
-from app.all_branches import AllBranchesScene
-from app.atlas import AtlasRequest, AtlasScene
-from app.lab import LabScene
-from app.params import (
+from asymslide.app import jobs
+from asymslide.app.all_branches import AllBranchesScene
+from asymslide.app.atlas import AtlasRequest, AtlasScene
+from asymslide.app.lab import LabScene
+from asymslide.app.params import (
     CUSTOM,
     NARROW_PX,
     PLACEHOLDER,
@@ -30,15 +28,16 @@ from app.params import (
     placeholder,
     set_with_material,
 )
-from app.paths import CSS, FAVICON, LOGO
-from app.presets import Preset, load_presets, preset_args
-from app.rupture import RuptureScene
-from app.server_gc import configure_gc, track_session
-from app.spectrum import SpectrumScene
-from app.stability_map import StabilityMapScene
-from app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
-from app.urlstate import TABS, Updates, parse_query, query_string
-from app.workarounds import guard_detached_updates, guard_stream_registry, use_server_stylesheets
+from asymslide.app.paths import CSS, FAVICON, LOGO
+from asymslide.app.presets import Preset, load_presets, preset_args
+from asymslide.app.rupture import RuptureScene
+from asymslide.app.server_gc import configure_gc, track_session
+from asymslide.app.spectrum import SpectrumScene
+from asymslide.app.stability_map import StabilityMapScene
+from asymslide.app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
+from asymslide.app.urlstate import TABS, Updates, parse_query, query_string
+from asymslide.app.workarounds import guard_detached_updates, guard_stream_registry, use_server_stylesheets
+from bokeh.models import Tooltip
 
 guard_detached_updates()  # panes of a tab switched away from keep the page's stylesheets (app/workarounds.py)
 guard_stream_registry()  # sessions on several threads build plots at once (app/workarounds.py)

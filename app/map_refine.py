@@ -4,7 +4,7 @@ The map's base grid has n cells per axis, each drawn with the value at its centr
 splits every cell of level l - 1 into 2 x 2, so the finest level L has N = n · 2^L cells per axis, and the cells of
 every level nest (in the axis' own scale: log10 of a log axis). A cell of level l is **evaluated** (the model is
 called at its centre) when it lies in a cell not yet evaluated at level l in which a finest cell is stable and an
-edge neighbour unstable, or the reverse (the rule of the adaptive atlas engine, ``atlas_engine.adaptive``, on cell
+edge neighbour unstable, or the reverse (the rule of the adaptive atlas engine, ``asymslide.atlas.adaptive``, on cell
 centres: a cell is refined where the verdict changes across it; stable includes marginal, |growth| <= MARGINAL; a
 cell that is not computable, NaN, flags nothing: it is not a side of the neutral curve, and refining the speckles of
 NaN at small γ on η-γ would cost more than the whole map). The rule is applied in rounds until no such cell is left,

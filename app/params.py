@@ -20,7 +20,7 @@ from bokeh.models import BasicTickFormatter, ColorBar, CustomJSTickFormatter, Gl
 from panel.custom import JSComponent
 from param.parameterized import Undefined
 
-import model
+from asymslide import model
 
 from .workarounds import frozen_document
 

@@ -24,7 +24,7 @@ import numpy as np
 import panel as pn
 import param
 
-import model
+from asymslide import model
 
 from . import live
 from .docs import reference_card

@@ -19,7 +19,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-import model
+from asymslide import model
 
 from . import jobs, sliding_work
 

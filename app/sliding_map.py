@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from bokeh.palettes import Reds256
 
-import model
+from asymslide import model
 
 from . import jobs
 from .common import FAMILY_NAMES

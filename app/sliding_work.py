@@ -11,7 +11,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-import model
+from asymslide import model
 
 
 def sliding_maximum(p: Mapping[str, float]) -> dict:

@@ -18,7 +18,7 @@ import numpy as np
 import panel as pn
 import param
 
-import model
+from asymslide import model
 
 from . import jobs, live, sliding_work
 from .common import FAMILY_NAMES

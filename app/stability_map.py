@@ -45,7 +45,7 @@ import numpy as np
 import panel as pn
 import param
 
-import model
+from asymslide import model
 
 from . import jobs
 from . import map_refine as mr

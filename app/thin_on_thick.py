@@ -22,7 +22,7 @@ import panel as pn
 import param
 from bokeh.models import GlyphRenderer
 
-import model
+from asymslide import model
 
 from . import live
 from .params import (

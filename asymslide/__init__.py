@@ -1,28 +1,23 @@
-"""asymslide: the command line (``asymslide serve | sweep | info | export | warmup``) and the server launcher,
-the top layer (ARCHITECTURE.md).
+"""asymslide: frictional sliding without geometrical reflection symmetry (Aldam et al., PRX 6, 041023, 2016).
 
-The physics lives in the :mod:`model` package, the atlas engine and store in :mod:`atlas_engine`, the web app in
-:mod:`app`. The distribution installs these four import names; ``model`` and ``app`` keep their short names (see
-the README's "Installation and packaging" section for why), so asymslide belongs in its own environment (the
-Makefile's .venv, the Docker image): :func:`import_name_clashes` tells when another installed distribution
-provides one of them too.
+One import name, with a subpackage per layer (ARCHITECTURE.md), from the bottom up:
+
+- :mod:`asymslide.model` -- the physics: the spectrum, the response functions, the verdicts (NumPy in, NumPy out);
+- :mod:`asymslide.atlas` -- stability atlases: the sweep engine (Dask) and the Zarr store (``pip install
+  asymslide[atlas]``);
+- :mod:`asymslide.app` -- the Panel web app (``pip install asymslide[app]``);
+- this package's own modules -- the command line (``asymslide serve | sweep | info | export | warmup``) and the
+  server launcher.
+
+Importing :mod:`asymslide` imports none of them: ``from asymslide import model`` loads the physics alone. In the
+source tree the subpackages are the top-level folders model/, atlas/ and app/ (pyproject.toml maps them).
 """
 
 from __future__ import annotations
 
-from importlib.metadata import PackageNotFoundError, packages_distributions, version
-
-#: the top-level import names this distribution installs
-IMPORT_NAMES = ("model", "atlas_engine", "app", "asymslide")
+from importlib.metadata import PackageNotFoundError, version
 
 try:
     __version__ = version("asymslide")
 except PackageNotFoundError:  # a source tree that was never installed
     __version__ = "0+unknown"
-
-
-def import_name_clashes() -> dict[str, list[str]]:
-    """Import name -> the other installed distributions that also provide it (empty: no clash)."""
-    providers = packages_distributions()
-    return {name: others for name in IMPORT_NAMES
-            if (others := sorted({d for d in providers.get(name, []) if d.lower() != "asymslide"}))}

@@ -18,9 +18,9 @@ from collections.abc import Callable, Sequence
 from importlib import metadata
 from pathlib import Path
 
-from . import IMPORT_NAMES, __version__
+from . import __version__
 
-#: the engine's defaults (atlas_engine.sweep.CHUNK_POINTS, atlas_engine.adaptive.CHUNK_POINTS), without importing
+#: the engine's defaults (asymslide.atlas.sweep.CHUNK_POINTS, asymslide.atlas.adaptive.CHUNK_POINTS), without importing
 #: them for --help
 CHUNK_POINTS = 8192
 ADAPTIVE_CHUNK_POINTS = 131072
@@ -111,11 +111,11 @@ def _fail(message: str, code: int = 2) -> int:
 def _adaptive_spec(args: argparse.Namespace) -> tuple[list[str], object]:
     """The axis specs (rounded to an adaptive grid with --adaptive, saying so on stderr) and the AdaptiveSpec (None:
     a dense sweep); SweepError for adaptive options without --adaptive."""
-    from atlas_engine.sweep import SweepError
+    from asymslide.atlas.sweep import SweepError
 
     specs, adaptive = list(args.axis), None
     if args.adaptive:
-        from atlas_engine.adaptive import AdaptiveSpec
+        from asymslide.atlas.adaptive import AdaptiveSpec
 
         specs, levels, notes = _adaptive_axis_specs(specs, args.levels)
         for note in notes:
@@ -131,7 +131,7 @@ def _adaptive_spec(args: argparse.Namespace) -> tuple[list[str], object]:
 def _sweep_settings(args: argparse.Namespace, specs: Sequence[str]) -> tuple[dict, dict]:
     """The axes (from `specs`) and the other settings of ``asymslide sweep``'s arguments (SweepError or ValueError if
     bad)."""
-    from atlas_engine.sweep import CountSpec, SlidingSpec, SweepError, _number, parse_axis, parse_fixed
+    from asymslide.atlas.sweep import CountSpec, SlidingSpec, SweepError, _number, parse_axis, parse_fixed
 
     axes = dict(parse_axis(a) for a in specs)
     if len(axes) != len(args.axis):
@@ -160,8 +160,8 @@ def _adaptive_axis_specs(specs: Sequence[str], levels: int | None) -> tuple[list
     """Axis specs whose lo:hi:n ranges are rounded up to m·2^levels + 1 points (levels None: the engine's default
     for the requested sizes), the levels, and a note per rounded axis (lists of values are left to make_plan, which
     refuses a size that does not fit)."""
-    from atlas_engine.adaptive import adaptive_size, default_levels
-    from atlas_engine.sweep import parse_axis
+    from asymslide.atlas.adaptive import adaptive_size, default_levels
+    from asymslide.atlas.sweep import parse_axis
 
     sizes = [parse_axis(spec)[1].size for spec in specs]
     if levels is None:
@@ -181,7 +181,7 @@ def _adaptive_axis_specs(specs: Sequence[str], levels: int | None) -> tuple[list
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from atlas_engine.sweep import CONNECT_TIMEOUT, SweepError, make_plan, run
+    from asymslide.atlas.sweep import CONNECT_TIMEOUT, SweepError, make_plan, run
 
     try:
         specs, adaptive = _adaptive_spec(args)
@@ -223,7 +223,7 @@ def _progress_bars(plan, quiet: bool) -> tuple[dict, Callable[[str, int], None]]
     """A tqdm bar per task kind (an adaptive sweep's growth: one per level, made by `start` as each level starts)."""
     from tqdm import tqdm
 
-    from atlas_engine.sweep import plan_points
+    from asymslide.atlas.sweep import plan_points
 
     bars: dict = {}
 
@@ -246,21 +246,21 @@ def _connect(address: str):
     answer within CONNECT_TIMEOUT)."""
     from distributed import Client
 
-    from atlas_engine.sweep import CONNECT_TIMEOUT
+    from asymslide.atlas.sweep import CONNECT_TIMEOUT
 
     return Client(address, timeout=CONNECT_TIMEOUT)
 
 
 def _print_adaptive(ds) -> None:
     """The evaluated fraction of an adaptive sweep, per level."""
-    from atlas_engine.sweep import adaptive_lines
+    from asymslide.atlas.sweep import adaptive_lines
 
     for line in adaptive_lines(ds.attrs["adaptive"], ds["computed"].values):
         print(line)
 
 
 def _info(args: argparse.Namespace) -> int:
-    from atlas_engine.sweep import iter_summary
+    from asymslide.atlas.sweep import iter_summary
 
     try:
         for line in iter_summary(args.store):
@@ -271,7 +271,7 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _export(args: argparse.Namespace) -> int:
-    from atlas_engine.sweep import export_netcdf
+    from asymslide.atlas.sweep import export_netcdf
 
     try:
         out = export_netcdf(args.store, args.netcdf)
@@ -390,13 +390,6 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    from . import import_name_clashes
-
-    for name, others in import_name_clashes().items():
-        print(f"asymslide: warning: the import name '{name}' is also installed by {', '.join(others)}; one of them "
-              "overwrote the other's files. Install asymslide in its own environment (see the README, "
-              "'Installation and packaging').",
-              file=sys.stderr)
     if args.command == "serve" and args.num_procs < 1:
         parser.error(f"--num-procs must be >= 1; got {args.num_procs}")
     extra = COMMAND_EXTRAS.get(args.command)
@@ -406,7 +399,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return args.func(args)
     except ModuleNotFoundError as exc:  # a source tree that was never installed: no metadata to check beforehand
         root = (exc.name or "").partition(".")[0]
-        if extra is None or not root or root in IMPORT_NAMES:
+        if extra is None or not root or root == "asymslide":
             raise
         return _fail(_missing_extra_message(args.command, extra, [root]), EXIT_MISSING_EXTRA)
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import os
 import sys
 
-from app import jobs
+from asymslide.app import jobs
 from asymslide.warmup import compile_kernels
 
 

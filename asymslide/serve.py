@@ -44,7 +44,7 @@ def children(pid: int) -> list[int]:
 
 def app_main() -> Path:
     """The app's entry script ``app/main.py`` (in the source tree or the installed package)."""
-    import app
+    from asymslide import app
 
     return Path(app.__file__).resolve().parent / "main.py"
 
@@ -52,7 +52,7 @@ def app_main() -> Path:
 def static_dir() -> Path:
     """The CSS, logo and favicon served under ``/assets``: ``static/`` of the source tree, or the copy
     installed inside the ``app`` package."""
-    from app.paths import STATIC_DIR
+    from asymslide.app.paths import STATIC_DIR
 
     return STATIC_DIR
 

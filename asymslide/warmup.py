@@ -19,7 +19,7 @@ import numpy as np
 
 def _calls() -> list[tuple[str, Callable[[], object]]]:
     """(what, call): one call per compiled entry point, with the argument types the app and engine pass."""
-    import model
+    from asymslide import model
 
     kh = np.logspace(-2, 2, 9)
     base = dict(gamma=3.0, f=0.9, beta=0.3)

@@ -26,8 +26,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-import model  # noqa: E402
-from atlas_engine import sweep as S  # noqa: E402
+from asymslide.atlas import sweep as S  # noqa: E402
+
+from asymslide import model  # noqa: E402
 
 ETAS = (math.inf, 100.0, 10.0, 2.0)
 GAMMA_RANGE = (0.1, 30.0)

@@ -18,7 +18,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-import model  # noqa: E402
+from asymslide import model  # noqa: E402
 
 
 def plain_numpy_dispersion(z, q, gamma, f, beta, eta):

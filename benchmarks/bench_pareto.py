@@ -17,7 +17,7 @@ from scipy import optimize
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-import model  # noqa: E402
+from asymslide import model  # noqa: E402
 from benchmarks.run import PAPER, naive_newton_loop, plain_dispersion  # noqa: E402
 from tests import oracle  # noqa: E402
 

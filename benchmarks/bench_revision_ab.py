@@ -35,16 +35,23 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 
-#: the worker: imports `model` from argv[1], then times the case named on each line of stdin (argv[2]: "quick")
-WORKER = r'''
-import hashlib, json, math, statistics, sys, time
+#: how a worker imports the model of the tree at argv[1]: by the name argv[2] (:func:`model_name`), checked to come
+#: from that tree
+IMPORT_MODEL = r'''
+import importlib, sys
 sys.path.insert(0, sys.argv[1])
-import numpy as np
-import model
-from model import modes
-
+model = importlib.import_module(sys.argv[2])
 assert model.__file__.startswith(sys.argv[1]), model.__file__
-n = 6 if sys.argv[2] == "quick" else 12
+'''
+
+#: the worker: imports the model of argv[1] (IMPORT_MODEL), then times the case named on each line of stdin
+#: (argv[3]: "quick")
+WORKER = IMPORT_MODEL + r'''
+import hashlib, json, math, statistics, time
+import numpy as np
+modes = importlib.import_module(sys.argv[2] + ".modes")
+
+n = 6 if sys.argv[3] == "quick" else 12
 S = np.log(np.logspace(-3, 3, 97))
 
 
@@ -117,9 +124,9 @@ for line in sys.stdin:
 class Worker:
     """A process running WORKER on the model package of `root`."""
 
-    def __init__(self, root: Path, cache: Path, quick: bool) -> None:
+    def __init__(self, root: Path, name: str, cache: Path, quick: bool) -> None:
         env = dict(os.environ, PYTHONPATH="", NUMBA_CACHE_DIR=str(cache))
-        self.proc = subprocess.Popen([sys.executable, "-c", WORKER, str(root), "quick" if quick else "full"],
+        self.proc = subprocess.Popen([sys.executable, "-c", WORKER, str(root), name, "quick" if quick else "full"],
                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, env=env, cwd=root)
         self.cases = json.loads(self.proc.stdout.readline())
 
@@ -135,15 +142,37 @@ class Worker:
         self.proc.wait(timeout=120)
 
 
+#: the folders a revision of one import name maps into the asymslide package (pyproject.toml's package-dir)
+SUBPACKAGES = ("model", "atlas", "app")
+
+
+def model_name(rev: str | None = None) -> str:
+    """The import name of the model at git revision `rev` (None: this tree): ``asymslide.model`` since the project
+    has one import name, ``model`` before."""
+    if rev is None:
+        return "asymslide.model"
+    toml = subprocess.run(["git", "-C", str(ROOT), "show", f"{rev}:pyproject.toml"], capture_output=True, text=True,
+                          check=True, timeout=60).stdout
+    return "asymslide.model" if '"asymslide.model" = "model"' in toml else "model"
+
+
 def export_revision(rev: str, target: Path, packages: tuple[str, ...] = ("model",)) -> Path:
-    """`git archive` the `packages` (folders) of revision `rev` into target."""
+    """`git archive` the `packages` (folders) of revision `rev` into target. A revision of one import name also gets
+    its asymslide/ folder, with links asymslide/model -> model/ (and so on) standing in for the installed mapping,
+    so that ``sys.path.insert(0, target); import asymslide.model`` imports the exported code."""
     import io
     import tarfile
 
-    data = subprocess.run(["git", "-C", str(ROOT), "archive", rev, *packages], capture_output=True, check=True,
+    mapped = model_name(rev) == "asymslide.model"
+    wanted = tuple(dict.fromkeys((*packages, "asymslide") if mapped else packages))
+    data = subprocess.run(["git", "-C", str(ROOT), "archive", rev, *wanted], capture_output=True, check=True,
                           timeout=120).stdout
     with tarfile.open(fileobj=io.BytesIO(data)) as tar:
         tar.extractall(target, filter="data")
+    if mapped:
+        for folder in SUBPACKAGES:
+            if (target / folder).is_dir():
+                (target / "asymslide" / folder).symlink_to(target / folder, target_is_directory=True)
     return target
 
 
@@ -185,8 +214,8 @@ def measure(old_rev: str, rounds: int = 5, quick: bool = False) -> list[tuple]:
     cache = Path(os.environ.get("NUMBA_CACHE_DIR", ROOT / ".numba_cache"))
     with tempfile.TemporaryDirectory() as tmp:
         old_root = export_revision(old_rev, Path(tmp) / "old")
-        old = Worker(old_root, Path(tmp) / "numba_cache", quick)
-        new = Worker(ROOT, cache, quick)
+        old = Worker(old_root, model_name(old_rev), Path(tmp) / "numba_cache", quick)
+        new = Worker(ROOT, model_name(), cache, quick)
         try:
             return ab(old, new, rounds)
         finally:
@@ -212,18 +241,15 @@ def markdown(old_rev: str, rows: list[tuple]) -> str:
 #: the atlas of the sweep A/B: eta = inf over (gamma, f, beta) with its threshold gamma_c, both cores (~10-20 s)
 SWEEP_ARGS = ["sweep", "--axis", "gamma=0.5:20:24:log", "--axis", "f=0.3:1.5:10", "--axis", "beta=0.05:0.65:10",
               "--kH", "1e-3:1e3:97:log", "--workers", "2", "--quiet"]
-#: the sweep as the command line runs it, with the packages of argv[1] (checked) and argv[2:] as its arguments
-SWEEP_CHILD = r"""
-import sys
-sys.path.insert(0, sys.argv[1])
-import model
+#: the sweep as the command line runs it, with the model of argv[1] by the name argv[2] (checked) and argv[3:] as
+#: its arguments
+SWEEP_CHILD = IMPORT_MODEL + r"""
 from asymslide.cli import main
-assert model.__file__.startswith(sys.argv[1]), model.__file__
-sys.exit(main(sys.argv[2:]))
+sys.exit(main(sys.argv[3:]))
 """
 
 
-def _timed_sweep(root: Path, cache: Path, store: Path) -> float:
+def _timed_sweep(root: Path, name: str, cache: Path, store: Path) -> float:
     """Wall seconds of SWEEP_ARGS into a new `store` by the command line of the tree at `root`."""
     import shutil
     import time
@@ -231,7 +257,7 @@ def _timed_sweep(root: Path, cache: Path, store: Path) -> float:
     shutil.rmtree(store, ignore_errors=True)
     env = dict(os.environ, PYTHONPATH="", NUMBA_CACHE_DIR=str(cache))
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-c", SWEEP_CHILD, str(root), *SWEEP_ARGS, "--out", str(store)], cwd=root,
+    subprocess.run([sys.executable, "-c", SWEEP_CHILD, str(root), name, *SWEEP_ARGS, "--out", str(store)], cwd=root,
                    env=env, check=True, capture_output=True, timeout=1800)
     return time.perf_counter() - t0
 
@@ -247,9 +273,9 @@ def sweep_ab(old_rev: str, rounds: int = 3) -> str:
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         old_root = export_revision(old_rev, tmp / "old", ("model", "asymslide"))
-        runs = {"old": (old_root, tmp / "cache_old"), "new": (ROOT, cache)}
-        for name, (root, c) in runs.items():  # compile (old) or load the cache once before timing
-            _timed_sweep(root, c, tmp / f"{name}.zarr")
+        runs = {"old": (old_root, model_name(old_rev), tmp / "cache_old"), "new": (ROOT, model_name(), cache)}
+        for name, run in runs.items():  # compile (old) or load the cache once before timing
+            _timed_sweep(*run, tmp / f"{name}.zarr")
         times: dict[str, list[float]] = {"old": [], "new": []}
         for r in range(rounds):
             for name in ("old", "new") if r % 2 == 0 else ("new", "old"):

@@ -27,7 +27,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-import model  # noqa: E402
+from asymslide import model  # noqa: E402
 from tests import oracle  # noqa: E402
 
 ETAS = (math.inf, 10.0, 2.0)
@@ -159,7 +159,7 @@ def track_fraction(results: dict[float, list[dict]], dense: dict[float, list[tup
     """Run time against error of the level of the between-grid tracking at finite eta (model.sliding's
     TRACK_FRACTION_FINITE: roots above that fraction of the maximum at a grid point are followed): the median cost
     and the sets differing from the dense grid, on the sets compared with it."""
-    from model import sliding
+    from asymslide.model import sliding
 
     lines = ["\nThe between-grid tracking at finite eta (roots above a fraction of the maximum M at a grid point are "
              f"followed; the default is M x {sliding.TRACK_FRACTION_FINITE:g}): cost against the sets differing from "
@@ -207,7 +207,7 @@ def atlas_cost(n: int = 12) -> str:
     """An atlas with both verdicts against the Rayleigh branch alone: a dense n x n sweep over gamma in [0.3, 30] (log)
     and beta in [0.1, 0.65] at eta = inf (f = 0.9), in memory on this machine's threads, with and without
     ``sliding=True`` (asymslide sweep --sliding), the shortest of two runs each; and how often the verdicts differ."""
-    from atlas_engine import sweep as S
+    from asymslide.atlas import sweep as S
 
     axes = {"gamma": np.geomspace(0.3, 30, n), "beta": np.linspace(0.1, 0.65, n)}
     S.sweep({"gamma": [3.0]}, gamma_c=False, sliding=True)  # warm: kernels and Dask
@@ -235,10 +235,10 @@ def map_cost(plane: str = "β-γ", resolution: str = "medium") -> str:
     job thread with empty caches; against the model's own cost, model.sliding_analysis over the same grid in one
     call. Reported: the time to the first coarse view (the Rayleigh map + the first pass) and to the whole map, and
     the app's overhead over the model."""
-    from app import jobs
-    from app import sliding_map as slm
-    from app import stability_map as sm
-    from app.params import SpectrumParams
+    from asymslide.app import jobs
+    from asymslide.app import sliding_map as slm
+    from asymslide.app import stability_map as sm
+    from asymslide.app.params import SpectrumParams
 
     scene = sm.StabilityMapScene(plane=plane, resolution=resolution, params=SpectrumParams())
     key, skey = scene.map_key, scene.sliding_key
@@ -284,8 +284,8 @@ def adaptive_atlas(n: int = 33, sample: int = 400, seed: int = 32) -> str:
     time estimated from those calls' cost per point."""
     import tempfile
 
-    from atlas_engine import adaptive as A
-    from atlas_engine import sweep as S
+    from asymslide.atlas import adaptive as A
+    from asymslide.atlas import sweep as S
 
     axes = {"gamma": np.geomspace(0.1, 30, n), "f": np.linspace(0.1, 1.5, n), "beta": np.linspace(0.05, 0.7, n)}
     fixed = {"eta": math.inf, "xi": 1.0}
@@ -330,13 +330,13 @@ def adaptive_atlas(n: int = 33, sample: int = 400, seed: int = 32) -> str:
 
 
 def threads_vs_processes(n: int = 60, seed: int = 33) -> str:
-    """Why sliding sweeps run in processes: atlas_engine.sweep.sliding_arrays on two blocks of `n` random points at
+    """Why sliding sweeps run in processes: asymslide.atlas.sweep.sliding_arrays on two blocks of `n` random points at
     eta = inf, one after the other, in two threads, and in two spawned processes (warm: each process computes one
     point first)."""
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
-    from atlas_engine import sweep as S
+    from asymslide.atlas import sweep as S
 
     rng = np.random.default_rng(seed)
     blocks = [np.ascontiguousarray(np.stack([np.exp(rng.uniform(math.log(0.1), math.log(30), n)),
@@ -357,10 +357,10 @@ def threads_vs_processes(n: int = 60, seed: int = 33) -> str:
         t0 = time.perf_counter()
         list(pool.map(partial(S.sliding_arrays, spec), blocks))
         processes = time.perf_counter() - t0
-    return (f"\nThe sliding verdict holds the GIL (atlas_engine.sweep.sliding_arrays on 2 x {n} random points at eta = "
-            f"inf): one after the other {serial:.2f} s; in two threads {threads:.2f} s ({serial / threads:.2f}x); in "
-            f"two processes {processes:.2f} s ({serial / processes:.2f}x). So sweeps run the sliding tasks in "
-            "processes (atlas_engine.sweep._execute).\n")
+    return (f"\nThe sliding verdict holds the GIL (asymslide.atlas.sweep.sliding_arrays on 2 x {n} random points at "
+            f"eta = inf): one after the other {serial:.2f} s; two threads {threads:.2f} s ({serial / threads:.2f}x); "
+            f"in two processes {processes:.2f} s ({serial / processes:.2f}x). So sweeps run the sliding tasks in "
+            "processes (asymslide.atlas.sweep._execute).\n")
 
 
 def main() -> None:

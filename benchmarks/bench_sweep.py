@@ -28,8 +28,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-import model  # noqa: E402
-from atlas_engine import sweep as S  # noqa: E402
+from asymslide.atlas import sweep as S  # noqa: E402
+
+from asymslide import model  # noqa: E402
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 
 KH = np.logspace(-3, 3, 97)

@@ -31,7 +31,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from model import thresholds  # noqa: E402
+from asymslide.model import thresholds  # noqa: E402
+
+from benchmarks.bench_revision_ab import IMPORT_MODEL  # noqa: E402
 
 #: the commit this work started from (issue 24): thresholds by Brent's method on the grid-refined max growth
 BEFORE_BOUNDARY = "b57a94c"
@@ -49,11 +51,9 @@ def atlas_params(n: int) -> np.ndarray:
 
 #: the process that times the old revision: its own `model` package (numba's cache of one process must never see
 #: two packages with the same kernels: a cache entry written with the other's record types cannot be read back)
-OLD_WORKER = """
-import json, sys, time
-sys.path.insert(0, sys.argv[1])
+OLD_WORKER = IMPORT_MODEL + """
+import json, time
 import numpy as np
-import model
 s = np.log(np.logspace(-4, 4, 161))
 for line in sys.stdin:
     p = np.array(json.loads(line), dtype=float)[:, None]
@@ -68,12 +68,12 @@ class OldRevision:
     """The thresholds of git revision `rev`, timed in a process of their own (see OLD_WORKER)."""
 
     def __init__(self, rev: str, target: Path) -> None:
-        from benchmarks.bench_revision_ab import export_revision
+        from benchmarks.bench_revision_ab import export_revision, model_name
 
         export_revision(rev, target)
         env = dict(os.environ, PYTHONPATH="")
-        self.proc = subprocess.Popen([sys.executable, "-c", OLD_WORKER, str(target)], stdin=subprocess.PIPE,
-                                     stdout=subprocess.PIPE, text=True, env=env, cwd=target)
+        self.proc = subprocess.Popen([sys.executable, "-c", OLD_WORKER, str(target), model_name(rev)],
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, env=env, cwd=target)
 
     def threshold(self, p: np.ndarray) -> tuple[float, float, int, int]:
         """(seconds, threshold, reason, evaluations) of one parameter set (column of (5, n) rows)."""

@@ -29,16 +29,13 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.bench_revision_ab import export_revision  # noqa: E402
+from benchmarks.bench_revision_ab import IMPORT_MODEL, export_revision, model_name  # noqa: E402
 
-#: the worker: imports `model` from argv[1] and writes the arrays of every case to argv[2] (.npz)
-WORKER = r'''
-import dataclasses, math, sys
-sys.path.insert(0, sys.argv[1])
+#: the worker: imports the model of argv[1] by the name argv[2] (IMPORT_MODEL) and writes the arrays of every case
+#: to argv[3] (.npz)
+WORKER = IMPORT_MODEL + r'''
+import dataclasses, math
 import numpy as np
-import model
-
-assert model.__file__.startswith(sys.argv[1]), model.__file__
 PAPER = dict(gamma=3.0, f=0.9, beta=0.3)
 INF = math.inf
 KH = np.logspace(-4, 4, 512)
@@ -110,15 +107,15 @@ def leaves(prefix, x, out):
 arrays = {}
 for name, case in CASES.items():
     leaves(name, case(), arrays)
-np.savez(sys.argv[2], **arrays)
+np.savez(sys.argv[3], **arrays)
 print(len(arrays), flush=True)
 '''
 
 
-def compute(root: Path, cache: Path, out: Path) -> dict[str, np.ndarray]:
-    """Run WORKER on the model package of `root` (numba cache `cache`); its arrays by name."""
+def compute(root: Path, name: str, cache: Path, out: Path) -> dict[str, np.ndarray]:
+    """Run WORKER on the model package of `root`, imported as `name` (numba cache `cache`); its arrays by name."""
     env = dict(os.environ, PYTHONPATH="", NUMBA_CACHE_DIR=str(cache))
-    subprocess.run([sys.executable, "-c", WORKER, str(root), str(out)], check=True, env=env, cwd=root,
+    subprocess.run([sys.executable, "-c", WORKER, str(root), name, str(out)], check=True, env=env, cwd=root,
                    timeout=3600)
     with np.load(out) as data:
         return {k: data[k] for k in data.files}
@@ -139,8 +136,8 @@ def run(old_rev: str) -> tuple[int, int, list[str]]:
     cache = Path(os.environ.get("NUMBA_CACHE_DIR", ROOT / ".numba_cache"))
     with tempfile.TemporaryDirectory() as tmp:
         old_root = export_revision(old_rev, Path(tmp) / "old")
-        old = compute(old_root, Path(tmp) / "numba_cache", Path(tmp) / "old.npz")
-        new = compute(ROOT, cache, Path(tmp) / "new.npz")
+        old = compute(old_root, model_name(old_rev), Path(tmp) / "numba_cache", Path(tmp) / "old.npz")
+        new = compute(ROOT, model_name(), cache, Path(tmp) / "new.npz")
     return compare(old, new)
 
 

@@ -264,7 +264,7 @@ async def _protocol_drag(session, lo: float, hi: float) -> dict:
     release it waits until that curve has arrived (at most FINAL_TIMEOUT_S) and the server has then been quiet for
     QUIET_MS. Returns the curves received during the drag, the time from the release to the last new curve, and
     whether the last curve is the released γ's."""
-    import model
+    from asymslide import model
 
     params = {**session.params, "γ": hi}
     expected = model.spectrum(session.kH, **model_args(params)).imag

@@ -47,7 +47,7 @@ from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.ticker import NullLocator  # noqa: E402
 
-import model  # noqa: E402
+from asymslide import model  # noqa: E402
 
 PAPER: dict[str, float] = {"gamma": 3.0, "f": 0.9, "beta": 0.3, "eta": math.inf, "Delta": 1.0, "xi": 0.0}
 FLOOR = 1e-6

@@ -72,7 +72,8 @@ from tornado.websocket import websocket_connect
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))  # `model` for the verification, also when run as a script
-from app.params import SpectrumParams, physical_parameters  # noqa: E402
+from asymslide.app.params import SpectrumParams, physical_parameters  # noqa: E402
+
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 from tests.support.served_app import ServedApp, cpu_seconds  # noqa: E402
 
@@ -543,7 +544,7 @@ def _summary(values: Sequence[float]) -> dict[str, float]:
 
 def _verify(updates: list[Update], limit: int, errors: list[str]) -> int:
     """Compare the received curves with model.spectrum at the sessions' parameters (all, up to `limit`)."""
-    import model
+    from asymslide import model
 
     chosen = updates if len(updates) <= limit else random.Random(0).sample(updates, limit)
     for u in chosen:

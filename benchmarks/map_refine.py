@@ -14,8 +14,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from app import stability_map as sm  # noqa: E402
-from app.params import SpectrumParams  # noqa: E402
+from asymslide.app import stability_map as sm  # noqa: E402
+from asymslide.app.params import SpectrumParams  # noqa: E402
 
 
 class _Job:

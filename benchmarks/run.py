@@ -21,7 +21,7 @@ from scipy import optimize
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-import model  # noqa: E402
+from asymslide import model  # noqa: E402
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 from tests import oracle  # noqa: E402
 

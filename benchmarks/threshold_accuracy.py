@@ -20,7 +20,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-import model  # noqa: E402
+from asymslide import model  # noqa: E402
 from tests import oracle  # noqa: E402
 
 

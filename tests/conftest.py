@@ -14,6 +14,7 @@ import re
 import shutil
 import socket
 import subprocess
+import sys
 import time
 import urllib.request
 import uuid
@@ -46,7 +47,11 @@ _ui_skipped: list[str] = []
 
 #: every process this test session starts inherits MARKER=RUN_ID in its environment: pytest_sessionfinish
 #: finds the ones still running at the end (servers, workers, browsers) and fails the session
-RUN_ID = f"pytest-{os.getpid()}-{uuid.uuid4().hex[:8]}"
+#: (kept when this module is imported a second time, as tests.conftest by the tests that import its helpers: a new
+#: RUN_ID would mark the processes started after that import with a value the check does not look for)
+_INHERITED = os.environ.get(MARKER, "")
+RUN_ID = (_INHERITED if _INHERITED.startswith(f"pytest-{os.getpid()}-")
+          else f"pytest-{os.getpid()}-{uuid.uuid4().hex[:8]}")
 os.environ[MARKER] = RUN_ID
 #: how long processes may take to exit after the last test before they count as left behind
 LEFTOVER_GRACE = float(os.environ.get("ASYMSLIDE_LEFTOVER_GRACE", "20"))
@@ -102,6 +107,15 @@ def _worktree_changes() -> list[str]:
     return sorted(p for p in set(now) | set(_WORKTREE_AT_START) if now.get(p) != _WORKTREE_AT_START.get(p))
 
 
+def _bare_project_modules() -> list[str]:
+    """Modules of model/, atlas/ or app/ this process imported as ``model``, ``atlas`` or ``app`` rather than as
+    asymslide.model, ... (two copies of one module: two numba caches of the same kernels, two app states)."""
+    root = str(Path(__file__).resolve().parent.parent)
+    return sorted(name for name, mod in list(sys.modules.items())
+                  if name.partition(".")[0] in ("model", "atlas", "app", "atlas_engine")
+                  and str(getattr(mod, "__file__", None) or "").startswith(root))
+
+
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     """Fail the session if any process it started outlives it (they are killed, so none keeps running) or if it
     changed the working tree.
@@ -118,6 +132,7 @@ def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     if stop_tracker is not None:
         stop_tracker()
     changed = _worktree_changes()
+    bare = _bare_project_modules()
     reporter = session.config.pluginmanager.get_plugin("terminalreporter")
     if lines and reporter is not None:
         reporter.write_sep("!", f"{len(lines)} process(es) started by the tests were still running (killed now)",
@@ -129,7 +144,10 @@ def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
                                 "(tests write to build/ or tmp_path)", red=True, bold=True)
         for path in changed:
             reporter.write_line(path)
-    if lines or changed:
+    if bare and reporter is not None:
+        reporter.write_sep("!", "the project's folders were imported by their folder names, beside asymslide.*: "
+                                + ", ".join(bare), red=True, bold=True)
+    if lines or changed or bare:
         session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 
@@ -246,8 +264,7 @@ def served_app(free_port: int, server_log: ServerLog, worker_pool: None) -> Iter
     any error the server logs meanwhile (:func:`server_log`). The worker pool its sessions start (app.jobs) is shut
     afterwards (:func:`worker_pool`)."""
     import panel as pn
-
-    from app.main import create_app
+    from asymslide.app.main import create_app
 
     server = pn.serve(
         create_app,  # a function: each session gets a fresh page
@@ -371,8 +388,7 @@ def open_app(page, url: str, tab: str | None = None) -> None:
 def fresh_caches() -> Iterator[None]:
     """Empty the app's caches (pn.cache and the map chunks) around a test."""
     import panel as pn
-
-    from app import spectrum, stability_map
+    from asymslide.app import spectrum, stability_map
 
     def clear() -> None:
         pn.state.clear_caches()
@@ -405,7 +421,7 @@ def set_slider(page, title: str, value: float) -> bool:
 def worker_pool():
     """Shut the app's worker pools (app.jobs.process_pool) that a test started: a pool left running would keep pytest
     from exiting."""
-    from app import jobs
+    from asymslide.app import jobs
 
     yield
     jobs.shutdown_pools(terminate=True)  # a call still running (a cancelled job's) ends now
@@ -417,9 +433,8 @@ def _app_worker_pools_end_with_the_session() -> Iterator[None]:
     scene test starts one and the next tests reuse it. The test session is that process: they are shut at its end
     (before the check that no process outlives the session)."""
     yield
-    import sys
 
-    jobs = sys.modules.get("app.jobs")
+    jobs = sys.modules.get("asymslide.app.jobs")
     if jobs is not None:
         jobs.shutdown_pools(terminate=True)
 
@@ -427,7 +442,8 @@ def _app_worker_pools_end_with_the_session() -> Iterator[None]:
 @pytest.fixture(scope="session")
 def small_atlas(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The small atlas (tests/support/atlases.py: SMALL over KH), stored once per test session."""
-    from atlas_engine import sweep
+    from asymslide.atlas import sweep
+
     from tests.support.atlases import KH, SMALL
 
     path = tmp_path_factory.mktemp("small-atlas") / "small.zarr"

@@ -42,12 +42,20 @@ SOURCES = sources_fingerprint()
 
 class KernelCache(FunctionCache):
     """numba's per-function cache with :data:`SOURCES` in the stamp of its index: an index written with other kernel
-    sources is stale (numba then compiles again and overwrites it, as after a change of the function's own file)."""
+    sources is stale (numba then compiles again and overwrites it, as after a change of the function's own file).
+
+    The files are named after the package the module was imported from as well (numba names them after the file
+    alone): a kernel cached as ``model._kernels.growth`` (the source folder imported by its own name, as
+    ../shared/check_contract.py does) and as ``asymslide.model._kernels.growth`` are two entries, so that neither
+    loads the other's machine code, whose references name the other's modules (loading it would import the model a
+    second time under the other name)."""
 
     def __init__(self, py_func: Callable) -> None:
         super().__init__(py_func)
         stamp = (self._impl.locator.get_source_stamp(), SOURCES)
-        self._cache_file = IndexDataCacheFile(cache_path=self._cache_path, filename_base=self._impl.filename_base,
+        package = py_func.__module__.rpartition(".")[0]
+        self._cache_file = IndexDataCacheFile(cache_path=self._cache_path,
+                                              filename_base=f"{package}-{self._impl.filename_base}",
                                               source_stamp=stamp)
 
 

@@ -11,14 +11,14 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 import pytest
+from asymslide.app import all_branches as ab
+from asymslide.app.all_branches import KH_COUNT, KH_FINE, AllBranchesScene
+from asymslide.app.params import SpectrumParams, from_log10
 from bokeh.document import Document
 from bokeh.models import ColumnDataSource
 from pyviz_comms import Comm
 
-import model
-from app import all_branches as ab
-from app.all_branches import KH_COUNT, KH_FINE, AllBranchesScene
-from app.params import SpectrumParams, from_log10
+from asymslide import model
 from tests.conftest import open_app, set_slider
 from tests.support.spies import Calls, spying
 
@@ -417,7 +417,7 @@ def test_bokeh_figures_axes_hover_and_png_save_tool() -> None:
 
 
 def test_app_has_the_all_branches_tab() -> None:
-    from app.main import create_app
+    from asymslide.app.main import create_app
 
     template = create_app()
     (tabs,) = [obj for obj in template.main.objects if isinstance(obj, pn.Tabs)]

@@ -11,11 +11,11 @@ from unittest import mock
 import numpy as np
 import pytest
 import xarray as xr
+from asymslide.app import atlas as A
+from asymslide.app.params import SpectrumParams
+from asymslide.atlas import sweep as S
 
-import model
-from app import atlas as A
-from app.params import SpectrumParams
-from atlas_engine import sweep as S
+from asymslide import model
 from tests.conftest import save_screenshot
 from tests.support.headless import build_app
 
@@ -163,9 +163,8 @@ def _lab(color: str) -> np.ndarray:
 def test_not_computable_never_looks_like_nearly_neutral_growth() -> None:
     """The grey of 'not computable' must not look like the palette's centre (growth ~ 0) nor like any other growth
     colour, in both heat maps (CIE76 colour difference; ~2 is just noticeable)."""
+    from asymslide.app import common
     from holoviews.plotting.util import process_cmap
-
-    from app import common
 
     palettes = {"atlas": list(common.GROWTH_PALETTE), "stability map": process_cmap(common.GROWTH_CMAP, 64)}
     nan = _lab(common.NAN_COLOR)
@@ -280,7 +279,7 @@ def test_the_default_atlas_is_named_by_what_it_is_and_its_hash_url_still_opens_i
     store and the URL keep the file name, so a link with atlas=default-<hash> opens it."""
     import shutil
 
-    from app.urlstate import query_string
+    from asymslide.app.urlstate import query_string
 
     name = A.default_name()
     assert name.startswith("default-")
@@ -465,7 +464,7 @@ def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: P
     monkeypatch.setattr(A, "DEFAULT_AXES", {"gamma": np.geomspace(0.5, 10, 3), "f": np.array([0.5, 0.9])})
     monkeypatch.setattr(A, "DEFAULT_KH", KH)
     monkeypatch.setattr(A, "_default_job", None)
-    from app.urlstate import TABS, query_string
+    from asymslide.app.urlstate import TABS, query_string
 
     app = build_app({"tab": ["atlas"], "atlas": ["eta-gamma"]})
     assert app.tabs.active == TABS.index("atlas") and not app.messages.visible
@@ -538,7 +537,7 @@ def test_a_shared_url_restores_the_atlas_view(atlas_dir: Path) -> None:
     them back; values that do not fit are reported and left as they were."""
     import urllib.parse
 
-    from app.urlstate import query_string
+    from asymslide.app.urlstate import query_string
 
     app = build_app({"tab": ["atlas"], "atlas": ["small"]})
     scene = app.atlas

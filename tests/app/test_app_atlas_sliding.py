@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from asymslide.app import atlas as A
+from asymslide.app import sliding_map as slm
+from asymslide.app.common import FAMILY_NAMES
+from asymslide.app.urlstate import parse_query, query_string
+from asymslide.atlas import sweep as S
 
-from app import atlas as A
-from app import sliding_map as slm
-from app.common import FAMILY_NAMES
-from app.urlstate import parse_query, query_string
-from atlas_engine import sweep as S
 from tests.conftest import open_app, save_screenshot
 from tests.support.headless import build_app
 

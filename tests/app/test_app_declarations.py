@@ -4,9 +4,8 @@ the stability-map axes and the symbols shown everywhere."""
 from __future__ import annotations
 
 import pytest
-
-from app.all_branches import AllBranchesScene
-from app.params import (
+from asymslide.app.all_branches import AllBranchesScene
+from asymslide.app.params import (
     Choice,
     LabParams,
     Physical,
@@ -17,9 +16,9 @@ from app.params import (
     declared_parameters,
     physical_parameters,
 )
-from app.spectrum import FAMILY
-from app.stability_map import PLANES, StabilityMapScene
-from app.urlstate import QUERY, TARGETS, parse_query
+from asymslide.app.spectrum import FAMILY
+from asymslide.app.stability_map import PLANES, StabilityMapScene
+from asymslide.app.urlstate import QUERY, TARGETS, parse_query
 
 CLASSES = (("spectrum", SpectrumParams), ("thin", ThinOnThickParams), ("lab", LabParams), ("rupture", RuptureParams))
 #: scenes whose own settings are in the URL too (the map's plane and resolution, the All-branches kH and window)
@@ -91,7 +90,7 @@ def test_declarations_are_complete() -> None:
 
 def test_symbols_and_meanings_come_from_the_model() -> None:
     """The model declares the six parameters (model.PARAMETERS); the app shows its symbols and meanings."""
-    import model
+    from asymslide import model
 
     for name in SpectrumParams.MODEL_ARGS:
         decl, p = SpectrumParams.declaration(name), model.PARAMETERS[name]
@@ -100,7 +99,7 @@ def test_symbols_and_meanings_come_from_the_model() -> None:
 
 def test_sliders_show_as_many_decimals_as_their_step() -> None:
     """Sliders show as many decimals as their step (the c/c_R slider once read "1" at 0.996)."""
-    from app.params import decimals
+    from asymslide.app.params import decimals
 
     assert [decimals(s) for s in (1.0, 0.5, 0.1, 0.01, 0.005, 0.001)] == [0, 1, 1, 2, 3, 3]
     w = RuptureParams().make_widgets()
@@ -125,8 +124,8 @@ def test_the_eta_slider_shows_no_stale_number_while_eta_is_infinite() -> None:
 def test_references_to_the_physics_notes_open_their_section() -> None:
     """Each reference to the physics notes in a scene is a card that opens on that section ("docs/physics.md §12.3"
     was text, not something to follow)."""
-    from app import all_branches, lab, rupture
-    from app.docs import reference_card, section
+    from asymslide.app import all_branches, lab, rupture
+    from asymslide.app.docs import reference_card, section
 
     for text, number in ((lab.ASSUMPTION, "12.3"), (rupture.ASSUMPTIONS, "13.1"), (all_branches.HELP, "3")):
         assert f"docs/physics.md §{number}" in text
@@ -142,7 +141,7 @@ def test_references_to_the_physics_notes_open_their_section() -> None:
 def test_log_slider_values_read_in_one_style(browser_page) -> None:
     """The η slider read "1.00e+4", "100" and "1.00" (toPrecision(3)); now plain numbers from 0.01 to 10⁴ and powers
     of ten beyond, in one style (the formatter run in Chromium as BokehJS runs it)."""
-    from app.params import LOG10_TICKS
+    from asymslide.app.params import LOG10_TICKS
 
     shown = browser_page.evaluate("([code, ticks]) => ticks.map(t => new Function('tick', code)(t))",
                                   [LOG10_TICKS, [8, 5.4, 4, 2, 0, -1, -1.3, -2, -2.5, 0.6]])
@@ -155,8 +154,9 @@ def test_xi_at_delta_one_is_normalised_in_one_place() -> None:
     import re
     from pathlib import Path
 
-    import app
-    from app.params import SpectrumParams, model_args
+    from asymslide.app.params import SpectrumParams, model_args
+
+    from asymslide import app
 
     assert SpectrumParams(Delta=1.0, xi=5.0).model_args() == SpectrumParams(Delta=1.0, xi=0.0).model_args()
     assert SpectrumParams(Delta=0.5, xi=5.0).model_args()[-1] == 5.0

@@ -7,8 +7,7 @@ import threading
 import weakref
 
 import pytest
-
-from app import jobs
+from asymslide.app import jobs
 
 
 def _held(release: threading.Event, chunks: int = 3):

@@ -11,13 +11,13 @@ import urllib.request
 import holoviews as hv
 import numpy as np
 import pytest
+from asymslide.app import spectrum as sp
+from asymslide.app import thin_on_thick as tt
+from asymslide.app.params import ZERO_LINE
+from asymslide.app.presets import load_presets
+from asymslide.app.urlstate import BY_KEY, QUERY, TABS, parse_query, query_string
 
-import model
-from app import spectrum as sp
-from app import thin_on_thick as tt
-from app.params import ZERO_LINE
-from app.presets import load_presets
-from app.urlstate import BY_KEY, QUERY, TABS, parse_query, query_string
+from asymslide import model
 from tests.conftest import open_app, set_slider
 from tests.support.headless import build_app
 
@@ -328,13 +328,12 @@ def test_a_pane_outside_the_document_keeps_the_sessions_stylesheets() -> None:
     """app.workarounds.guard_detached_updates: a stylesheet patched for Panel's CDN while a session with local
     stylesheets is current stays local (a pane of a tab switched away from, updated later); without a session,
     Panel's own behaviour."""
+    import asymslide.app.main  # noqa: F401  (installs the guard)
     import panel.reactive
     from bokeh.document import Document
     from bokeh.models import ImportedStyleSheet
     from panel.io.resources import CDN_DIST
     from panel.io.state import set_curdoc
-
-    import app.main  # noqa: F401  (installs the guard)
 
     local = "static/extensions/panel/css/markdown.css"
     doc = Document()
@@ -377,7 +376,7 @@ def test_a_tab_opened_on_a_served_page_shows_a_labelled_placeholder_first(monkey
     """On a served page a tab opened for the first time shows a spinner and "Opening the … tab…" at once (it was
     blank for 2.5-6 s while its scene was built and rendered); the scene replaces it on the next turn of the event
     loop."""
-    from app import main
+    from asymslide.app import main
 
     app = build_app({})
     scheduled = []

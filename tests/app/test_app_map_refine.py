@@ -5,8 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from app import map_refine as mr
+from asymslide.app import map_refine as mr
 
 RANGES = ((0.0, 1.0), (0.0, 1.0))
 
@@ -28,7 +27,7 @@ def _refined(n: int = 12, levels: int = 2, calls: list[int] | None = None) -> tu
 
 
 def test_levels_nest_and_level_zero_is_the_maps_grid() -> None:
-    from app.stability_map import PLANES
+    from asymslide.app.stability_map import PLANES
 
     for ax in (a for pair in PLANES.values() for a in pair):
         base = ax.values(24)

@@ -10,13 +10,12 @@ from __future__ import annotations
 import numpy as np
 import panel as pn
 import pytest
+from asymslide.app.all_branches import AllBranchesScene
+from asymslide.app.params import SpectrumParams, set_frozen
+from asymslide.app.spectrum import SpectrumScene
+from asymslide.app.thin_on_thick import ThinOnThickScene
 from bokeh.document import Document
 from bokeh.models import GlyphRenderer, Range1d
-
-from app.all_branches import AllBranchesScene
-from app.params import SpectrumParams, set_frozen
-from app.spectrum import SpectrumScene
-from app.thin_on_thick import ThinOnThickScene
 
 
 @pytest.fixture

@@ -14,12 +14,12 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 import pytest
+from asymslide.app import rupture as rp
+from asymslide.app.params import CUSTOM, LabParams, RuptureParams, follow_material
+from asymslide.app.rupture import C_RATIO, PROFILE_GRID, RuptureScene
+from asymslide.app.urlstate import TABS, query_string
 
-import model
-from app import rupture as rp
-from app.params import CUSTOM, LabParams, RuptureParams, follow_material
-from app.rupture import C_RATIO, PROFILE_GRID, RuptureScene
-from app.urlstate import TABS, query_string
+from asymslide import model
 from tests.conftest import open_app, save_screenshot
 from tests.support.headless import build_app
 from tests.support.spies import Calls, spying
@@ -459,7 +459,7 @@ def _page(**params: float) -> tuple[RuptureScene, pn.widgets.FloatSlider]:
 def _drawn(scene: RuptureScene) -> dict[str, dict]:
     """What each plot on the page shows: title, axis ranges, legend, each visible layer's columns (by HoloViews'
     key)."""
-    from app import live
+    from asymslide.app import live
 
     out = {}
     for name, pane in scene.panes.items():

@@ -10,11 +10,11 @@ import numpy as np
 import panel as pn
 import param
 import pytest
+from asymslide.app import spectrum as sp
+from asymslide.app.params import SpectrumParams
+from asymslide.app.spectrum import KH, SpectrumScene
 
-import model
-from app import spectrum as sp
-from app.params import SpectrumParams
-from app.spectrum import KH, SpectrumScene
+from asymslide import model
 from tests.conftest import open_app, set_slider
 from tests.support.spies import Calls, spying
 
@@ -206,7 +206,7 @@ def test_a_held_slider_moves_its_parameter_and_says_it_is_held_and_xi_is_disable
 
 
 def test_app_builds_with_spectrum_tab() -> None:
-    from app.main import create_app
+    from asymslide.app.main import create_app
 
     template = create_app()
     tabs = [obj for obj in template.main.objects if isinstance(obj, pn.Tabs)]
@@ -251,9 +251,8 @@ def test_gamma_slider_updates_the_im_curve(served_app: str, browser_page) -> Non
 
 def test_zero_line_is_drawn_once_and_survives_updates() -> None:
     """The y = 0 line of the growth-rate plot is a Bokeh Span added by a hook, once, also after updates."""
+    from asymslide.app.params import ZERO_LINE
     from bokeh.document import Document
-
-    from app.params import ZERO_LINE
 
     scene = SpectrumScene()
     plot = hv.renderer("bokeh").get_plot(scene.im_dmap, doc=Document())
@@ -350,7 +349,7 @@ def test_the_fastest_root_of_every_branch_is_drawn_and_read_out_as_the_model_giv
 def test_sliding_computed_in_the_worker_process_is_the_same_as_here() -> None:
     """Served sessions compute sliding over every branch in the worker process (app.jobs.Job.call): the same
     numbers, bit for bit, as computed in the job's own thread."""
-    from app import jobs
+    from asymslide.app import jobs
 
     args = SpectrumParams(gamma=2.0).model_args()
     results = []

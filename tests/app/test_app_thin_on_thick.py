@@ -10,11 +10,11 @@ import numpy as np
 import panel as pn
 import param
 import pytest
+from asymslide.app import thin_on_thick as tt
+from asymslide.app.params import LabParams
+from asymslide.app.thin_on_thick import KW, ThinOnThickParams, ThinOnThickScene
 
-import model
-from app import thin_on_thick as tt
-from app.params import LabParams
-from app.thin_on_thick import KW, ThinOnThickParams, ThinOnThickScene
+from asymslide import model
 from tests.conftest import open_app, save_screenshot, set_slider
 from tests.support.spies import Calls, spying
 
@@ -213,7 +213,7 @@ def test_widget_labels_and_throttling() -> None:
 
 
 def test_app_builds_with_five_tabs() -> None:
-    from app.main import create_app
+    from asymslide.app.main import create_app
 
     template = create_app()
     (tabs,) = [obj for obj in template.main.objects if isinstance(obj, pn.Tabs)]
@@ -276,7 +276,7 @@ def test_shared_lab_values_the_model_refuses_are_a_message() -> None:
 def test_choosing_a_material_sets_its_nu_and_the_readout_never_mixes_them() -> None:
     """Choosing a material sets its ν (ν once stayed 0.44 after fused silica was chosen, while the readout named
     fused silica)."""
-    from app.params import follow_material
+    from asymslide.app.params import follow_material
 
     scene = ThinOnThickScene(params=ThinOnThickParams(nu=0.44))
     follow_material(scene.material)  # as the Lab-units panel does on the page
@@ -355,7 +355,7 @@ def _page(compare_kW: tuple[float, ...] = (), **params: float) -> tuple[ThinOnTh
 def _drawn(scene: ThinOnThickScene) -> dict[str, dict]:
     """What each plot on the page shows: title, axis ranges, legend, each visible layer's columns (by HoloViews'
     key), the level of each horizontal line."""
-    from app import live
+    from asymslide.app import live
 
     out = {}
     for name, pane in scene.panes.items():
@@ -507,7 +507,7 @@ def test_served_the_moves_of_a_held_slider_are_read_once_a_turn_and_the_release_
         monkeypatch: pytest.MonkeyPatch) -> None:
     """Served, the moves of a held handle that arrive before the event loop's next turn are read (keys, readout,
     plots) once, at the latest value; a release before that turn reads and writes the released value at once."""
-    from app import live
+    from asymslide.app import live
 
     scene, sliders = _page()
     turns: list = []

@@ -16,10 +16,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from asymslide.app import atlas as AT
+from asymslide.atlas import adaptive as A
+from asymslide.atlas import sweep as S
 
-from app import atlas as AT
-from atlas_engine import adaptive as A
-from atlas_engine import sweep as S
 from tests.browser.test_journeys import _IMAGE_JS, WAIT, idle
 from tests.conftest import open_app, save_screenshot
 

@@ -19,9 +19,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from asymslide.app import atlas as A
+from asymslide.app.presets import load_presets
 
-from app import atlas as A
-from app.presets import load_presets
 from tests.conftest import (
     ServerLog,
     clear_patched_curdocs,
@@ -548,8 +548,7 @@ def test_a_lost_server_is_said_on_the_page(free_port: int, browser_context) -> N
     """When the server stops, the page says so (a notification that stays) instead of leaving plots that silently
     no longer follow the controls."""
     import panel as pn
-
-    from app.main import create_app
+    from asymslide.app.main import create_app
 
     server = pn.serve(create_app, port=free_port, address="127.0.0.1", websocket_origin=[f"127.0.0.1:{free_port}"],
                       threaded=True, show=False, start=True, verbose=False)

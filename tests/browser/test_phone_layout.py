@@ -15,11 +15,11 @@ from pathlib import Path
 
 import holoviews as hv
 import pytest
+from asymslide.app.common import LOG_COORDINATE_TICKS
+from asymslide.app.main import TAB_TITLES
+from asymslide.app.params import TICKS_JS
 from bokeh.models import CustomJSTickFormatter, LogTickFormatter
 
-from app.common import LOG_COORDINATE_TICKS
-from app.main import TAB_TITLES
-from app.params import TICKS_JS
 from tests.conftest import open_app, unexpected
 
 #: a phone's screen (CSS px)
@@ -238,7 +238,7 @@ def test_tick_labels_have_one_readable_style_and_zero_reads_0(browser_context) -
 def test_every_plot_uses_the_readable_tick_labels(logy: bool) -> None:
     """Every element's plot runs app.params.readable_ticks_hook (a default option): a linear axis gets the app's
     formatter, even in an Overlay that sets its own hooks; a log axis keeps Bokeh's 10ⁿ labels. (No browser.)"""
-    import app.params  # noqa: F401 -- sets the defaults
+    import asymslide.app.params  # noqa: F401 -- sets the defaults
 
     overlay = (hv.Curve([(1, 0.0), (2, 1e-4)]) * hv.Scatter([(1, 2e-4)])).opts(
         hv.opts.Overlay(logy=logy, hooks=[lambda plot, element: None]))

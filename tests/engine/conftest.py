@@ -1,4 +1,4 @@
-"""The tests of the atlas layer (atlas_engine/): sweeps, adaptive refinement, stores. Each test here is marked
+"""The tests of the atlas layer (atlas/): sweeps, adaptive refinement, stores. Each test here is marked
 ``engine`` (tests/support/layers.py)."""
 
 from pathlib import Path

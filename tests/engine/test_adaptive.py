@@ -18,9 +18,8 @@ import numpy as np
 import pytest
 import xarray as xr
 import zarr
-
-from atlas_engine import adaptive as A
-from atlas_engine import sweep as S
+from asymslide.atlas import adaptive as A
+from asymslide.atlas import sweep as S
 
 ROOT = Path(__file__).resolve().parents[2]
 KH = np.logspace(-3, 3, 49)
@@ -268,7 +267,7 @@ def _store_arrays(store: Path) -> dict[str, np.ndarray]:
 KILL_AFTER = 3
 _KILLING_CHILD = f"""
 import os, signal, sys
-from atlas_engine import adaptive as A
+from asymslide.atlas import adaptive as A
 from asymslide.cli import main
 append, written = A._Store.append, []
 def append_then_die(self, task, result):

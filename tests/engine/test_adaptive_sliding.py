@@ -20,9 +20,8 @@ import numpy as np
 import pytest
 import xarray as xr
 import zarr
-
-from atlas_engine import adaptive as A
-from atlas_engine import sweep as S
+from asymslide.atlas import adaptive as A
+from asymslide.atlas import sweep as S
 
 ROOT = Path(__file__).resolve().parents[2]
 KH = np.logspace(-3, 3, 49)
@@ -117,7 +116,7 @@ SLIDING_ARGS = ["sweep", "--adaptive", "--verdict", "sliding", "--levels", "2", 
 #: a child running SLIDING_ARGS that SIGKILLs itself after writing its 2nd level-1 task to the journal
 _KILLING_CHILD = """
 import os, signal, sys
-from atlas_engine import adaptive as A
+from asymslide.atlas import adaptive as A
 from asymslide.cli import main
 append, written = A._Store.append, []
 def append_then_die(self, task, result):

@@ -14,9 +14,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from asymslide.atlas import sweep as S
 
-import model
-from atlas_engine import sweep as S
+from asymslide import model
 
 ROOT = Path(__file__).resolve().parents[2]
 KH = np.logspace(-3, 3, 25)

@@ -1,5 +1,6 @@
-"""What the wheel installs: the import names model, app and asymslide (kept short on purpose, see the README's
-"Installation and packaging"), every data file the app needs, and the asymslide console script."""
+"""What the wheel installs: one import name, ``asymslide`` (its subpackages model, atlas and app mapped from the
+repository's top-level folders), every data file the app needs, and the asymslide console script; what each extra
+adds; the lock; the layers' imports."""
 
 from __future__ import annotations
 
@@ -7,19 +8,22 @@ import re
 import shutil
 import subprocess
 import sys
+import sysconfig
 import zipfile
 from pathlib import Path
 
 import pytest
 
-import asymslide
 from asymslide import cli
 
 ROOT = Path(__file__).resolve().parents[2]
 
+#: the subpackages of asymslide and the repository folders they are built from (pyproject.toml's package-dir)
+SUBPACKAGES = {"model": "model", "atlas": "atlas", "app": "app"}
+
 
 @pytest.fixture(scope="module")
-def wheel(tmp_path_factory: pytest.TempPathFactory) -> zipfile.ZipFile:
+def wheel_path(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The wheel built from a copy of the working tree (setuptools writes build/ into the tree it builds)."""
     out = tmp_path_factory.mktemp("wheel")
     src = out / "src"
@@ -28,34 +32,32 @@ def wheel(tmp_path_factory: pytest.TempPathFactory) -> zipfile.ZipFile:
     subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", "-w", str(out), str(src)],
                    check=True, capture_output=True, timeout=600)
     (path,) = out.glob("asymslide-*.whl")
-    return zipfile.ZipFile(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def wheel(wheel_path: Path) -> zipfile.ZipFile:
+    return zipfile.ZipFile(wheel_path)
 
 
 @pytest.mark.slow
-def test_wheel_installs_four_import_names_and_the_data_files(wheel: zipfile.ZipFile) -> None:
+def test_the_wheel_installs_one_import_name_and_the_data_files(wheel: zipfile.ZipFile) -> None:
     names = wheel.namelist()
     top = {n.split("/")[0] for n in names if not n.split("/")[0].endswith((".dist-info", ".data"))}
-    assert top == set(asymslide.IMPORT_NAMES)
-    for needed in ("app/presets.json", "app/static/asymslide.css", "app/static/logo.svg", "app/static/favicon.svg",
-                   "model/materials.json", "app/reference/physics.md", "app/main.py", "asymslide/cli.py",
-                   "atlas_engine/sweep.py"):
+    assert top == {"asymslide"}
+    for needed in ("asymslide/app/presets.json", "asymslide/app/static/asymslide.css",
+                   "asymslide/app/static/logo.svg", "asymslide/app/static/favicon.svg",
+                   "asymslide/model/materials.json", "asymslide/app/reference/physics.md", "asymslide/app/main.py",
+                   "asymslide/cli.py", "asymslide/atlas/sweep.py", "asymslide/model/_kernels/newton.py"):
         assert needed in names, needed
-    assert not [n for n in names if n.startswith(("tests/", "benchmarks/"))]
-    # every module of the model, its subpackages' included (pyproject.toml lists the packages one by one)
-    modules = {p.relative_to(ROOT).as_posix() for p in (ROOT / "model").rglob("*.py") if "__pycache__" not in p.parts}
-    assert modules - set(names) == set()
+    assert not [n for n in names if "/tests/" in n or "benchmarks/" in n]
+    # every module of every layer, subpackages included (pyproject.toml lists the packages one by one)
+    for sub, folder in SUBPACKAGES.items():
+        modules = {f"asymslide/{sub}/{p.relative_to(ROOT / folder).as_posix()}"
+                   for p in (ROOT / folder).rglob("*.py") if "__pycache__" not in p.parts}
+        assert modules - set(names) == set(), sub
     entry = next(n for n in names if n.endswith("entry_points.txt"))
     assert "asymslide = asymslide.cli:main" in wheel.read(entry).decode()
-
-
-def test_a_clash_of_import_names_is_reported(monkeypatch: pytest.MonkeyPatch) -> None:
-    fake = {"model": ["asymslide", "someone-elses-model"], "app": ["asymslide"], "asymslide": ["asymslide"]}
-    monkeypatch.setattr(asymslide, "packages_distributions", lambda: fake)
-    assert asymslide.import_name_clashes() == {"model": ["someone-elses-model"]}
-
-
-def test_this_environment_has_no_clash() -> None:
-    assert asymslide.import_name_clashes() == {}
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -66,48 +68,64 @@ def test_this_environment_has_no_clash() -> None:
 CORE = ("numpy", "scipy", "numba", "llvmlite")
 
 
-def _core_only_python(tmp_path: Path) -> Path:
-    """A virtual environment holding only what `pip install asymslide` installs: the model's dependencies (linked
-    from this environment), asymslide's metadata and its source tree (a .pth file), and nothing else."""
-    import sysconfig
-
+def _core_only_python(tmp_path: Path, wheel_path: Path) -> tuple[Path, set[str]]:
+    """A fresh virtual environment holding only what `pip install asymslide` installs: the model's dependencies
+    (linked from this environment) and the wheel, installed by pip. Its python, and the entries the wheel added to
+    its site-packages."""
     venv = tmp_path / "core-only"
     subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
     site = Path(sysconfig.get_path("purelib"))
     (target,) = venv.glob("lib/python*/site-packages")
-    wanted = {name.lower() for name in (*CORE, "asymslide")}
+    wanted = {name.lower() for name in CORE}
     for entry in site.iterdir():
         if entry.name.split("-")[0].split(".")[0].lower() in wanted and not entry.name.endswith(".pth"):
             (target / entry.name).symlink_to(entry)
-    (target / "asymslide-source.pth").write_text(f"{ROOT}\n")
-    return venv / "bin" / "python"
+    before = {e.name for e in target.iterdir()}
+    python = venv / "bin" / "python"
+    subprocess.run([sys.executable, "-m", "pip", "--python", str(python), "install", "--quiet", "--no-deps",
+                    "--no-index", str(wheel_path)], check=True, capture_output=True, timeout=300)
+    return python, {e.name for e in target.iterdir()} - before
+
+
+#: a working directory of a user's notebooks, whose own modules have the generic names of the layers
+USER_MODULES = {name: f'raise ImportError("the user\'s {name}.py was imported")\n'
+                for name in ("model", "app", "atlas")}
 
 
 @pytest.mark.slow
-def test_the_core_install_gives_the_model_and_each_command_names_its_extra(tmp_path: Path) -> None:
-    python = _core_only_python(tmp_path)
-    model = subprocess.run([str(python), "-c", "import model; "
+def test_the_core_install_gives_the_model_under_one_name_and_each_command_names_its_extra(
+        tmp_path: Path, wheel_path: Path) -> None:
+    python, added = _core_only_python(tmp_path, wheel_path)
+    assert {a for a in added if a != "__pycache__"} == {"asymslide", "asymslide-0.1.0.dist-info"}
+    work = tmp_path / "notebooks"
+    work.mkdir()
+    for name, text in USER_MODULES.items():
+        (work / f"{name}.py").write_text(text)
+    model = subprocess.run([str(python), "-c", "from asymslide import model; "
                             "print(float(model.rayleigh_speed(0.25)), model.__file__)"],
-                           capture_output=True, text=True, timeout=300)
+                           capture_output=True, text=True, timeout=300, cwd=work)
     assert model.returncode == 0, model.stderr
-    import model as here
+    from asymslide import model as here
 
     assert float(model.stdout.split()[0]) == float(here.rayleigh_speed(0.25))  # the same model, from the core alone
-    assert model.stdout.split()[1].startswith(str(ROOT))
+    assert "/site-packages/asymslide/model/" in model.stdout.split()[1]
+    mine = subprocess.run([str(python), "-c", "import model"], capture_output=True, text=True, timeout=60, cwd=work)
+    assert "the user's model.py was imported" in mine.stderr  # the user's name is the user's, as it should be
     hidden = subprocess.run([str(python), "-c", "import panel"], capture_output=True, text=True, timeout=60)
     assert "No module named 'panel'" in hidden.stderr  # the environment really lacks the app's dependencies
     for command, extra, missing in ((["serve"], "app", "panel"),
                                     (["sweep", "--axis", "gamma=1:2:2", "--out", str(tmp_path / "a.zarr")],
                                      "atlas", "xarray"),
                                     (["info", str(tmp_path / "a.zarr")], "atlas", "dask")):
-        run = subprocess.run([str(python), "-m", "asymslide", *command], capture_output=True, text=True, timeout=120)
+        run = subprocess.run([str(python), "-m", "asymslide", *command], capture_output=True, text=True, timeout=120,
+                             cwd=work)
         assert run.returncode == cli.EXIT_MISSING_EXTRA, run.stderr
         assert f"pip install 'asymslide[{extra}]'" in run.stderr and missing in run.stderr, run.stderr
         assert "Traceback" not in run.stderr
         assert not (tmp_path / "a.zarr").exists()
     version = subprocess.run([str(python), "-m", "asymslide", "--version"], capture_output=True, text=True,
-                             timeout=60)
-    assert version.returncode == 0 and version.stdout.startswith("asymslide ")
+                             timeout=60, cwd=work)
+    assert version.returncode == 0 and version.stdout.startswith("asymslide "), version.stderr
 
 
 def test_a_missing_extra_is_named_before_the_command_runs(monkeypatch: pytest.MonkeyPatch,
@@ -203,26 +221,33 @@ def _canonical(name: str) -> str:
 #: the import names each layer may use, besides the standard library and the project's own packages
 LAYER_FILES = {
     "core": ["model/**/*.py", "asymslide/__init__.py", "asymslide/__main__.py", "asymslide/warmup.py"],
-    "atlas": ["atlas_engine/*.py", "asymslide/cli.py"],
+    "atlas": ["atlas/*.py", "asymslide/cli.py"],
     "app": ["app/*.py", "asymslide/serve.py"],
 }
 
 
-def _top_level_imports(path: Path) -> set[str]:
-    """The top-level names a module imports (absolute imports; relative ones stay in its own package)."""
+def _imports(path: Path) -> set[str]:
+    """The modules a module imports by absolute name (``from asymslide import model`` -> asymslide.model;
+    relative imports stay in its own package)."""
     import ast
 
     names = set()
     for node in ast.walk(ast.parse(path.read_text(), str(path))):
         if isinstance(node, ast.Import):
-            names |= {alias.name.partition(".")[0] for alias in node.names}
+            names |= {alias.name for alias in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module == "asymslide":
+            names |= {f"asymslide.{alias.name}" for alias in node.names}
         elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            names.add(node.module.partition(".")[0])
+            names.add(node.module)
     return names
 
 
+def _top_level_imports(path: Path) -> set[str]:
+    return {name.partition(".")[0] for name in _imports(path)}
+
+
 def _third_party_imports(path: Path) -> set[str]:
-    return _top_level_imports(path) - set(sys.stdlib_module_names) - set(asymslide.IMPORT_NAMES) - {"__future__"}
+    return _top_level_imports(path) - set(sys.stdlib_module_names) - {"asymslide", "__future__"}
 
 
 def test_every_import_of_a_layer_is_installed_by_its_extra() -> None:
@@ -287,29 +312,43 @@ def test_this_environment_runs_the_locked_versions() -> None:
     assert set(pins) <= set(installed)
 
 
-#: the project's layers from the bottom up (ARCHITECTURE.md): a module may import its own layer and those below
-LAYERS = ("model", "atlas_engine", "app", "asymslide")
+#: the project's layers from the bottom up (ARCHITECTURE.md) and their folders: a module may import its own layer
+#: and those below; "asymslide" is the package's own modules (the command line, the launcher) on top
+LAYERS = {"model": "model", "atlas": "atlas", "app": "app", "asymslide": "asymslide"}
 
 
-def _project_imports(path: Path) -> set[str]:
-    """The project packages a module imports."""
-    return _top_level_imports(path) & set(LAYERS)
+def _layer(module: str) -> str | None:
+    """The layer an absolute module name belongs to (None: not the project's)."""
+    parts = module.split(".")
+    if parts[0] != "asymslide":
+        return None
+    return parts[1] if len(parts) > 1 and parts[1] in LAYERS else "asymslide"
 
 
 def test_no_import_runs_back_up_a_layer() -> None:
-    """model -> atlas_engine -> app -> asymslide: each package imports only its own layer and those below it."""
-    assert set(LAYERS) == set(asymslide.IMPORT_NAMES)
+    """model -> atlas -> app -> asymslide's command line: each imports only its own layer and those below it."""
+    order = list(LAYERS)
     upward = []
-    for level, package in enumerate(LAYERS):
-        allowed = set(LAYERS[:level + 1])
-        for path in sorted((ROOT / package).rglob("*.py")):
-            if bad := _project_imports(path) - allowed:
-                upward.append(f"{path.relative_to(ROOT)} imports {', '.join(sorted(bad))}")
+    for level, (layer, folder) in enumerate(LAYERS.items()):
+        allowed = set(order[:level + 1])
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            if bad := {m for m in _imports(path) if (lay := _layer(m)) is not None and lay not in allowed}:
+                upward.append(f"{path.relative_to(ROOT)} ({layer}) imports {', '.join(sorted(bad))}")
     assert upward == []
 
 
+def test_the_project_is_imported_by_one_name_only() -> None:
+    """Every import of the project's code says asymslide...: the folders model/, atlas/ and app/ are not import
+    names (a user's model.py must not be shadowed, nor shadow ours)."""
+    bare = [f"{path.relative_to(ROOT)} imports {', '.join(sorted(bad))}"
+            for folder in (*LAYERS.values(), "tests", "benchmarks", ".ci")
+            for path in sorted((ROOT / folder).rglob("*.py"))
+            if (bad := _top_level_imports(path) & {"model", "app", "atlas", "atlas_engine"})]
+    assert bare == []
+
+
 def test_the_app_opens_atlases_only_through_the_store() -> None:
-    """app/ never reads Zarr itself: xarray and zarr are the atlas layer's (atlas_engine.store opens atlases)."""
+    """app/ never reads Zarr itself: xarray and zarr are the atlas layer's (asymslide.atlas.store opens atlases)."""
     readers = [f"{path.relative_to(ROOT)} imports {', '.join(sorted(bad))}"
                for path in sorted((ROOT / "app").rglob("*.py"))
                if (bad := _third_party_imports(path) & {"xarray", "zarr"})]

@@ -25,6 +25,14 @@ POOL = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))  
 def test_starts_a_spawned_worker_and_forgets_it():
     assert POOL.submit(abs, -1).result(timeout=60) == 1
 '''
+LEAKY_AFTER_A_SECOND_IMPORT = f'''
+import importlib.util, subprocess, sys
+def test_imports_the_conftest_again_then_forgets_a_process():
+    spec = importlib.util.spec_from_file_location("conftest_again", "{ROOT / "tests" / "conftest.py"}")
+    spec.loader.exec_module(importlib.util.module_from_spec(spec))  # as "from tests.conftest import open_app" does
+    subprocess.Popen([sys.executable, "-c", "import time; time.sleep(120)"])
+'''
+
 CLEAN_TEST = '''
 import subprocess, sys
 def test_starts_a_process_and_waits():
@@ -62,6 +70,15 @@ def test_a_leaked_spawned_worker_fails_the_session_instead_of_hanging_it(tmp_pat
     assert "1 passed" in result.stdout
     assert "process(es) started by the tests were still running" in result.stdout
     assert "spawn_main" in result.stdout
+
+
+@pytest.mark.slow
+def test_a_second_import_of_the_conftest_keeps_the_sessions_mark(tmp_path: Path) -> None:
+    """Tests that import the conftest's helpers import it a second time: its mark of the session's processes holds."""
+    result = _run_session(tmp_path, LEAKY_AFTER_A_SECOND_IMPORT)
+    assert result.returncode == 1, result.stdout + result.stderr
+    assert "process(es) started by the tests were still running" in result.stdout
+    assert "time.sleep(120)" in result.stdout
 
 
 @pytest.mark.slow

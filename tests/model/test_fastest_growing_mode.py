@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-import model
+from asymslide import model
 
 KH = np.logspace(-3, 3, 400)
 

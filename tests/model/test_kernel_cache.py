@@ -19,9 +19,8 @@ import sys
 from pathlib import Path
 
 import pytest
-
-from model import _kernels
-from model._kernels import _common
+from asymslide.model import _kernels
+from asymslide.model._kernels import _common
 
 ROOT = Path(__file__).resolve().parents[2]
 KERNELS = ROOT / "model" / "_kernels"

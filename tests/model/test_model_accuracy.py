@@ -11,7 +11,7 @@ import mpmath
 import numpy as np
 import pytest
 
-import model
+from asymslide import model
 from tests import oracle
 
 INF = math.inf
@@ -185,7 +185,7 @@ SLOPE_CASES = [(0.767, dict(PAPER, eta=INF)), (1e-3, dict(PAPER, eta=INF)), (0.3
                                      for q, p in SLOPE_CASES])  # η = 1 + 1e-9: 2 s of the oracle's
 def test_branch_slope_vs_oracle(q, params):
     """dz/dkH = -F_kH/F_z with the analytic F_kH of the kernels (used for the Hermite path interpolant)."""
-    from model._kernels import response as K
+    from asymslide.model._kernels import response as K
 
     p = dict(Delta=1.0, xi=0.0) | params
     z = complex(model.spectrum(np.array([q]), **p)[0])

@@ -10,7 +10,7 @@ import mpmath
 import numpy as np
 import pytest
 
-import model
+from asymslide import model
 from tests import oracle
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-import model
+from asymslide import model
 
 #: from the paper's captions: Fig. 4 (Linear stability: simplified analysis) "f = 0.9 and beta = 0.3", a half-space
 #: and velocity-only friction; Fig. 5 "the same as in Fig. 4 with gamma = 3"; xi does not enter at Delta = 1

@@ -6,7 +6,7 @@ import importlib
 import inspect
 import pkgutil
 
-import model
+from asymslide import model
 
 
 def _public_modules() -> list:

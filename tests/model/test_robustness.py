@@ -63,7 +63,7 @@ def _serve(conn) -> None:
     """Worker loop: receive (function name, args, kwargs), send ("ok", result) or ("raise", details)."""
     import warnings
 
-    import model
+    from asymslide import model
 
     warnings.filterwarnings("error", category=RuntimeWarning, module=r"model(\..*)?$")
     # compile / load every kernel before the first budgeted call (numba compiles on first use)

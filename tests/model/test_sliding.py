@@ -14,12 +14,12 @@ import random
 
 import numpy as np
 import pytest
+from asymslide.model import sliding
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from mpmath import mp
 
-import model
-from model import sliding
+from asymslide import model
 from tests import oracle
 
 INF = math.inf
@@ -365,7 +365,7 @@ def test_chart_across_a_cut_is_f_on_the_physical_sheet_against_the_oracle(chart)
     """In a chart (the local variable w = alpha_d beside +-1/beta, alpha_s beside +-1), F at a point with Re w > 0
     and Im z > 0 is F of the physical sheet at z(w): the oracle's (mpmath, principal square roots), to 1e-12; and
     dF/dv is the derivative of the chart's F (a central difference, to 1e-6)."""
-    from model._kernels.response import CHART_ORIGIN, chart_point, dispersion_eval
+    from asymslide.model._kernels.response import CHART_ORIGIN, chart_point, dispersion_eval
 
     rng = random.Random(chart)
     p = dict(gamma=2.7, f=0.8, beta=0.41, eta=INF, Delta=0.7, xi=0.9)

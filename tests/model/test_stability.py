@@ -6,9 +6,9 @@ import math
 
 import numpy as np
 import pytest
+from asymslide.model import stability
 
-import model
-from model import stability
+from asymslide import model
 from tests import oracle
 
 PAPER = dict(f=0.9, beta=0.3)

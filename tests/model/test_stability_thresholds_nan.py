@@ -12,7 +12,7 @@ import math
 
 import pytest
 
-import model
+from asymslide import model
 from tests import oracle
 
 

@@ -13,12 +13,9 @@ import math
 
 import numpy as np
 import pytest
-from scipy import optimize
-
-import model
-from model import stability, thresholds
-from model._kernels import growth
-from model.thresholds import (
+from asymslide.model import stability, thresholds
+from asymslide.model._kernels import growth
+from asymslide.model.thresholds import (
     CROSSING_STATUS,
     THRESHOLD_STATUS,
     critical_eta_chunk,
@@ -26,6 +23,9 @@ from model.thresholds import (
     crossings_chunk,
     threshold_chunk,
 )
+from scipy import optimize
+
+from asymslide import model
 
 S = np.log(stability.DEFAULT_KH)
 PAPER = dict(f=0.9, beta=0.3)

@@ -3,7 +3,7 @@ server, for tests that read its state and widgets."""
 
 from __future__ import annotations
 
-from app.main import App
+from asymslide.app.main import App
 
 
 def build_app(args: dict[str, list[bytes]] | dict[str, list[str]] | None = None) -> App:

@@ -10,7 +10,7 @@ import pytest
 #: the test folders, each named after the layer it tests, and what its marker selects
 LAYERS = {
     "model": "tests of the physics (model/) against the oracle, properties and bad input",
-    "engine": "tests of the atlas layer (atlas_engine/): sweeps, adaptive refinement, stores",
+    "engine": "tests of the atlas layer (atlas/): sweeps, adaptive refinement, stores",
     "app": "tests of the app's scenes and page, headless (a few in a real browser, marked ui)",
     "browser": "journeys and served-app tests in a real browser, and load",
     "infra": "packaging, the launcher, Docker's entrypoint, CI and the test suite's own guards",

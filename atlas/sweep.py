@@ -60,7 +60,7 @@ from typing import Any
 
 import numpy as np
 
-import model
+from asymslide import model
 
 from . import __version__  # the distribution's version, recorded in every store
 from . import adaptive as _adaptive
@@ -196,7 +196,7 @@ class Plan:
     gamma_range: tuple[float, float]
     count: CountSpec | None
     chunks: dict[str, int] = field(default_factory=dict)
-    #: the refinement of an adaptive sweep (atlas_engine.adaptive); None: the dense sweep
+    #: the refinement of an adaptive sweep (asymslide.atlas.adaptive); None: the dense sweep
     adaptive: AdaptiveSpec | None = None
     #: the sliding verdict over every branch; None: the Rayleigh branch only
     sliding: SlidingSpec | None = None
@@ -334,8 +334,8 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
     value); fixed: values of other parameters (the rest take :data:`DEFAULT_FIXED`); kH: the grid on which the
     growth is bracketed (increasing, > 0; default :data:`DEFAULT_KH`); gamma_range: where γ_c is searched
     (default: the γ axis' range if γ is an axis of more than one value, else (1e-2, 1e3)); chunk_points: grid
-    points per growth chunk (default :data:`CHUNK_POINTS`, adaptive :data:`atlas_engine.adaptive.CHUNK_POINTS`);
-    adaptive: None or False (the dense sweep), True or an :class:`~atlas_engine.adaptive.AdaptiveSpec` (levels,
+    points per growth chunk (default :data:`CHUNK_POINTS`, adaptive :data:`asymslide.atlas.adaptive.CHUNK_POINTS`);
+    adaptive: None or False (the dense sweep), True or an :class:`~asymslide.atlas.adaptive.AdaptiveSpec` (levels,
     margin, guard, follow, verdict; every axis must have m·2^levels + 1 points); sliding: None or False (the
     Rayleigh branch only), True or a :class:`SlidingSpec` (also the sliding verdict over every branch). An adaptive
     sweep with the sliding verdict refines it (and the Rayleigh branch's verdict): its spec's verdict is "sliding"
@@ -1145,8 +1145,8 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
     ``distributed.Client`` (None: Dask's threaded scheduler here, `workers` threads); growth: the growth variables;
     gamma_c: the threshold γ_c over the other axes (searched in `gamma_range`); count: the optional all-branch
     count; progress: called with (kind, points) as chunks finish; command: recorded in the attributes; adaptive:
-    None (every point) or True / an :class:`~atlas_engine.adaptive.AdaptiveSpec` (the growth computed only where the
-    verdict can change: :mod:`atlas_engine.adaptive`; every axis must have m·2^levels + 1 points); start: called with
+    None (every point) or True / an :class:`~asymslide.atlas.adaptive.AdaptiveSpec` (the growth computed only where the
+    verdict can change: :mod:`asymslide.atlas.adaptive`; every axis must have m·2^levels + 1 points); start: called with
     (kind, points) when an adaptive level's batch of that many points starts (kind ``level L``, as in `progress`; again
     as each of its follow rounds starts, with the points the round adds); sliding: None (the Rayleigh branch only) or
     True / a :class:`SlidingSpec` (also the sliding verdict over every branch, the ``*_all`` variables; an adaptive

@@ -1,7 +1,7 @@
 """Reading atlases back: the atlas directory, the atlases in it, one atlas opened as arrays, and computing an atlas
 into the directory once per machine (a file lock). The app opens atlases only through here; it never reads Zarr.
 
-An atlas directory holds ``NAME.zarr`` stores written by :func:`atlas_engine.sweep.sweep` (``asymslide sweep``):
+An atlas directory holds ``NAME.zarr`` stores written by :func:`asymslide.atlas.sweep.sweep` (``asymslide sweep``):
 only names matching :data:`NAME` that are a store with a plan are listed, and only listed names are ever opened, so a
 name from a URL cannot reach another path.
 """
@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-import model
+from asymslide import model
 
 from . import sweep as engine
 from .adaptive import fill_levels
@@ -30,7 +30,7 @@ from .adaptive import fill_levels
 MAX_IN_MEMORY = 512e6
 #: the names an atlas may have (NAME.zarr in the atlas directory)
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,99}$")
-#: the crossing variables of the boundary in γ (atlas_engine/sweep.py; docs/physics.md §9)
+#: the crossing variables of the boundary in γ (atlas/sweep.py; docs/physics.md §9)
 CROSSING_VARIABLES = ("gamma_c_crossing", "gamma_c_location", "gamma_c_direction", "gamma_c_crossing_reason")
 
 
@@ -142,7 +142,7 @@ class Atlas:
     computed: object | None = None
     verdict_filled: object | None = None
     adaptive: dict = field(default_factory=dict)
-    #: the level of the cell a not computed point's class was filled from (atlas_engine.adaptive.fill_levels; -1 at
+    #: the level of the cell a not computed point's class was filled from (asymslide.atlas.adaptive.fill_levels; -1 at
     #: computed points); None for a dense atlas or one read lazily from a large store
     filled_level: object | None = None
     #: the sliding verdict over every branch (asymslide sweep --sliding; docs/physics.md §14): the variables of
@@ -202,7 +202,7 @@ def _is_log(values: np.ndarray, attrs: dict) -> bool:
     return engine.axis_scale(values) == "log"
 
 
-#: the sliding variables the app reads (atlas_engine.sweep.SLIDING_VARS; an adaptive atlas of the sliding verdict
+#: the sliding variables the app reads (asymslide.atlas.sweep.SLIDING_VARS; an adaptive atlas of the sliding verdict
 #: also its filled verdict, and ``filled_level_all``, the level of the cell each filled class comes from)
 SLIDING_FIELDS = ("growth_all", "kH_at_max_all", "re_z_at_max_all", "family_all", "verdict_all", "verdict_reason_all",
                   "lower_bound_all", "verdict_filled_all")

@@ -40,7 +40,7 @@ sweep computes them (bitwise equal). Variables besides the dense sweep's growth 
   of the corners of the finest evaluated cell (all corners evaluated and of one class) that contains the point.
 
 **The verdict refined** (:attr:`AdaptiveSpec.verdict`): the Rayleigh branch's, or with the sliding verdict over
-every branch (``sliding``: the plan computes :func:`atlas_engine.sweep.sliding_arrays` at every evaluated point, so
+every branch (``sliding``: the plan computes :func:`asymslide.atlas.sweep.sliding_arrays` at every evaluated point, so
 each has both verdicts' variables) the pair of both classes (:func:`refinement_classes`): a cell is refined where
 either verdict changes, so both can be filled (``verdict_filled``, ``verdict_filled_all``). The guard reads the
 Rayleigh branch's growth (the sliding growth is NaN where stable). Journal entries name their rows (attribute
@@ -50,7 +50,7 @@ The store's attribute ``adaptive`` (JSON) records the levels, the coarse grid, m
 and the evaluated fraction overall and per level. The plan (:class:`AdaptiveSpec` in it) is part of the store's
 identity, as the dense sweep's: another margin, guard, level count or verdict refuses to resume.
 
-Layering: this module takes a validated :class:`atlas_engine.sweep.Plan` (the CLI parses, the engine takes a plan);
+Layering: this module takes a validated :class:`asymslide.atlas.sweep.Plan` (the CLI parses, the engine takes a plan);
 :func:`refine_targets` and :func:`fill_classes` are pure NumPy functions of the state arrays.
 """
 
@@ -103,7 +103,7 @@ class AdaptiveSpec:
     follow: bool = True
     #: the verdict refined: "rayleigh" (the Rayleigh branch's), "sliding" (the sliding verdict over every branch and
     #: the Rayleigh branch's: :data:`VERDICTS`); None: "sliding" if the plan computes the sliding verdict, else
-    #: "rayleigh" (fixed by atlas_engine.sweep.make_plan)
+    #: "rayleigh" (fixed by asymslide.atlas.sweep.make_plan)
     verdict: str | None = None
 
     def identity(self) -> dict[str, Any]:
@@ -156,7 +156,7 @@ def check_shape(names: tuple[str, ...], shape: tuple[int, ...], levels: int) -> 
         if n > 1 and (n - 1) % 2**levels:
             raise ValueError(f"axis {name} has {n} points: an adaptive grid of {levels} levels needs m·2^{levels} + 1 "
                              f"points per axis (nested grids of stride 2^{levels} .. 1); use "
-                             f"{adaptive_size(n, levels)} (atlas_engine.adaptive.adaptive_size) or other levels")
+                             f"{adaptive_size(n, levels)} (asymslide.atlas.adaptive.adaptive_size) or other levels")
 
 
 # ------------------------------------------------------------------------------------------------
@@ -406,7 +406,7 @@ class PointTask:
     params: np.ndarray
     kH: tuple[float, ...]
     rtol: float | None
-    #: the sliding verdict's spec (atlas_engine.sweep.SlidingSpec) where the sweep refines it; None: Rayleigh only
+    #: the sliding verdict's spec (asymslide.atlas.sweep.SlidingSpec) where the sweep refines it; None: Rayleigh only
     sliding: Any = None
 
     @property
@@ -415,13 +415,13 @@ class PointTask:
 
     @property
     def holds_gil(self) -> bool:
-        """Whether its model calls hold the GIL: the sliding verdict's (atlas_engine.sweep.Task.holds_gil)."""
+        """Whether its model calls hold the GIL: the sliding verdict's (asymslide.atlas.sweep.Task.holds_gil)."""
         return self.sliding is not None
 
 
 def run_points(task: PointTask) -> dict[str, np.ndarray]:
-    """Evaluate one task's points (on a worker): :func:`atlas_engine.sweep.growth_arrays` and, where the sweep
-    refines the sliding verdict, :func:`atlas_engine.sweep.sliding_arrays`, as the dense sweep."""
+    """Evaluate one task's points (on a worker): :func:`asymslide.atlas.sweep.growth_arrays` and, where the sweep
+    refines the sliding verdict, :func:`asymslide.atlas.sweep.sliding_arrays`, as the dense sweep."""
     from .sweep import growth_arrays, sliding_arrays
 
     out = growth_arrays(np.log(np.asarray(task.kH)), task.params, task.rtol)
@@ -611,7 +611,7 @@ def _ignore(kind: str, points: int) -> None:
 def _open(plan: Plan, names: tuple[str, ...], store: str | os.PathLike | None, command: str | None):
     """(dataset in memory or None, store path or None, journal writer or None, the variables `names` as arrays):
     without a store a dataset in memory (whose arrays these are, with ``verdict_filled``); with one, the store opened
-    or created (:func:`atlas_engine.sweep.open_store`) and its values with the journal applied, or the fill values of
+    or created (:func:`asymslide.atlas.sweep.open_store`) and its values with the journal applied, or the fill values of
     a new store."""
     from . import sweep as S
 
@@ -684,8 +684,8 @@ def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, work
         command: str | None = None):
     """The adaptive sweep of a validated plan (``plan.adaptive`` set): levels 0 .. L of the refinement, each one
     Dask batch of tasks grouped by Zarr chunk, then the filled verdict, the fractions and (dense, as
-    :func:`atlas_engine.sweep.run_dense`) γ_c and the count if the plan asks for them. store/client/workers/command
-    as :func:`atlas_engine.sweep.sweep`; progress(kind, points) as points finish and start(kind, points) as a level's
+    :func:`asymslide.atlas.sweep.run_dense`) γ_c and the count if the plan asks for them. store/client/workers/command
+    as :func:`asymslide.atlas.sweep.sweep`; progress(kind, points) as points finish and start(kind, points) as a level's
     batch starts (kind ``level L``; called again, with the points it adds, as each of the level's follow rounds
     starts). Returns the dataset (in memory without a store, else opened from it)."""
     import xarray as xr
@@ -694,7 +694,7 @@ def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, work
 
     spec = plan.adaptive
     if spec is None or spec.levels is None:
-        raise ValueError("run() needs a plan made with adaptive=... (atlas_engine.sweep.make_plan)")
+        raise ValueError("run() needs a plan made with adaptive=... (asymslide.atlas.sweep.make_plan)")
     grid = _Grid(plan)
     names = state_names(plan)
     ds, path, writer, memory = _open(plan, names, store, command)
