@@ -30,12 +30,13 @@ from pathlib import Path
 import numpy as np
 import panel as pn
 import param
-from asymslide.atlas import store
-from asymslide.atlas import sweep as engine
-from asymslide.atlas.adaptive import refinement_text
 from bokeh.models import CustomJSTickFormatter
 
 from asymslide import model
+from asymslide.atlas import store, summary
+from asymslide.atlas.plan import make_plan
+from asymslide.atlas.refinement import refinement_text
+from asymslide.atlas.schema import model_fingerprint
 
 from . import jobs
 from . import sliding_map as slm
@@ -72,8 +73,8 @@ NAME = store.NAME
 def default_name() -> str:
     """The default atlas's name: a hash of the model's fingerprint and the atlas's plan, so that another model
     version or another DEFAULT_AXES computes a new one instead of refusing to resume the old."""
-    plan = engine.make_plan(DEFAULT_AXES, kH=DEFAULT_KH).identity()
-    key = engine.model_fingerprint() + json.dumps(plan, sort_keys=True)
+    plan = make_plan(DEFAULT_AXES, kH=DEFAULT_KH).identity()
+    key = model_fingerprint() + json.dumps(plan, sort_keys=True)
     return DEFAULT_PREFIX + hashlib.sha256(key.encode()).hexdigest()[:12]
 
 
@@ -664,17 +665,13 @@ def adaptive_readout(d: Atlas) -> str:
 
 
 def verdict_coverage(verdict: np.ndarray, reason: np.ndarray) -> str:
-    """The readout line of an atlas's verdicts: how many points are certified stable or unstable, and why the others
-    are undetermined."""
-    v, r = np.asarray(verdict), np.asarray(reason)
-    computed = v >= 0
-    certified = int(np.isin(v, (model.Verdict.STABLE, model.Verdict.UNSTABLE)).sum())
-    why = ", ".join(f"{short_reason(code, model.VERDICT_STATUS)} {int(((v == UNDETERMINED) & (r == code)).sum())}"
-                    for code in np.unique(r[v == UNDETERMINED]))
-    share = f"{100 * certified / max(int(computed.sum()), 1):.1f} %"
-    return (f"**Verdict of the Rayleigh branch** certified (stable or unstable) at {certified} of "
-            f"{int(computed.sum())} points ({share})"
-            + (f"; undetermined (hatched): {why}" if why else ""))
+    """The readout line of an atlas's verdicts (the counts of ``asymslide info``: summary.verdict_coverage): how many
+    points are certified stable or unstable, and why the others are undetermined."""
+    c = summary.verdict_coverage(verdict, reason)
+    why = ", ".join(f"{short_reason(code, model.VERDICT_STATUS)} {k}" for code, k in c.undetermined.items())
+    share = f"{100 * c.certified / max(c.computed, 1):.1f} %"
+    return (f"**Verdict of the Rayleigh branch** certified (stable or unstable) at {c.certified} of "
+            f"{c.computed} points ({share})" + (f"; undetermined (hatched): {why}" if why else ""))
 
 
 def crossing_coverage(reason: np.ndarray, which: str = "Thresholds in γ") -> str:

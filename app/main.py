@@ -12,6 +12,8 @@ from functools import partial
 
 import panel as pn
 import param
+from bokeh.models import Tooltip
+
 from asymslide.app import jobs
 from asymslide.app.all_branches import AllBranchesScene
 from asymslide.app.atlas import AtlasRequest, AtlasScene
@@ -37,7 +39,6 @@ from asymslide.app.stability_map import StabilityMapScene
 from asymslide.app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
 from asymslide.app.urlstate import TABS, Updates, parse_query, query_string
 from asymslide.app.workarounds import guard_detached_updates, guard_stream_registry, use_server_stylesheets
-from bokeh.models import Tooltip
 
 guard_detached_updates()  # panes of a tab switched away from keep the page's stylesheets (app/workarounds.py)
 guard_stream_registry()  # sessions on several threads build plots at once (app/workarounds.py)

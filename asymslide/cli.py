@@ -20,7 +20,7 @@ from pathlib import Path
 
 from . import __version__
 
-#: the engine's defaults (asymslide.atlas.sweep.CHUNK_POINTS, asymslide.atlas.adaptive.CHUNK_POINTS), without importing
+#: the engine's defaults (asymslide.atlas.plan.CHUNK_POINTS, asymslide.atlas.refinement.CHUNK_POINTS), without importing
 #: them for --help
 CHUNK_POINTS = 8192
 ADAPTIVE_CHUNK_POINTS = 131072
@@ -111,11 +111,11 @@ def _fail(message: str, code: int = 2) -> int:
 def _adaptive_spec(args: argparse.Namespace) -> tuple[list[str], object]:
     """The axis specs (rounded to an adaptive grid with --adaptive, saying so on stderr) and the AdaptiveSpec (None:
     a dense sweep); SweepError for adaptive options without --adaptive."""
-    from asymslide.atlas.sweep import SweepError
+    from asymslide.atlas.plan import SweepError
 
     specs, adaptive = list(args.axis), None
     if args.adaptive:
-        from asymslide.atlas.adaptive import AdaptiveSpec
+        from asymslide.atlas.refinement import AdaptiveSpec
 
         specs, levels, notes = _adaptive_axis_specs(specs, args.levels)
         for note in notes:
@@ -131,7 +131,7 @@ def _adaptive_spec(args: argparse.Namespace) -> tuple[list[str], object]:
 def _sweep_settings(args: argparse.Namespace, specs: Sequence[str]) -> tuple[dict, dict]:
     """The axes (from `specs`) and the other settings of ``asymslide sweep``'s arguments (SweepError or ValueError if
     bad)."""
-    from asymslide.atlas.sweep import CountSpec, SlidingSpec, SweepError, _number, parse_axis, parse_fixed
+    from asymslide.atlas.plan import CountSpec, SlidingSpec, SweepError, _number, parse_axis, parse_fixed
 
     axes = dict(parse_axis(a) for a in specs)
     if len(axes) != len(args.axis):
@@ -160,8 +160,8 @@ def _adaptive_axis_specs(specs: Sequence[str], levels: int | None) -> tuple[list
     """Axis specs whose lo:hi:n ranges are rounded up to m·2^levels + 1 points (levels None: the engine's default
     for the requested sizes), the levels, and a note per rounded axis (lists of values are left to make_plan, which
     refuses a size that does not fit)."""
-    from asymslide.atlas.adaptive import adaptive_size, default_levels
-    from asymslide.atlas.sweep import parse_axis
+    from asymslide.atlas.plan import parse_axis
+    from asymslide.atlas.refinement import adaptive_size, default_levels
 
     sizes = [parse_axis(spec)[1].size for spec in specs]
     if levels is None:
@@ -181,7 +181,9 @@ def _adaptive_axis_specs(specs: Sequence[str], levels: int | None) -> tuple[list
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from asymslide.atlas.sweep import CONNECT_TIMEOUT, SweepError, make_plan, run
+    from asymslide.atlas.executor import CONNECT_TIMEOUT
+    from asymslide.atlas.plan import SweepError, make_plan
+    from asymslide.atlas.sweep import run
 
     try:
         specs, adaptive = _adaptive_spec(args)
@@ -223,7 +225,7 @@ def _progress_bars(plan, quiet: bool) -> tuple[dict, Callable[[str, int], None]]
     """A tqdm bar per task kind (an adaptive sweep's growth: one per level, made by `start` as each level starts)."""
     from tqdm import tqdm
 
-    from asymslide.atlas.sweep import plan_points
+    from asymslide.atlas.plan import plan_points
 
     bars: dict = {}
 
@@ -246,21 +248,21 @@ def _connect(address: str):
     answer within CONNECT_TIMEOUT)."""
     from distributed import Client
 
-    from asymslide.atlas.sweep import CONNECT_TIMEOUT
+    from asymslide.atlas.executor import CONNECT_TIMEOUT
 
     return Client(address, timeout=CONNECT_TIMEOUT)
 
 
 def _print_adaptive(ds) -> None:
     """The evaluated fraction of an adaptive sweep, per level."""
-    from asymslide.atlas.sweep import adaptive_lines
+    from asymslide.atlas.summary import adaptive_lines
 
     for line in adaptive_lines(ds.attrs["adaptive"], ds["computed"].values):
         print(line)
 
 
 def _info(args: argparse.Namespace) -> int:
-    from asymslide.atlas.sweep import iter_summary
+    from asymslide.atlas.summary import iter_summary
 
     try:
         for line in iter_summary(args.store):

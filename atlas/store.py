@@ -23,8 +23,11 @@ import numpy as np
 
 from asymslide import model
 
-from . import sweep as engine
-from .adaptive import fill_levels
+from . import sweep as engine  # called through the module: a test can spy on engine.sweep
+from .plan import Plan, make_plan, plan_points
+from .refinement import fill_levels
+from .schema import axis_scale
+from .writers import done_chunks, store_stamp
 
 #: atlases whose variables are larger than this are read slice by slice from the store instead of held in memory
 MAX_IN_MEMORY = 512e6
@@ -70,15 +73,15 @@ def is_complete(path: Path) -> bool:
     if not (path / "zarr.json").exists():
         return False
     try:
-        return all(flags.all() for flags in engine.done_chunks(path).values())
+        return all(flags.all() for flags in done_chunks(path).values())
     except (OSError, ValueError, KeyError):
         return False
 
 
-def points_done(path: Path, plan: engine.Plan) -> dict[str, int]:
+def points_done(path: Path, plan: Plan) -> dict[str, int]:
     """Grid points per task kind that are written to the store at `path` (by any process)."""
     try:
-        done = engine.done_chunks(path)
+        done = done_chunks(path)
     except (OSError, ValueError, KeyError):
         return {}
     blocks = {"growth": plan.growth_blocks(), "gamma_c": plan.gamma_c_blocks(), "gamma_c_all": plan.gamma_c_blocks(),
@@ -98,8 +101,8 @@ def compute_once(axes: Mapping[str, np.ndarray], kH: np.ndarray, path: Path, *, 
     if is_complete(path):
         return path
     path.parent.mkdir(parents=True, exist_ok=True)
-    plan = engine.make_plan(axes, kH=kH)
-    totals = engine.plan_points(plan)
+    plan = make_plan(axes, kH=kH)
+    totals = plan_points(plan)
     set_totals(totals)
     with open(path.parent / f".{path.name.removesuffix('.zarr')}.lock", "w") as lock:
         try:
@@ -142,7 +145,7 @@ class Atlas:
     computed: object | None = None
     verdict_filled: object | None = None
     adaptive: dict = field(default_factory=dict)
-    #: the level of the cell a not computed point's class was filled from (asymslide.atlas.adaptive.fill_levels; -1 at
+    #: the level of the cell a not computed point's class was filled from (asymslide.atlas.refinement.fill_levels; -1 at
     #: computed points); None for a dense atlas or one read lazily from a large store
     filled_level: object | None = None
     #: the sliding verdict over every branch (asymslide sweep --sliding; docs/physics.md §14): the variables of
@@ -199,10 +202,10 @@ def crossing_name(name: str, sliding: bool) -> str:
 def _is_log(values: np.ndarray, attrs: dict) -> bool:
     if attrs.get("scale") in ("log", "linear"):
         return attrs["scale"] == "log"
-    return engine.axis_scale(values) == "log"
+    return axis_scale(values) == "log"
 
 
-#: the sliding variables the app reads (asymslide.atlas.sweep.SLIDING_VARS; an adaptive atlas of the sliding verdict
+#: the sliding variables the app reads (asymslide.atlas.schema.SLIDING_VARS; an adaptive atlas of the sliding verdict
 #: also its filled verdict, and ``filled_level_all``, the level of the cell each filled class comes from)
 SLIDING_FIELDS = ("growth_all", "kH_at_max_all", "re_z_at_max_all", "family_all", "verdict_all", "verdict_reason_all",
                   "lower_bound_all", "verdict_filled_all")
@@ -261,4 +264,4 @@ def read_atlas(name: str, path: Path, stamp: str) -> Atlas:
 
 def open_atlas(name: str, path: Path) -> Atlas:
     """The atlas `name` stored at `path`, read again only when chunks were written to it since."""
-    return read_atlas(name, path, engine.store_stamp(path))
+    return read_atlas(name, path, store_stamp(path))

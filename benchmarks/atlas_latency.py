@@ -25,7 +25,6 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from asymslide.atlas import sweep as S  # noqa: E402
-
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 from benchmarks.latency import _stats  # noqa: E402
 from tests.conftest import CHROMIUM, CHROMIUM_ARGS  # noqa: E402

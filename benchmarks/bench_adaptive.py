@@ -36,13 +36,17 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from asymslide.atlas import adaptive as A  # noqa: E402
+from asymslide.atlas import (  # noqa: E402
+    plan,
+    refinement,  # noqa: E402
+    schema,
+    tasks,
+)
 from asymslide.atlas import sweep as S  # noqa: E402
-
 from benchmarks.hostspeed import host_loop_seconds  # noqa: E402
 
-KH = S.DEFAULT_KH
-GROWTH_VARS = tuple(S.GROWTH_VARS)
+KH = plan.DEFAULT_KH
+GROWTH_VARS = tuple(schema.GROWTH_VARS)
 
 
 def axes(n: int) -> dict[str, np.ndarray]:
@@ -52,7 +56,7 @@ def axes(n: int) -> dict[str, np.ndarray]:
             "Delta": np.linspace(0.05, 1.0, n)}
 
 
-def timed_sweep(store: Path, n: int, eta: float, adaptive: A.AdaptiveSpec | None) -> dict:
+def timed_sweep(store: Path, n: int, eta: float, adaptive: refinement.AdaptiveSpec | None) -> dict:
     """One sweep into `store` (growth only, xi = 1): wall time and the host gauge before and after."""
     h0 = host_loop_seconds()
     t0 = time.perf_counter()
@@ -96,9 +100,9 @@ def compare_sample(adaptive_store: Path, n: int, eta: float, sample: int, seed: 
     grid = axes(n)
     index = np.unravel_index(flat, tuple(v.size for v in grid.values()))
     columns = dict(zip(grid, (v[i] for v, i in zip(grid.values(), index, strict=True)), strict=True))
-    rows = [columns[p] if p in columns else np.full(flat.size, {"xi": 1.0, "eta": eta}[p]) for p in S.PARAMETERS]
+    rows = [columns[p] if p in columns else np.full(flat.size, {"xi": 1.0, "eta": eta}[p]) for p in plan.PARAMETERS]
     t0 = time.perf_counter()
-    dense = S.growth_arrays(np.log(KH), np.ascontiguousarray(np.stack(rows), dtype=float), None)
+    dense = tasks.growth_arrays(np.log(KH), np.ascontiguousarray(np.stack(rows), dtype=float), None)
     seconds = time.perf_counter() - t0
     nf = picks["filled"].size
     wrong = a["verdict_filled"].reshape(-1)[picks["filled"]] != dense["verdict"][:nf]
@@ -151,7 +155,7 @@ def run(quick: bool = False, dense_store: Path | None = None, dense_seconds: flo
     lines = []
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        spec = A.AdaptiveSpec(levels=A.default_levels([n_big]))
+        spec = refinement.AdaptiveSpec(levels=refinement.default_levels([n_big]))
         ad = timed_sweep(tmp / "adaptive.zarr", n_big, math.inf, spec)
         f = fractions(ad["store"])
         lines += [f"**{n_big}^4 adaptive** (gamma, f, beta, Delta; eta = inf, xi = 1; {KH.size} kH; growth only; "
@@ -166,7 +170,8 @@ def run(quick: bool = False, dense_store: Path | None = None, dense_seconds: flo
                       f"{dense_seconds * scale:.0f} s for 64^4 points; adaptive / dense: "
                       f"{ad['seconds'] / dense_seconds:.3f} ({dense_seconds / ad['seconds']:.1f}x faster). "
                       + _agreement(c) + ".", ""]
-            guarded = timed_sweep(tmp / "guard.zarr", n_big, math.inf, A.AdaptiveSpec(levels=spec.levels, guard=1.0))
+            guarded = timed_sweep(tmp / "guard.zarr", n_big, math.inf,
+                                  refinement.AdaptiveSpec(levels=spec.levels, guard=1.0))
             fg = fractions(guarded["store"])
             lines += [f"With the guard (guard 1): {guarded['seconds']:.0f} s ({_host(guarded['host'])}); evaluated "
                       f"{100 * fg['evaluated_fraction']:.1f} % ({_levels(fg)}). "
@@ -212,7 +217,8 @@ def eta10_table(tmp: Path, n_small: int, dense10: Path | None = None) -> list[st
              "| adaptive | wall [s] | host loop [s] | evaluated | per level | verdict mismatches "
              "(by dense class) | bitwise at computed |", "|---|---|---|---|---|---|---|"]
     for k, (label, margin, guard, follow) in enumerate(ETA10_SPECS):
-        s10 = A.AdaptiveSpec(levels=A.default_levels([n_small]), margin=margin, guard=guard, follow=follow)
+        s10 = refinement.AdaptiveSpec(levels=refinement.default_levels([n_small]), margin=margin, guard=guard,
+                                      follow=follow)
         r = timed_sweep(tmp / f"adaptive10-{k}.zarr", n_small, 10.0, s10)
         f10, c10 = fractions(r["store"]), compare(r["store"], d10["store"])
         per = ", ".join(f"{100 * lv['fraction_of_grid']:.2f} %" for lv in f10["per_level"])

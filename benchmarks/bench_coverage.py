@@ -26,9 +26,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from asymslide.atlas import sweep as S  # noqa: E402
-
 from asymslide import model  # noqa: E402
+from asymslide.atlas import plan  # noqa: E402
 
 ETAS = (math.inf, 100.0, 10.0, 2.0)
 GAMMA_RANGE = (0.1, 30.0)
@@ -45,7 +44,7 @@ def grid(n: int, eta: float) -> np.ndarray:
 
 def one_eta(eta: float, n: int, n_gamma: int) -> dict:
     """Crossings over the (f, beta, Delta) points and verdicts over the (gamma, f, beta, Delta) cells at one eta."""
-    s = np.log(S.DEFAULT_KH)
+    s = np.log(plan.DEFAULT_KH)
     p = grid(n, eta)
     t0 = time.perf_counter()
     c = model.crossings_chunk("gamma", s, p, GAMMA_RANGE)

@@ -29,9 +29,8 @@ from mpmath import mp
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from asymslide.model import modes  # noqa: E402
-
 from asymslide import model  # noqa: E402
+from asymslide.model import modes  # noqa: E402
 from tests import oracle  # noqa: E402
 
 PAPER = dict(gamma=3.0, f=0.9, beta=0.3)

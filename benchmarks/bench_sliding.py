@@ -285,14 +285,17 @@ def adaptive_atlas(n: int = 33, sample: int = 400, seed: int = 32) -> str:
     import tempfile
 
     from asymslide.atlas import adaptive as A
+    from asymslide.atlas import plan as atlas_plan
+    from asymslide.atlas import refinement, schema
     from asymslide.atlas import sweep as S
+    from asymslide.atlas import tasks as atlas_tasks
 
     axes = {"gamma": np.geomspace(0.1, 30, n), "f": np.linspace(0.1, 1.5, n), "beta": np.linspace(0.05, 0.7, n)}
     fixed = {"eta": math.inf, "xi": 1.0}
     S.sweep({"gamma": [3.0]}, fixed=fixed, gamma_c=False, sliding=True)  # warm: kernels and Dask
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        ds = S.sweep(axes, fixed=fixed, gamma_c=False, adaptive=A.AdaptiveSpec(verdict="sliding"),
+        ds = S.sweep(axes, fixed=fixed, gamma_c=False, adaptive=refinement.AdaptiveSpec(verdict="sliding"),
                      store=Path(tmp) / "adaptive.zarr").load()
         t_adaptive = time.perf_counter() - t0
     summary = json.loads(ds.attrs["adaptive"])
@@ -300,17 +303,18 @@ def adaptive_atlas(n: int = 33, sample: int = 400, seed: int = 32) -> str:
     rng = np.random.default_rng(seed)
     picks = np.concatenate([rng.choice(np.flatnonzero(mask.ravel()), sample // 2, replace=False)
                             for mask in (computed < 0, computed >= 0)])
-    plan = S.make_plan(axes, fixed=fixed, gamma_c=False, adaptive=A.AdaptiveSpec(verdict="sliding"))
+    plan = atlas_plan.make_plan(axes, fixed=fixed, gamma_c=False,
+                                adaptive=refinement.AdaptiveSpec(verdict="sliding"))
     params = A._Grid(plan).params(picks)
     t0 = time.perf_counter()
-    dense = {**S.growth_arrays(np.log(np.asarray(plan.kH)), params, plan.rtol),
-             **S.sliding_arrays(plan.sliding, params)}
+    dense = {**atlas_tasks.growth_arrays(np.log(np.asarray(plan.kH)), params, plan.rtol),
+             **atlas_tasks.sliding_arrays(plan.sliding, params)}
     per_point = (time.perf_counter() - t0) / picks.size
     filled, done = picks[: sample // 2], picks[sample // 2:]
     differ = {name: int((ds[f"verdict_filled{suffix}"].values.ravel()[filled] != dense[name][: sample // 2]).sum())
               for name, suffix in (("verdict", ""), ("verdict_all", "_all"))}
     bitwise = all(np.array_equal(ds[name].values.ravel()[done], dense[name][sample // 2:], equal_nan=True)
-                  for name in (*S.GROWTH_VARS, *S.SLIDING_VARS))
+                  for name in (*schema.GROWTH_VARS, *schema.SLIDING_VARS))
     classes = np.bincount(ds["verdict_filled_all"].values.ravel(), minlength=3)
     levels = ", ".join(f"level {lv['level']} {100 * lv['fraction_of_grid']:.1f} %" for lv in summary["per_level"])
     dense_estimate = per_point * computed.size
@@ -336,26 +340,28 @@ def threads_vs_processes(n: int = 60, seed: int = 33) -> str:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
-    from asymslide.atlas import sweep as S
+    from asymslide.atlas import plan as atlas_plan
+    from asymslide.atlas import tasks as atlas_tasks
+
 
     rng = np.random.default_rng(seed)
     blocks = [np.ascontiguousarray(np.stack([np.exp(rng.uniform(math.log(0.1), math.log(30), n)),
                                              rng.uniform(0.1, 1.5, n), rng.uniform(0.05, 0.7, n), np.full(n, math.inf),
                                              np.full(n, 1.0), np.full(n, 1.0)])) for _ in range(2)]
-    spec = S.SlidingSpec()
-    S.sliding_arrays(spec, blocks[0][:, :2])
+    spec = atlas_plan.SlidingSpec()
+    atlas_tasks.sliding_arrays(spec, blocks[0][:, :2])
     t0 = time.perf_counter()
     for b in blocks:
-        S.sliding_arrays(spec, b)
+        atlas_tasks.sliding_arrays(spec, b)
     serial = time.perf_counter() - t0
     with ThreadPoolExecutor(2) as pool:
         t0 = time.perf_counter()
-        list(pool.map(partial(S.sliding_arrays, spec), blocks))
+        list(pool.map(partial(atlas_tasks.sliding_arrays, spec), blocks))
         threads = time.perf_counter() - t0
     with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as pool:
-        list(pool.map(partial(S.sliding_arrays, spec), [b[:, :1] for b in blocks]))  # warm
+        list(pool.map(partial(atlas_tasks.sliding_arrays, spec), [b[:, :1] for b in blocks]))  # warm
         t0 = time.perf_counter()
-        list(pool.map(partial(S.sliding_arrays, spec), blocks))
+        list(pool.map(partial(atlas_tasks.sliding_arrays, spec), blocks))
         processes = time.perf_counter() - t0
     return (f"\nThe sliding verdict holds the GIL (asymslide.atlas.sweep.sliding_arrays on 2 x {n} random points at "
             f"eta = inf): one after the other {serial:.2f} s; two threads {threads:.2f} s ({serial / threads:.2f}x); "

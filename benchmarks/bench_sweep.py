@@ -28,9 +28,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from asymslide.atlas import sweep as S  # noqa: E402
-
 from asymslide import model  # noqa: E402
+from asymslide.atlas import plan  # noqa: E402
+from asymslide.atlas import sweep as S  # noqa: E402
+from asymslide.atlas import tasks as atlas_tasks  # noqa: E402
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 
 KH = np.logspace(-3, 3, 97)
@@ -81,7 +82,7 @@ def _timed(fn: Callable[[], object]) -> float:
 
 def _warm() -> None:
     """Run on a worker: import the model and load its compiled kernels (numba's cache) once."""
-    S.run_task(S.tasks(S.make_plan({"gamma": [1.0, 2.0]}, kH=KH, gamma_c=False))["growth"][0])
+    atlas_tasks.run_task(atlas_tasks.tasks(plan.make_plan({"gamma": [1.0, 2.0]}, kH=KH, gamma_c=False))["growth"][0])
 
 
 def _warm_cluster(client) -> None:

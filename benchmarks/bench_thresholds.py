@@ -32,7 +32,6 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from asymslide.model import thresholds  # noqa: E402
-
 from benchmarks.bench_revision_ab import IMPORT_MODEL  # noqa: E402
 
 #: the commit this work started from (issue 24): thresholds by Brent's method on the grid-refined max growth

@@ -26,13 +26,12 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from asymslide import model  # noqa: E402
 from asymslide.model._kernels.continuation import MAP_NODE_TOL, PRED_TOL  # noqa: E402
 from asymslide.model._kernels.newton import FULL_TOL  # noqa: E402
 from asymslide.model._kernels.path import OK, build_path, solve_at  # noqa: E402
 from asymslide.model._kernels.rayleigh import rayleigh_z  # noqa: E402
 from asymslide.model._kernels.records import Params  # noqa: E402
-
-from asymslide import model  # noqa: E402
 
 S = np.log(np.logspace(-3, 3, 97))
 DENSE = np.log(np.logspace(3, -3, 1501))  # from large kH down: the continuation's direction

@@ -19,7 +19,8 @@ Rayleigh branch of the spectrum (§3, §4, §8)
 Stability (§4, §9)
     :func:`growth_analysis` returning :class:`GrowthResult` (the continuous max growth over the kH range and its
     verdict: :class:`Verdict`, :data:`VERDICTS`, :data:`VERDICT_STATUS`, :func:`verdict_class`),
-    :func:`growth_chunk` (one chunk of a stability map, for distributed sweeps; rows :data:`GROWTH_ROWS`),
+    :func:`growth_chunk` (one chunk of a stability map, for distributed sweeps; rows :data:`GROWTH_ROWS`, by name
+    :func:`growth_rows` returning :class:`GrowthRows`, as a result :func:`growth_result`),
     :func:`max_growth`, :func:`unstable_band`; thresholds as certified neutral modes: :func:`critical_gammas`,
     :func:`critical_etas` (every crossing, :class:`Crossings`, reason codes :class:`CrossingReason` and
     :data:`CROSSING_STATUS`, the certified ones :data:`CERTIFIED_CROSSINGS`), :func:`critical_gamma`,
@@ -74,6 +75,14 @@ Rupture fronts: the steady mode-II cohesive-zone model of the supplement (§13)
     the paper's inputs: :class:`RuptureParameters`, :data:`PAPER_DEFAULTS`.
 """
 
+from .crossings import (
+    CERTIFIED_CROSSINGS,
+    CROSSING_STATUS,
+    THRESHOLD_STATUS,
+    CrossingReason,
+    Crossings,
+    ThresholdReason,
+)
 from .elastic import poisson_ratio, shear_modulus, wave_speed_ratio
 from .elastodynamics import (
     dispersion,
@@ -161,13 +170,15 @@ from .stability import (
     VERDICT_STATUS,
     VERDICTS,
     GrowthResult,
+    GrowthRows,
     StabilityVerdict,
     Verdict,
     criterion_chi,
     criterion_gy_level,
-    critical_chi,
     growth_analysis,
     growth_chunk,
+    growth_result,
+    growth_rows,
     max_growth,
     min_gy_at_rayleigh_speed,
     stability_verdict,
@@ -186,13 +197,8 @@ from .thin_on_thick import (
     thin_on_thick_response,
 )
 from .thresholds import (
-    CERTIFIED_CROSSINGS,
-    CROSSING_STATUS,
-    THRESHOLD_STATUS,
-    CrossingReason,
-    Crossings,
     ThresholdChunk,
-    ThresholdReason,
+    critical_chi,
     critical_eta,
     critical_eta_chunk,
     critical_etas,
@@ -238,6 +244,7 @@ __all__ = [
     "Crossings",
     "crossings_chunk",
     "GROWTH_ROWS",
+    "GrowthRows",
     "VERDICT_STATUS",
     "VERDICTS",
     "Verdict",
@@ -252,6 +259,8 @@ __all__ = [
     "critical_eta_chunk",
     "growth_analysis",
     "growth_chunk",
+    "growth_result",
+    "growth_rows",
     "min_gy_at_rayleigh_speed",
     "max_growth",
     "unstable_band",

@@ -34,7 +34,7 @@ from ._kernels.window import exclusion_radius, top_of_roots
 from ._sliding_cuts import CHARTS, CutCharts
 from ._validate import check
 from .modes import AXIS_HMIN, MAX_LADDER_POLES, MAX_SHIFTS, REL_HMIN, SHIFT, SHIFT_GROWTH, _Problem, _roots_from_sums
-from .stability import GROWTH_ROWS, GrowthResult, Verdict
+from .stability import GrowthResult, Verdict, growth_rows
 
 __all__ = [
     "DEFAULT_FLOOR",
@@ -918,8 +918,8 @@ def _analyse_one(s_grid: np.ndarray, par: tuple, floor: float, rayleigh: np.ndar
     same grid (the Rayleigh branch's own maximum, a certified root, is searched first: the sliding maximum is never
     below it, and the other kH are searched only above it)."""
     an = _Analysis(_Search(*par, floor), s_grid, rate)
-    growth, s_max, re_max = (float(rayleigh[GROWTH_ROWS.index(k)]) for k in ("growth", "ln_kH_at_max",
-                                                                             "re_z_at_max"))
+    r = growth_rows(rayleigh)
+    growth, s_max, re_max = float(r.growth), float(r.ln_kH_at_max), float(r.re_z_at_max)
     start = None
     if math.isfinite(growth) and growth >= floor and an.lo <= s_max <= an.hi:
         start = (s_max, complex(re_max, growth))
@@ -1053,7 +1053,7 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     two levels: costlier at finite eta and large kH, where the rate often keeps growing to the end of the range);
     else those fields are NaN. Parameters broadcast.
     """
-    from .stability import _grid, _growth_result, growth_chunk
+    from .stability import _grid, growth_chunk, growth_result
 
     fl = _floor(floor)
     grid = SLIDING_KH if kH is None else _grid(kH)
@@ -1074,4 +1074,4 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
                          np.exp(r["ln_kH_at_max_rate_all"]), z_rate, fam(r["family_rate_all"]),
                          r["max_at_end_all"] == 1.0, r["rate_at_end_all"] == 1.0, np.isfinite(arrays[3]), verdict,
                          reason.astype(np.int8), fl,
-                         (float(grid[0]), float(grid[-1])), _growth_result(ray, shape))
+                         (float(grid[0]), float(grid[-1])), growth_result(ray, shape))

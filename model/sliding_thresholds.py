@@ -20,7 +20,7 @@ whichever root crosses. The solver
    of any branch above the local floor). The sliding verdict at the floor changes where G = floor, about
    floor / |dG/dt| from the neutral mode.
 
-Crossings are returned as :class:`model.thresholds.Crossings` with the codes of :data:`model.CROSSING_STATUS`
+Crossings are returned as :class:`model.crossings.Crossings` with the codes of :data:`model.CROSSING_STATUS`
 (0 certified, 1 certified at an end of the kH range; 3 a jump: the verdict changes with no neutral mode; 5
 undefined: an undetermined verdict in the bracket; 6 not certified).
 """
@@ -34,9 +34,7 @@ import numpy as np
 
 from . import _kernels as K
 from ._kernels.neutral import UPPER_LIP
-from .sliding import M_BELOW, M_OK, _Analysis, _Search
-from .stability import GROWTH_ROWS, growth_chunk
-from .thresholds import (
+from .crossings import (
     SCAN_POINTS,
     T_FOUND,
     T_JUMP,
@@ -53,6 +51,8 @@ from .thresholds import (
     _Crossing,
     _empty,
 )
+from .sliding import M_BELOW, M_OK, _Analysis, _Search
+from .stability import growth_chunk, growth_rows
 
 BISECTIONS = 12  # bisections of a bracket on the verdict
 CERT_GROWTH = 10.0  # the unstable side of the certificate: where the growth is about this x the floor ...
@@ -104,7 +104,8 @@ class _Point:
         par = self.params(t)
         ray = growth_chunk(self.s_grid, np.array(par, dtype=float)[:, None])[:, 0]
         an = _Analysis(_Search(*par, fl), self.s_grid)
-        growth, s_max, re_max = (float(ray[GROWTH_ROWS.index(k)]) for k in ("growth", "ln_kH_at_max", "re_z_at_max"))
+        r = growth_rows(ray)
+        growth, s_max, re_max = float(r.growth), float(r.ln_kH_at_max), float(r.re_z_at_max)
         start = None
         if math.isfinite(growth) and growth >= fl and an.lo <= s_max <= an.hi:
             start = (s_max, complex(re_max, growth))

@@ -10,6 +10,7 @@ import os
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from enum import IntEnum
+from typing import Any, NamedTuple
 
 import numpy as np
 from scipy import optimize
@@ -18,24 +19,6 @@ from . import _kernels as K
 from ._validate import check, check_rtol
 from .elastodynamics import response_functions
 from .rayleigh import rayleigh_speed
-from .thresholds import (  # noqa: F401 (the threshold API, re-exported here where it used to live)
-    CROSSING_STATUS,
-    DEFAULT_KH,
-    SCAN_POINTS,
-    THRESHOLD_RANGES,
-    THRESHOLD_ROWS,
-    THRESHOLD_STATUS,
-    Crossings,
-    ThresholdChunk,
-    critical_eta,
-    critical_eta_chunk,
-    critical_etas,
-    critical_gamma,
-    critical_gamma_chunk,
-    critical_gammas,
-    crossings_chunk,
-    threshold_chunk,
-)
 
 CHUNK = 256  # parameter sets per chunk of a stability map
 
@@ -104,8 +87,32 @@ def verdict_class(reason: np.ndarray) -> np.ndarray:
 
 
 #: rows of :func:`growth_chunk`'s result
-GROWTH_ROWS = ("growth", "ln_kH_at_max", "ln_kH_min", "ln_kH_max", "n_masked", "re_z_at_max", "error",
-               "verdict_reason", "dgrowth_dln_gamma", "dgrowth_dln_eta", "pole_dense", "max_at_lost_end")
+class GrowthRows(NamedTuple):
+    """The rows of :func:`growth_chunk` by name (arrays over a chunk's parameter sets; of one column: one set's
+    values): what :func:`growth_rows` gives, so that no caller indexes the rows by number."""
+
+    growth: Any
+    ln_kH_at_max: Any
+    ln_kH_min: Any
+    ln_kH_max: Any
+    n_masked: Any
+    re_z_at_max: Any
+    error: Any
+    verdict_reason: Any
+    dgrowth_dln_gamma: Any
+    dgrowth_dln_eta: Any
+    pole_dense: Any
+    max_at_lost_end: Any
+
+
+#: the names of :func:`growth_chunk`'s rows, in order
+GROWTH_ROWS = GrowthRows._fields
+
+
+def growth_rows(rows) -> GrowthRows:
+    """The rows of :func:`growth_chunk` (or one column of them, or the growth kernel's values at one point) by
+    name."""
+    return GrowthRows(*rows)
 
 
 def growth_chunk(s_grid: np.ndarray, params: np.ndarray, rtol: float | None = None) -> np.ndarray:
@@ -170,15 +177,17 @@ def growth_analysis(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, work
     else:
         parts = [growth_chunk(s, c, tol or None) for c in chunks]
     out = np.concatenate(parts, axis=1) if parts else np.empty((K.NOUT, 0))
-    return _growth_result(out, shape)
+    return growth_result(out, shape)
 
 
-def _growth_result(rows: np.ndarray, shape: tuple[int, ...]) -> GrowthResult:
-    """The GrowthResult of :func:`growth_chunk` rows (:data:`GROWTH_ROWS`) for parameter sets of this shape."""
-    res = [r.reshape(shape) for r in rows]
-    reason = res[7].astype(np.int8)  # the kernel always gives a code
-    return GrowthResult(res[0], np.exp(res[1]), np.exp(res[2]), np.exp(res[3]), res[4].astype(int),
-                        verdict_class(reason), reason, res[6], res[5])
+def growth_result(rows: np.ndarray, shape: tuple[int, ...] | None = None) -> GrowthResult:
+    """The :class:`GrowthResult` of :func:`growth_chunk`'s rows, for parameter sets of this shape (None: one axis, as
+    the rows): kH from ln kH, the verdict class from its reason code. The one place the rows become a result (the
+    model's functions and the atlas engine both use it)."""
+    r = growth_rows(row if shape is None else row.reshape(shape) for row in rows)
+    reason = r.verdict_reason.astype(np.int8)  # the kernel always gives a code
+    return GrowthResult(r.growth, np.exp(r.ln_kH_at_max), np.exp(r.ln_kH_min), np.exp(r.ln_kH_max),
+                        r.n_masked.astype(int), verdict_class(reason), reason, r.error, r.re_z_at_max)
 
 
 def max_growth(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, rtol: float | None = None):
@@ -228,12 +237,6 @@ def criterion_chi(beta):
     """
     _, gmin = min_gy_at_rayleigh_speed(beta)
     return rayleigh_speed(beta) / np.abs(gmin)
-
-
-def critical_chi(beta, *, f):
-    """Exact threshold chi_c = gamma_c f of the Rayleigh branch for eta = inf, Delta = 1 (Fig. 4c, open symbols)."""
-    b, ff = np.broadcast_arrays(check("beta", beta), check("f", f))
-    return critical_gamma(f=ff, beta=b) * ff
 
 
 @dataclass(frozen=True)

@@ -30,14 +30,40 @@ from __future__ import annotations
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
-from enum import IntEnum
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 
 from . import _kernels as K
 from ._validate import check, check_range, check_rtol
+from .crossings import (
+    _PER_POINT,
+    _POINT_REASON,
+    MAX_CROSSINGS,
+    SCAN_POINTS,
+    T_FOUND,
+    T_JUMP,
+    T_NOT_CERTIFIED,
+    T_POLE_DENSE,
+    T_STABLE,
+    T_UNDEFINED,
+    T_UNSTABLE,
+    THRESHOLD_STATUS,
+    X_CERTIFIED,
+    X_EDGE,
+    X_JUMP,
+    X_JUMP_MASKED,
+    X_NOT_CERTIFIED,
+    X_POLE_DENSE,
+    X_UNDEFINED,
+    Crossings,
+    _Crossing,
+    _empty,
+)
+from .sliding import DEFAULT_FLOOR, SLIDING_KH, _floor
+from .sliding_thresholds import _all_crossings_chunk
+from .stability import growth_rows
 
 #: default kH grid for thresholds: 20 points per decade over [1e-4, 1e4] (only its ends matter: the growth is the
 #: continuous maximum over the range)
@@ -46,7 +72,6 @@ CHUNK = 256  # parameter sets per chunk of the threaded public functions
 #: the parameters with a threshold solver: their row in growth_chunk's params layout and default search range
 THRESHOLD_ROWS = {"gamma": K.P_GAMMA, "eta": K.P_ETA}
 THRESHOLD_RANGES = {"gamma": (1e-2, 1e3), "eta": (1.0, 1e8)}
-SCAN_POINTS = 17  # log-spaced scan values of the search range
 MAX_INSERT = 8  # scan values the Hermite test may insert per parameter set
 MAX_DEPTH = 3  # ... at most this many times between two original scan values (halving the spacing each time)
 HERMITE_PROBES = 9  # points at which the Hermite model of G is tested between two scan values
@@ -62,71 +87,16 @@ MIN_JUMP_SLOPE = 1e-3  # (the slopes' floor in that test: a flat G does not make
 BRACKET_STEPS = 100  # narrowing steps per bracket (at least every second one halves it: NARROW comes first)
 NEUTRAL_TRIES = 3  # the neutral mode is tried at the first NEUTRAL_TRIES steps of a bracket, then every 4th step
 EDGE_S = 1e-12  # a maximum within this of an end of the kH range (in ln kH) is at that end
-MAX_CROSSINGS = 4  # crossings returned per parameter set (the count may be larger)
 
 
 
-class CrossingReason(IntEnum):
-    """Whether a sign change of the max growth is a threshold, and why not (Crossings.reason; atlases'
-    ``gamma_c_crossing_reason``): the keys of :data:`CROSSING_STATUS`."""
-
-    CERTIFIED = 0
-    EDGE = 1
-    JUMP_MASKED = 2
-    JUMP = 3
-    POLE_DENSE = 4
-    UNDEFINED = 5
-    NOT_CERTIFIED = 6
-
-
-X_CERTIFIED, X_EDGE, X_JUMP_MASKED, X_JUMP, X_POLE_DENSE, X_UNDEFINED, X_NOT_CERTIFIED = CrossingReason
-#: the reasons of a certified crossing, a threshold: a neutral mode, or one at an end of the kH range
-CERTIFIED_CROSSINGS = (CrossingReason.CERTIFIED, CrossingReason.EDGE)
-#: what the reason codes of a crossing mean (Crossings.reason; atlases' ``gamma_c_crossing_reason``)
-CROSSING_STATUS = {
-    X_CERTIFIED: "certified: a neutral mode (real z, Im z stationary in kH) on the Rayleigh branch where the max "
-    "growth changes sign",
-    X_EDGE: "certified at an end of the kH range: the max growth over the range is at its end there (Im z = 0 at "
-    "that kH; over a wider range the maximum, and so the threshold, may lie elsewhere)",
-    X_JUMP_MASKED: "jump, not a threshold: the max growth jumps across zero where the part of the kH range on which "
-    "the Rayleigh branch is followed changes",
-    X_JUMP: "jump, not a threshold: the max growth jumps across zero with the branch followed on both sides (the "
-    "continuation changes route, or the pole-dense part of the range changes): no neutral mode",
-    X_POLE_DENSE: "pole-dense: the neutral mode lies among the lower block's poles (finite eta, |Re z| > 1)",
-    X_UNDEFINED: "undefined: the max growth is NaN (no certified root) inside the bracket",
-    X_NOT_CERTIFIED: "not certified: no neutral mode converged in the bracket, or it failed a certificate",
-}
 
 
 
-class ThresholdReason(IntEnum):
-    """The point-level summary of a threshold search (the first certified crossing): the keys of
-    :data:`THRESHOLD_STATUS` (:func:`threshold_chunk`, :func:`critical_gamma_chunk`; atlases' ``gamma_c_reason``)."""
-
-    FOUND = 0
-    STABLE = 1
-    UNSTABLE = 2
-    UNDEFINED = 3
-    NOT_CERTIFIED = 4
-    JUMP = 5
-    POLE_DENSE = 6
 
 
-T_FOUND, T_STABLE, T_UNSTABLE, T_UNDEFINED, T_NOT_CERTIFIED, T_JUMP, T_POLE_DENSE = ThresholdReason
-#: reason codes of :func:`threshold_chunk` / :func:`critical_gamma_chunk` (int8), like :data:`model.spectrum.STATUS`
-THRESHOLD_STATUS = {
-    T_FOUND: "found: the first certified crossing (a neutral mode where the max growth changes sign)",
-    T_STABLE: "stable throughout: max growth < 0 at every scan value of the range where it is defined",
-    T_UNSTABLE: "unstable throughout: max growth >= 0 at every scan value of the range where it is defined",
-    T_UNDEFINED: "undefined: the max growth is NaN (no certified root) at the scan values needed to bracket a "
-    "crossing, or inside the bracket",
-    T_NOT_CERTIFIED: "not certified: the max growth changes sign, but no neutral mode there passed the certificates",
-    T_JUMP: "jump, not a threshold: the max growth jumps across zero (the part of the kH range where the branch is "
-    "followed, its route or its pole-dense part changes), with no neutral mode",
-    T_POLE_DENSE: "pole-dense: the sign change is at a neutral mode among the lower block's poles (finite eta)",
-}
-_POINT_REASON = {X_JUMP_MASKED: T_JUMP, X_JUMP: T_JUMP, X_POLE_DENSE: T_POLE_DENSE, X_UNDEFINED: T_UNDEFINED,
-                 X_NOT_CERTIFIED: T_NOT_CERTIFIED}
+
+
 
 
 class _Eval(NamedTuple):
@@ -159,33 +129,20 @@ class _Point:
         q[self.which] = math.exp(t)
         return self.from_row(t, K.growth_point(self.s_grid, *q, self.rtol))
 
-    def from_row(self, t: float, r) -> _Eval:
-        """The _Eval of one growth evaluation r (growth_one's NOUT values) at t (counted)."""
+    def from_row(self, t: float, row) -> _Eval:
+        """The _Eval of one growth evaluation `row` (growth_one's NOUT values: :class:`model.stability.GrowthRows`)
+        at t (counted)."""
         self.evaluations += 1
-        lost_end = r[11] > 0.0
-        slope = math.nan if lost_end else (r[8] if self.which == K.P_GAMMA else r[9])
-        return _Eval(t, r[0], r[1], r[5], int(r[4]), slope, r[6], r[10] > 0.0, lost_end,
-                     r[7] in (K.V_STABLE, K.V_UNSTABLE))
+        r = growth_rows(row)
+        lost_end = r.max_at_lost_end > 0.0
+        slope = math.nan if lost_end else (r.dgrowth_dln_gamma if self.which == K.P_GAMMA else r.dgrowth_dln_eta)
+        return _Eval(t, r.growth, r.ln_kH_at_max, r.re_z_at_max, int(r.n_masked), slope, r.error, r.pole_dense > 0.0,
+                     lost_end, r.verdict_reason in (K.V_STABLE, K.V_UNSTABLE))
 
     def at_edge(self, s: float) -> bool:
         return abs(s - self.s_grid[0]) <= EDGE_S or abs(s - self.s_grid[-1]) <= EDGE_S
 
 
-@dataclass
-class _Crossing:
-    """One sign change of G: the threshold (if certified) and what is known about it."""
-
-    reason: int
-    lo: float  # the bracket in t
-    hi: float
-    t: float = math.nan  # the threshold (certified) or where the sign change was located
-    s: float = math.nan
-    x: float = math.nan
-    direction: int = 0
-
-    @property
-    def certified(self) -> bool:
-        return self.reason in (X_CERTIFIED, X_EDGE)
 
 
 def _sign(g: float) -> int:
@@ -350,65 +307,10 @@ def _point_crossings(pt: _Point, ts: np.ndarray, rows: np.ndarray) -> tuple[list
     return out, scan
 
 
-@dataclass(frozen=True)
-class Crossings:
-    """Every crossing of the max growth in a parameter range, per parameter set (:func:`critical_gammas`).
-
-    The last axis (length max_crossings) lists crossings in increasing order of the parameter, NaN-padded.
-
-    value : the threshold where certified (reason 0 or 1), else NaN
-    location : where the sign change is: the threshold, the jump's location (to NARROW), or the bracket's centre
-    lo, hi : the bracket (values of the parameter) the crossing was solved in (the certificate's ends if certified)
-    kH, z : the neutral mode's kH and z (real) where certified, else NaN
-    direction : +1 destabilising (the max growth goes from < 0 to > 0 as the parameter grows), -1 stabilising,
-        0 where not certified or padding
-    reason : int8, a key of :data:`CROSSING_STATUS` (-1: padding)
-    count : how many sign changes were found (may exceed max_crossings: then only the first are listed)
-    complete : every sign change found is certified (a sign change across scan values where the max growth is
-        undefined is one that is not)
-    defined : the max growth is defined (finite) at every scan value
-    status : int8, the first certified crossing's code (0) or why there is none (:data:`THRESHOLD_STATUS`)
-    growth_min, growth_max : extremes of the max growth at the scan values (NaN if none defined)
-    n_undetermined : scan values where the growth's verdict is undetermined (branch lost or pole-dense there)
-    evaluations : growth evaluations per parameter set
-    """
-
-    value: np.ndarray
-    location: np.ndarray
-    lo: np.ndarray
-    hi: np.ndarray
-    kH: np.ndarray
-    z: np.ndarray
-    direction: np.ndarray
-    reason: np.ndarray
-    count: np.ndarray
-    complete: np.ndarray
-    defined: np.ndarray
-    status: np.ndarray
-    growth_min: np.ndarray
-    growth_max: np.ndarray
-    n_undetermined: np.ndarray
-    evaluations: np.ndarray
-    parameter: str = field(default="gamma")
-
-    @property
-    def first(self) -> np.ndarray:
-        """The first certified crossing (NaN where there is none): what :func:`critical_gamma` returns."""
-        ok = (self.reason == X_CERTIFIED) | (self.reason == X_EDGE)
-        idx = np.argmax(ok, axis=-1)
-        v = np.take_along_axis(self.value, idx[..., None], axis=-1)[..., 0]
-        return np.where(ok.any(axis=-1), v, np.nan)
 
 
-_PER_POINT = ("value", "location", "lo", "hi", "kH", "z", "direction", "reason")
 
 
-def _empty(n: int, k: int, name: str) -> Crossings:
-    nan = np.full((n, k), np.nan)
-    return Crossings(nan, nan.copy(), nan.copy(), nan.copy(), nan.copy(), nan.copy(), np.zeros((n, k), np.int8),
-                     np.full((n, k), -1, np.int8), np.zeros(n, np.int64), np.zeros(n, bool), np.zeros(n, bool),
-                     np.full(n, T_UNDEFINED, np.int8), np.full(n, np.nan), np.full(n, np.nan), np.zeros(n, np.int64),
-                     np.zeros(n, np.int64), name)
 
 
 def _status(crossings: list[_Crossing], scan: list[_Eval]) -> int:
@@ -480,9 +382,6 @@ def crossings_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: t
     p = _params6(name, params)
     s = np.ascontiguousarray(s_grid, dtype=float)
     if _branches(branches) == "all":
-        from .sliding import DEFAULT_FLOOR, _floor
-        from .sliding_thresholds import _all_crossings_chunk
-
         fl = _floor(DEFAULT_FLOOR if floor is None else floor)
         return _all_crossings_chunk(THRESHOLD_ROWS[name], name, s, p, (lo, hi), fl, int(max_crossings))
     n = p.shape[1]
@@ -620,8 +519,6 @@ def _chunks(name: str, bounds, kH, fixed: dict, rtol, workers: int | None, fun, 
     check_rtol(rtol)
     cols, shape = _broadcast(fixed)
     if kH is None and _branches(branches) == "all":
-        from .sliding import SLIDING_KH
-
         kH = SLIDING_KH
     s = np.log(DEFAULT_KH if kH is None else _grid(kH))
     n = int(np.prod(shape))
@@ -739,3 +636,9 @@ def critical_eta(*, gamma, f, beta, Delta=1.0, xi=0.0, kH=None, eta_range=(1.0, 
     """
     return _thresholds("eta", eta_range, kH, dict(gamma=gamma, f=f, beta=beta, Delta=Delta, xi=xi), rtol, workers,
                        branches, floor)
+
+
+def critical_chi(beta, *, f):
+    """Exact threshold chi_c = gamma_c f of the Rayleigh branch for eta = inf, Delta = 1 (Fig. 4c, open symbols)."""
+    b, ff = np.broadcast_arrays(check("beta", beta), check("f", f))
+    return critical_gamma(f=ff, beta=b) * ff

@@ -264,6 +264,7 @@ def served_app(free_port: int, server_log: ServerLog, worker_pool: None) -> Iter
     any error the server logs meanwhile (:func:`server_log`). The worker pool its sessions start (app.jobs) is shut
     afterwards (:func:`worker_pool`)."""
     import panel as pn
+
     from asymslide.app.main import create_app
 
     server = pn.serve(
@@ -388,6 +389,7 @@ def open_app(page, url: str, tab: str | None = None) -> None:
 def fresh_caches() -> Iterator[None]:
     """Empty the app's caches (pn.cache and the map chunks) around a test."""
     import panel as pn
+
     from asymslide.app import spectrum, stability_map
 
     def clear() -> None:
@@ -443,7 +445,6 @@ def _app_worker_pools_end_with_the_session() -> Iterator[None]:
 def small_atlas(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The small atlas (tests/support/atlases.py: SMALL over KH), stored once per test session."""
     from asymslide.atlas import sweep
-
     from tests.support.atlases import KH, SMALL
 
     path = tmp_path_factory.mktemp("small-atlas") / "small.zarr"

@@ -11,14 +11,14 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 import pytest
-from asymslide.app import all_branches as ab
-from asymslide.app.all_branches import KH_COUNT, KH_FINE, AllBranchesScene
-from asymslide.app.params import SpectrumParams, from_log10
 from bokeh.document import Document
 from bokeh.models import ColumnDataSource
 from pyviz_comms import Comm
 
 from asymslide import model
+from asymslide.app import all_branches as ab
+from asymslide.app.all_branches import KH_COUNT, KH_FINE, AllBranchesScene
+from asymslide.app.params import SpectrumParams, from_log10
 from tests.conftest import open_app, set_slider
 from tests.support.spies import Calls, spying
 

@@ -11,11 +11,11 @@ from unittest import mock
 import numpy as np
 import pytest
 import xarray as xr
+
+from asymslide import model
 from asymslide.app import atlas as A
 from asymslide.app.params import SpectrumParams
 from asymslide.atlas import sweep as S
-
-from asymslide import model
 from tests.conftest import save_screenshot
 from tests.support.headless import build_app
 
@@ -163,8 +163,9 @@ def _lab(color: str) -> np.ndarray:
 def test_not_computable_never_looks_like_nearly_neutral_growth() -> None:
     """The grey of 'not computable' must not look like the palette's centre (growth ~ 0) nor like any other growth
     colour, in both heat maps (CIE76 colour difference; ~2 is just noticeable)."""
-    from asymslide.app import common
     from holoviews.plotting.util import process_cmap
+
+    from asymslide.app import common
 
     palettes = {"atlas": list(common.GROWTH_PALETTE), "stability map": process_cmap(common.GROWTH_CMAP, 64)}
     nan = _lab(common.NAN_COLOR)
@@ -333,19 +334,19 @@ def test_default_atlas_is_computed_on_first_use(tmp_path: Path, monkeypatch: pyt
                                             "f": np.array([0.5, 0.9]), "beta": np.array([0.2, 0.3])})
     monkeypatch.setattr(A, "DEFAULT_KH", KH)
     monkeypatch.setattr(A, "_default_job", None)
-    monkeypatch.setattr(A.engine, "sweep", mock.Mock(wraps=A.engine.sweep))  # a spy
+    monkeypatch.setattr(S, "sweep", mock.Mock(wraps=S.sweep))  # a spy
     scene = A.AtlasScene()
     scene.refresh()
     assert scene.data is None and not A.default_ready()
     scene.start_default()
     assert scene.progress.visible and "Computing the default atlas" in scene.status.object
     scene.wait(60)  # without a server: wait for the computation, then show it
-    assert A.engine.sweep.call_count == 1 and A.default_ready() and not scene.progress.visible
+    assert S.sweep.call_count == 1 and A.default_ready() and not scene.progress.visible
     assert scene.atlas == A.default_name() and scene.data is not None and len(scene.data.names) == 4
     assert (tmp_path / "cache" / f"{A.default_name()}.zarr").is_dir()
     again = A.AtlasScene()  # the next session opens it at once
     again.start_default()
-    assert again.data is not None and A.engine.sweep.call_count == 1
+    assert again.data is not None and S.sweep.call_count == 1
 
 
 def test_a_folder_the_server_cannot_write_is_explained_and_its_atlases_still_open(
@@ -382,7 +383,7 @@ def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects
     monkeypatch.setattr(A, "DEFAULT_KH", KH)
     monkeypatch.setattr(A, "_default_job", None)
     held, release = threading.Event(), threading.Event()
-    real = A.engine.sweep
+    real = S.sweep
 
     def held_sweep(*args, progress, **kwargs):
         progress("growth", 5)  # 5 grid points of the first phase done, then hold
@@ -390,7 +391,7 @@ def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects
         assert release.wait(60)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(A.engine, "sweep", held_sweep)
+    monkeypatch.setattr(S, "sweep", held_sweep)
     scene = A.AtlasScene()
     scene.__panel__()
     assert held.wait(60)
@@ -417,18 +418,18 @@ def test_a_failed_default_atlas_is_shown_and_started_again_when_the_tab_is_shown
     monkeypatch.setattr(A, "DEFAULT_AXES", {"gamma": np.geomspace(0.5, 10, 3), "f": np.array([0.5, 0.9])})
     monkeypatch.setattr(A, "DEFAULT_KH", KH)
     monkeypatch.setattr(A, "_default_job", None)
-    real = A.engine.sweep
+    real = S.sweep
 
     def failing(*_args, **_kwargs):
         raise RuntimeError("disk on fire (test)")
 
-    monkeypatch.setattr(A.engine, "sweep", failing)
+    monkeypatch.setattr(S, "sweep", failing)
     scene = A.AtlasScene()
     scene.start_default()
     scene.wait(60)
     assert scene.status.object == "**Default atlas failed**: RuntimeError: disk on fire (test)"
     assert not scene.progress.visible and scene.data is None
-    monkeypatch.setattr(A.engine, "sweep", real)
+    monkeypatch.setattr(S, "sweep", real)
     scene.start_default()
     scene.wait(60)
     assert scene.data is not None and scene.atlas == A.default_name() and scene.status.object == ""

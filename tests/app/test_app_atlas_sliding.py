@@ -14,12 +14,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+
 from asymslide.app import atlas as A
 from asymslide.app import sliding_map as slm
 from asymslide.app.common import FAMILY_NAMES
 from asymslide.app.urlstate import parse_query, query_string
+from asymslide.atlas import plan
 from asymslide.atlas import sweep as S
-
 from tests.conftest import open_app, save_screenshot
 from tests.support.headless import build_app
 
@@ -43,7 +44,7 @@ def sliding_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
     S.sweep(AXES, fixed=FIXED, kH=KH, gamma_c=False, store=directory / "rayleigh.zarr")
     S.sweep(ADAPTIVE, fixed={"eta": math.inf}, kH=KH, gamma_c=False, sliding=True, adaptive={"levels": 2},
             store=directory / "adaptive.zarr")
-    S.sweep(THRESHOLDS, fixed={"beta": 0.3}, kH=KH, sliding=S.SlidingSpec(thresholds=True),
+    S.sweep(THRESHOLDS, fixed={"beta": 0.3}, kH=KH, sliding=plan.SlidingSpec(thresholds=True),
             store=directory / "thresholds.zarr")
     return directory
 

@@ -4,6 +4,7 @@ the stability-map axes and the symbols shown everywhere."""
 from __future__ import annotations
 
 import pytest
+
 from asymslide.app.all_branches import AllBranchesScene
 from asymslide.app.params import (
     Choice,
@@ -154,9 +155,8 @@ def test_xi_at_delta_one_is_normalised_in_one_place() -> None:
     import re
     from pathlib import Path
 
-    from asymslide.app.params import SpectrumParams, model_args
-
     from asymslide import app
+    from asymslide.app.params import SpectrumParams, model_args
 
     assert SpectrumParams(Delta=1.0, xi=5.0).model_args() == SpectrumParams(Delta=1.0, xi=0.0).model_args()
     assert SpectrumParams(Delta=0.5, xi=5.0).model_args()[-1] == 5.0

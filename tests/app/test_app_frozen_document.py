@@ -6,13 +6,14 @@ from __future__ import annotations
 import holoviews as hv
 import numpy as np
 import pytest
-from asymslide.app.params import set_frozen
-from asymslide.app.spectrum import SpectrumScene
-from asymslide.app.workarounds import frozen_document
 from bokeh.document import Document
 from bokeh.document.models import DocumentModelManager
 from bokeh.models import ColumnDataSource, GlyphRenderer, Span
 from panel.io.state import set_curdoc
+
+from asymslide.app.params import set_frozen
+from asymslide.app.spectrum import SpectrumScene
+from asymslide.app.workarounds import frozen_document
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
 

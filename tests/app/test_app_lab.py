@@ -15,13 +15,13 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 import pytest
+
+from asymslide import model
 from asymslide.app import lab as lb
 from asymslide.app import spectrum as sp
 from asymslide.app.lab import E_FOLDING_AXIS, KH, LabScene, slider_values
 from asymslide.app.params import CUSTOM, LabParams, SpectrumParams
 from asymslide.app.urlstate import parse_query, query_string
-
-from asymslide import model
 from tests.conftest import open_app, save_screenshot
 from tests.support.headless import build_app
 from tests.support.spies import Calls, spying

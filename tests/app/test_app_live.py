@@ -5,10 +5,11 @@ from __future__ import annotations
 from types import SimpleNamespace
 
 import numpy as np
-from asymslide.app import live
 from bokeh.document import Document
 from bokeh.document.events import ColumnDataChangedEvent, ModelChangedEvent
 from bokeh.models import ColumnDataSource
+
+from asymslide.app import live
 
 
 def _layer_on_a_page(data: dict) -> tuple[SimpleNamespace, list]:

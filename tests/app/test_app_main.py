@@ -11,13 +11,13 @@ import urllib.request
 import holoviews as hv
 import numpy as np
 import pytest
+
+from asymslide import model
 from asymslide.app import spectrum as sp
 from asymslide.app import thin_on_thick as tt
 from asymslide.app.params import ZERO_LINE
 from asymslide.app.presets import load_presets
 from asymslide.app.urlstate import BY_KEY, QUERY, TABS, parse_query, query_string
-
-from asymslide import model
 from tests.conftest import open_app, set_slider
 from tests.support.headless import build_app
 
@@ -328,12 +328,13 @@ def test_a_pane_outside_the_document_keeps_the_sessions_stylesheets() -> None:
     """app.workarounds.guard_detached_updates: a stylesheet patched for Panel's CDN while a session with local
     stylesheets is current stays local (a pane of a tab switched away from, updated later); without a session,
     Panel's own behaviour."""
-    import asymslide.app.main  # noqa: F401  (installs the guard)
     import panel.reactive
     from bokeh.document import Document
     from bokeh.models import ImportedStyleSheet
     from panel.io.resources import CDN_DIST
     from panel.io.state import set_curdoc
+
+    import asymslide.app.main  # noqa: F401  (installs the guard)
 
     local = "static/extensions/panel/css/markdown.css"
     doc = Document()

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+
 from asymslide.app import map_refine as mr
 
 RANGES = ((0.0, 1.0), (0.0, 1.0))

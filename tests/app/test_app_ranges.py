@@ -10,12 +10,13 @@ from __future__ import annotations
 import numpy as np
 import panel as pn
 import pytest
+from bokeh.document import Document
+from bokeh.models import GlyphRenderer, Range1d
+
 from asymslide.app.all_branches import AllBranchesScene
 from asymslide.app.params import SpectrumParams, set_frozen
 from asymslide.app.spectrum import SpectrumScene
 from asymslide.app.thin_on_thick import ThinOnThickScene
-from bokeh.document import Document
-from bokeh.models import GlyphRenderer, Range1d
 
 
 @pytest.fixture

@@ -14,12 +14,12 @@ import holoviews as hv
 import numpy as np
 import panel as pn
 import pytest
+
+from asymslide import model
 from asymslide.app import rupture as rp
 from asymslide.app.params import CUSTOM, LabParams, RuptureParams, follow_material
 from asymslide.app.rupture import C_RATIO, PROFILE_GRID, RuptureScene
 from asymslide.app.urlstate import TABS, query_string
-
-from asymslide import model
 from tests.conftest import open_app, save_screenshot
 from tests.support.headless import build_app
 from tests.support.spies import Calls, spying

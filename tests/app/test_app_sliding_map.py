@@ -13,13 +13,13 @@ import threading
 import holoviews as hv
 import numpy as np
 import pytest
+
+from asymslide import model
 from asymslide.app import jobs
 from asymslide.app import sliding_map as slm
 from asymslide.app import stability_map as sm
 from asymslide.app.params import SpectrumParams
 from asymslide.app.stability_map import PLANES, StabilityMapScene
-
-from asymslide import model
 from tests.conftest import open_app, save_screenshot
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")

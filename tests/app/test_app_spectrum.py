@@ -10,11 +10,11 @@ import numpy as np
 import panel as pn
 import param
 import pytest
+
+from asymslide import model
 from asymslide.app import spectrum as sp
 from asymslide.app.params import SpectrumParams
 from asymslide.app.spectrum import KH, SpectrumScene
-
-from asymslide import model
 from tests.conftest import open_app, set_slider
 from tests.support.spies import Calls, spying
 
@@ -251,8 +251,9 @@ def test_gamma_slider_updates_the_im_curve(served_app: str, browser_page) -> Non
 
 def test_zero_line_is_drawn_once_and_survives_updates() -> None:
     """The y = 0 line of the growth-rate plot is a Bokeh Span added by a hook, once, also after updates."""
-    from asymslide.app.params import ZERO_LINE
     from bokeh.document import Document
+
+    from asymslide.app.params import ZERO_LINE
 
     scene = SpectrumScene()
     plot = hv.renderer("bokeh").get_plot(scene.im_dmap, doc=Document())

@@ -12,13 +12,13 @@ import threading
 import holoviews as hv
 import numpy as np
 import pytest
+
+from asymslide import model
 from asymslide.app import jobs
 from asymslide.app import stability_map as sm
 from asymslide.app.params import SpectrumParams
 from asymslide.app.sliding_map import RAYLEIGH, SLIDING
 from asymslide.app.stability_map import KH, PLANES, StabilityMapScene
-
-from asymslide import model
 from tests.conftest import open_app
 from tests.support.headless import build_app
 from tests.support.spies import Calls, spying

@@ -10,11 +10,11 @@ import numpy as np
 import panel as pn
 import param
 import pytest
+
+from asymslide import model
 from asymslide.app import thin_on_thick as tt
 from asymslide.app.params import LabParams
 from asymslide.app.thin_on_thick import KW, ThinOnThickParams, ThinOnThickScene
-
-from asymslide import model
 from tests.conftest import open_app, save_screenshot, set_slider
 from tests.support.spies import Calls, spying
 

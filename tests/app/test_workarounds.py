@@ -8,6 +8,7 @@ from importlib.metadata import version
 from pathlib import Path
 
 import pytest
+
 from asymslide.app import workarounds
 
 LOCK = Path(__file__).resolve().parents[2] / "requirements.lock"
@@ -52,9 +53,10 @@ def test_the_stream_registry_can_be_copied_while_another_thread_registers_stream
     seldom shows it without the guard: the first assertion is the one that fails without the workaround.)"""
     import threading
 
-    import asymslide.app.main  # noqa: F401 (installs the guard)
     import holoviews as hv
     from holoviews.streams import Stream
+
+    import asymslide.app.main  # noqa: F401 (installs the guard)
 
     assert all(hasattr(getattr(type(Stream.registry), name), "__wrapped__") for name in workarounds.REGISTRY_METHODS)
     stop = threading.Event()

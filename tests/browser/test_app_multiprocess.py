@@ -10,8 +10,8 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 import pytest
-from asymslide.app.server_gc import never_destroyed
 
+from asymslide.app.server_gc import never_destroyed
 from tests.conftest import open_app, set_slider
 from tests.support.served_app import ServedApp
 

@@ -16,10 +16,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from asymslide.app import atlas as AT
-from asymslide.atlas import adaptive as A
-from asymslide.atlas import sweep as S
 
+from asymslide.app import atlas as AT
+from asymslide.atlas import refinement
+from asymslide.atlas import sweep as S
 from tests.browser.test_journeys import _IMAGE_JS, WAIT, idle
 from tests.conftest import open_app, save_screenshot
 
@@ -63,7 +63,7 @@ _IMAGE_VALUES_JS = """() => {
 @pytest.fixture(scope="module")
 def adaptive_atlas(tmp_path_factory: pytest.TempPathFactory) -> Path:
     path = tmp_path_factory.mktemp("adaptive-atlases") / "adaptive.zarr"
-    S.sweep(AXES, fixed={"xi": 1.0}, kH=KH, store=path, adaptive=A.AdaptiveSpec(levels=2))
+    S.sweep(AXES, fixed={"xi": 1.0}, kH=KH, store=path, adaptive=refinement.AdaptiveSpec(levels=2))
     return path
 
 

@@ -19,9 +19,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+
 from asymslide.app import atlas as A
 from asymslide.app.presets import load_presets
-
+from asymslide.atlas import sweep as engine
 from tests.conftest import (
     ServerLog,
     clear_patched_curdocs,
@@ -180,14 +181,14 @@ def held_default_sweep(monkeypatch: pytest.MonkeyPatch) -> threading.Event:
     """The default atlas's sweep waits (its plan and totals already published) until the test sets the event: the
     tiny atlas would otherwise finish before the browser has loaded the page, and the progress would be unseen."""
     release = threading.Event()
-    real = A.engine.sweep
+    real = engine.sweep
 
     def held(*args, **kwargs):
         if not release.wait(timeout=LONG / 1000):
             raise TimeoutError("the test never released the default atlas's sweep")
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(A.engine, "sweep", held)
+    monkeypatch.setattr(engine, "sweep", held)
     return release
 
 
@@ -548,6 +549,7 @@ def test_a_lost_server_is_said_on_the_page(free_port: int, browser_context) -> N
     """When the server stops, the page says so (a notification that stays) instead of leaving plots that silently
     no longer follow the controls."""
     import panel as pn
+
     from asymslide.app.main import create_app
 
     server = pn.serve(create_app, port=free_port, address="127.0.0.1", websocket_origin=[f"127.0.0.1:{free_port}"],

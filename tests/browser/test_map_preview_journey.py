@@ -11,11 +11,11 @@ import re
 
 import numpy as np
 import pytest
+
+from asymslide import model
 from asymslide.app import stability_map as sm
 from asymslide.app.params import SpectrumParams
 from asymslide.app.stability_map import KH, PLANES
-
-from asymslide import model
 from tests.conftest import download, open_app, save_screenshot
 
 pytestmark = [pytest.mark.ui, pytest.mark.usefixtures("fresh_caches")]

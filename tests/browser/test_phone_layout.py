@@ -15,11 +15,11 @@ from pathlib import Path
 
 import holoviews as hv
 import pytest
+from bokeh.models import CustomJSTickFormatter, LogTickFormatter
+
 from asymslide.app.common import LOG_COORDINATE_TICKS
 from asymslide.app.main import TAB_TITLES
 from asymslide.app.params import TICKS_JS
-from bokeh.models import CustomJSTickFormatter, LogTickFormatter
-
 from tests.conftest import open_app, unexpected
 
 #: a phone's screen (CSS px)

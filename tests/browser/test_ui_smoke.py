@@ -6,8 +6,8 @@ import html
 import urllib.request
 
 import pytest
-from asymslide.app.main import TITLE
 
+from asymslide.app.main import TITLE
 from tests.conftest import save_screenshot
 
 #: titles of the page's Bokeh figures (JS function)

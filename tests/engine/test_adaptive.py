@@ -18,12 +18,16 @@ import numpy as np
 import pytest
 import xarray as xr
 import zarr
+
 from asymslide.atlas import adaptive as A
+from asymslide.atlas import plan as atlas_plan
+from asymslide.atlas import refinement, schema, writers
 from asymslide.atlas import sweep as S
+from asymslide.atlas import tasks as atlas_tasks
 
 ROOT = Path(__file__).resolve().parents[2]
 KH = np.logspace(-3, 3, 49)
-GROWTH_VARS = tuple(S.GROWTH_VARS)
+GROWTH_VARS = tuple(schema.GROWTH_VARS)
 
 
 def _cli(*args: str, timeout: float = 180) -> subprocess.CompletedProcess:
@@ -38,7 +42,7 @@ def _assert_agrees_with_dense(ad: xr.Dataset, dense: xr.Dataset) -> np.ndarray:
     for name in GROWTH_VARS:
         a, d = ad[name].values, dense[name].values
         np.testing.assert_array_equal(a[computed], d[computed], err_msg=name)  # bitwise (NaN == NaN)
-        fill = S.GROWTH_VARS[name][1]
+        fill = schema.GROWTH_VARS[name][1]
         if np.isnan(fill):
             assert np.isnan(a[~computed]).all(), name
         else:
@@ -52,7 +56,7 @@ def _assert_agrees_with_dense(ad: xr.Dataset, dense: xr.Dataset) -> np.ndarray:
 # ------------------------------------------------------------------------------------------------
 
 
-def _simulate(verdict: np.ndarray, growth: np.ndarray, spec: A.AdaptiveSpec,
+def _simulate(verdict: np.ndarray, growth: np.ndarray, spec: refinement.AdaptiveSpec,
               interrupted: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """The adaptive sweep on a field known everywhere: (computed, filled). interrupted: every round's points are
     evaluated in two random halves, the follow targets taken between them (as a killed sweep, resumed, does)."""
@@ -61,7 +65,7 @@ def _simulate(verdict: np.ndarray, growth: np.ndarray, spec: A.AdaptiveSpec,
     c = np.full(verdict.shape, -1, np.int8)
     rng = np.random.default_rng(0)
     for level in range(spec.levels + 1):
-        target = A.refine_targets(level, spec, v, g, c)
+        target = refinement.refine_targets(level, spec, v, g, c)
         while target.any():  # the level's first round, then its follow rounds
             assert not (c[target] >= 0).any()  # a point is evaluated once
             if interrupted:  # a killed run resumed: the round's points come in two parts, the second a round later
@@ -70,13 +74,13 @@ def _simulate(verdict: np.ndarray, growth: np.ndarray, spec: A.AdaptiveSpec,
                 target &= ~part
                 if not spec.follow:
                     continue
-                target = A.follow_targets(level, spec, v, c) | target
+                target = refinement.follow_targets(level, spec, v, c) | target
                 continue
             c[target], v[target], g[target] = level, verdict[target], growth[target]
             if not spec.follow:
                 break
-            target = A.follow_targets(level, spec, v, c)
-    return c, A.fill_classes(v, c, spec.levels)
+            target = refinement.follow_targets(level, spec, v, c)
+    return c, refinement.fill_classes(v, c, spec.levels)
 
 
 def test_a_smooth_boundary_is_found_from_a_fraction_of_the_points() -> None:
@@ -84,11 +88,11 @@ def test_a_smooth_boundary_is_found_from_a_fraction_of_the_points() -> None:
     growth = 0.6 - np.sqrt(x**2 + 1.3 * y**2 + 0.8 * z**2) + 0.1 * np.sin(3 * x)
     verdict = (growth > 0).astype(np.int8)
     verdict[(x > 0.5) & (y > 0.5)] = 2  # an undetermined block: a class of its own
-    spec = A.resolve_spec(A.AdaptiveSpec(), verdict.shape)
+    spec = refinement.resolve_spec(refinement.AdaptiveSpec(), verdict.shape)
     assert spec.levels == 2  # a coarse grid of 9 points per axis
     computed, filled = _simulate(verdict, growth, spec)
     np.testing.assert_array_equal(filled, verdict)
-    counts = A.level_counts(computed, 2)
+    counts = refinement.level_counts(computed, 2)
     assert counts[0] == 9**3 and 0 < counts[1] and 0 < counts[2]
     assert (computed >= 0).mean() < 0.5
     # a cell whose corners agree is left alone: its points are never computed, but take its class
@@ -101,9 +105,9 @@ def test_fill_levels_name_the_cell_each_filled_class_comes_from() -> None:
     x, y = np.meshgrid(np.linspace(-1, 1, 33), np.linspace(-1, 1, 33), indexing="ij")
     growth = 0.5 - np.hypot(x - 0.2, y)
     verdict = (growth > 0).astype(np.int8)
-    spec = A.AdaptiveSpec(levels=3)
+    spec = refinement.AdaptiveSpec(levels=3)
     computed, filled = _simulate(verdict, growth, spec)
-    level = A.fill_levels(np.where(computed >= 0, verdict, -1).astype(np.int8), computed, 3)
+    level = refinement.fill_levels(np.where(computed >= 0, verdict, -1).astype(np.int8), computed, 3)
     assert (level[computed >= 0] == -1).all()
     gaps = np.argwhere(computed < 0)
     assert len(gaps) and (level[computed < 0] >= 0).all() and len(np.unique(level[computed < 0])) > 1
@@ -126,7 +130,7 @@ def test_margin_zero_evaluates_less_and_margin_two_more() -> None:
     verdict = (growth > 0).astype(np.int8)
     fractions = []
     for margin in (0, 1, 2):
-        computed, filled = _simulate(verdict, growth, A.AdaptiveSpec(levels=3, margin=margin))
+        computed, filled = _simulate(verdict, growth, refinement.AdaptiveSpec(levels=3, margin=margin))
         np.testing.assert_array_equal(filled, verdict)
         fractions.append((computed >= 0).mean())
     assert fractions[0] < fractions[1] < fractions[2] < 1
@@ -143,11 +147,11 @@ def _tongue() -> tuple[np.ndarray, np.ndarray]:
 
 def test_following_finds_a_boundary_that_leaves_the_refined_cells_between_agreeing_corners() -> None:
     verdict, growth = _tongue()
-    computed, filled = _simulate(verdict, growth, A.AdaptiveSpec(levels=2, margin=0, follow=False))
+    computed, filled = _simulate(verdict, growth, refinement.AdaptiveSpec(levels=2, margin=0, follow=False))
     missed = filled != verdict
     assert missed.any() and (verdict[missed] == 0).all()  # part of the tongue, filled from unstable corners
     assert (np.argwhere(missed)[:, 0] > 12).all()
-    computed, filled = _simulate(verdict, growth, A.AdaptiveSpec(levels=2))  # the default: margin 0, following
+    computed, filled = _simulate(verdict, growth, refinement.AdaptiveSpec(levels=2))  # the default: margin 0, following
     np.testing.assert_array_equal(filled, verdict)
     assert (computed[13:19, 10] >= 0).all()  # followed to the tongue's end
     assert (computed >= 0).mean() < 0.4
@@ -160,12 +164,12 @@ def test_follow_rounds_close_each_level_and_end_the_same_in_any_order() -> None:
     growth = 0.5 - np.sqrt(x**2 + 1.3 * y**2 + 0.8 * z**2) + 0.15 * np.sin(7 * x) * np.cos(5 * y)
     verdict = (growth > 0).astype(np.int8)
     verdict[(x > 0.4) & (z > 0.3)] = 2
-    spec = A.resolve_spec(A.AdaptiveSpec(), verdict.shape)
+    spec = refinement.resolve_spec(refinement.AdaptiveSpec(), verdict.shape)
     computed, filled = _simulate(verdict, growth, spec)
     np.testing.assert_array_equal(filled, verdict)
     v = np.where(computed >= 0, verdict, -1).astype(np.int8)
     for level in range(spec.levels + 1):
-        assert not A.follow_targets(level, spec, v, computed).any(), level
+        assert not refinement.follow_targets(level, spec, v, computed).any(), level
     again, filled_again = _simulate(verdict, growth, spec, interrupted=True)
     np.testing.assert_array_equal(again, computed)
     np.testing.assert_array_equal(filled_again, filled)
@@ -181,24 +185,24 @@ def test_the_guard_finds_an_island_between_coarse_points_that_the_verdicts_miss(
     verdict = (growth > 0).astype(np.int8)
     island = verdict == 0
     assert 1 <= island.sum() <= 42
-    computed, filled = _simulate(verdict, growth, A.AdaptiveSpec(levels=2))
+    computed, filled = _simulate(verdict, growth, refinement.AdaptiveSpec(levels=2))
     assert (filled[island] == 1).all()  # missed: the sign-only refinement sees one class
-    computed, filled = _simulate(verdict, growth, A.AdaptiveSpec(levels=2, guard=1.0))
+    computed, filled = _simulate(verdict, growth, refinement.AdaptiveSpec(levels=2, guard=1.0))
     np.testing.assert_array_equal(filled, verdict)
     assert (computed >= 0).mean() < 0.5  # the guard refines near the island, not everywhere
 
 
 def test_fill_leaves_no_point_without_a_class_and_sizes_are_checked() -> None:
-    assert A.adaptive_size(64, 3) == 65 and A.adaptive_size(65, 3) == 65 and A.adaptive_size(1, 3) == 1
-    assert A.default_levels([65, 65, 9]) == 3 and A.default_levels([33]) == 2 and A.default_levels([9, 5]) == 0
-    with pytest.raises(S.SweepError, match=r"axis gamma has 64 points: .* use 65"):
-        S.make_plan({"gamma": np.geomspace(0.1, 30, 64)}, adaptive=A.AdaptiveSpec(levels=3))
-    with pytest.raises(S.SweepError, match="margin"):
-        S.make_plan({"gamma": np.geomspace(0.1, 30, 9)}, adaptive={"margin": -1})
-    with pytest.raises(S.SweepError, match="needs the growth"):
-        S.make_plan({"f": np.linspace(0.1, 1, 9)}, growth=False, adaptive=True)
+    assert [refinement.adaptive_size(n, 3) for n in (64, 65, 1)] == [65, 65, 1]
+    assert [refinement.default_levels(s) for s in ([65, 65, 9], [33], [9, 5])] == [3, 2, 0]
+    with pytest.raises(atlas_plan.SweepError, match=r"axis gamma has 64 points: .* use 65"):
+        atlas_plan.make_plan({"gamma": np.geomspace(0.1, 30, 64)}, adaptive=refinement.AdaptiveSpec(levels=3))
+    with pytest.raises(atlas_plan.SweepError, match="margin"):
+        atlas_plan.make_plan({"gamma": np.geomspace(0.1, 30, 9)}, adaptive={"margin": -1})
+    with pytest.raises(atlas_plan.SweepError, match="needs the growth"):
+        atlas_plan.make_plan({"f": np.linspace(0.1, 1, 9)}, growth=False, adaptive=True)
     # a dense plan's identity is unchanged (stores written before adaptive sweeps existed still resume)
-    assert "adaptive" not in S.make_plan({"gamma": [1.0, 2.0]}).identity()
+    assert "adaptive" not in atlas_plan.make_plan({"gamma": [1.0, 2.0]}).identity()
 
 
 # ------------------------------------------------------------------------------------------------
@@ -222,7 +226,7 @@ def test_eta_inf_verdict_field_equals_the_dense_one_and_values_are_bitwise(tmp_p
     assert info["levels"] == 1 and info["margin"] == 0 and info["guard"] == 0.0 and info["follow"] is True
     assert info["coarse_shape"] == [9, 9, 5, 5]
     assert info["evaluated_fraction"] == pytest.approx(computed.mean())
-    assert [lv["points"] for lv in info["per_level"]] == A.level_counts(ad.computed.values, 1)
+    assert [lv["points"] for lv in info["per_level"]] == refinement.level_counts(ad.computed.values, 1)
     assert json.loads(ad.computed.attrs["flag_meanings"])["-1"].startswith("not computed")
 
 
@@ -267,15 +271,15 @@ def _store_arrays(store: Path) -> dict[str, np.ndarray]:
 KILL_AFTER = 3
 _KILLING_CHILD = f"""
 import os, signal, sys
-from asymslide.atlas import adaptive as A
+from asymslide.atlas import writers
 from asymslide.cli import main
-append, written = A._Store.append, []
-def append_then_die(self, task, result):
-    append(self, task, result)
+write, written = writers.JournalWriter.write, []
+def write_then_die(self, task, result):
+    write(self, task, result)
     written.append(task.level)
     if written.count(1) == {KILL_AFTER}:
         os.kill(os.getpid(), signal.SIGKILL)
-A._Store.append = append_then_die
+writers.JournalWriter.write = write_then_die
 sys.exit(main(sys.argv[1:]))
 """
 
@@ -290,14 +294,14 @@ def test_killed_adaptive_sweep_resumes_and_equals_an_uninterrupted_run(tmp_path:
     child = subprocess.run([sys.executable, "-c", _KILLING_CHILD, *RESUME_ARGS, "--out", str(killed)], cwd=ROOT,
                            capture_output=True, text=True, timeout=180)
     assert child.returncode == -signal.SIGKILL, child.stderr
-    before = A.stored_computed(killed)
+    before = writers.stored_computed(killed)
     done_before = int((before >= 0).sum())
     assert (before == 0).sum() == (final == 0).sum() and 0 < (before == 1).sum() < (final == 1).sum()
     assert done_before < total
-    assert A.JOURNAL in zarr.open_group(str(killed), mode="r")  # the grid variables are written at the end
+    assert writers.JOURNAL in zarr.open_group(str(killed), mode="r")  # the grid variables are written at the end
     # the same command again, in this process, counting the points it evaluates
-    spy = mock.patch.object(A, "run_points", wraps=A.run_points)
-    axes = dict(S.parse_axis(a) for a in ("gamma=0.5:20:33:log", "eta=2:1e4:9", "f=0.5:1.0:9"))
+    spy = mock.patch.object(A, "run_points", wraps=atlas_tasks.run_points)
+    axes = dict(atlas_plan.parse_axis(a) for a in ("gamma=0.5:20:33:log", "eta=2:1e4:9", "f=0.5:1.0:9"))
     with spy as run_points:
         S.sweep(axes, kH=np.logspace(-3, 3, 33), chunk_points=16, workers=1, gamma_c=False, adaptive=True,
                 store=killed)
@@ -305,7 +309,7 @@ def test_killed_adaptive_sweep_resumes_and_equals_an_uninterrupted_run(tmp_path:
     resumed, reference = _store_arrays(killed), _store_arrays(clean)
     for name, values in reference.items():
         np.testing.assert_array_equal(resumed[name], values, err_msg=name)
-    assert A.JOURNAL not in zarr.open_group(str(killed), mode="r")
+    assert writers.JOURNAL not in zarr.open_group(str(killed), mode="r")
     a, b = (json.loads(xr.open_zarr(p, consolidated=False).attrs["adaptive"]) for p in (killed, clean))
     assert a == b
 
@@ -315,7 +319,7 @@ def test_resuming_a_finished_adaptive_store_computes_nothing(tmp_path: Path) -> 
     store = tmp_path / "a.zarr"
     S.sweep(axes, kH=KH, gamma_c=False, adaptive=True, store=store)
     before = _store_arrays(store)
-    with mock.patch.object(A, "run_points", wraps=A.run_points) as run_points:
+    with mock.patch.object(A, "run_points", wraps=atlas_tasks.run_points) as run_points:
         S.sweep(axes, kH=KH, gamma_c=False, adaptive=True, store=store)
     assert run_points.call_count == 0
     after = _store_arrays(store)
@@ -343,7 +347,7 @@ def test_cli_rounds_axes_up_and_info_prints_the_fraction_per_level(tmp_path: Pat
     assert np.isfinite(ds.gamma_c.values).any()  # gamma_c over beta, computed as in the dense sweep
     info = _cli("info", str(store))
     assert info.returncode == 0, info.stderr
-    counts = A.level_counts(ds.computed.values, 2)
+    counts = refinement.level_counts(ds.computed.values, 2)
     for needle in ("adaptive: levels 0..2, coarse grid 9 x 3 (stride 4), margin 0, guard off, boundary followed",
                    f"level 0 (stride 4): {counts[0]} points evaluated", f"level 2 (stride 1): {counts[2]} points",
                    "evaluated fraction: ", "verdict_filled (every point): stable", "gamma_c: found at"):
@@ -375,7 +379,7 @@ def test_adaptive_and_dense_stores_refuse_each_other(tmp_path: Path) -> None:
 def test_the_command_line_default_chunks_are_the_engines() -> None:
     from asymslide import cli
 
-    assert cli.ADAPTIVE_CHUNK_POINTS == A.CHUNK_POINTS
+    assert cli.ADAPTIVE_CHUNK_POINTS == refinement.CHUNK_POINTS
 
 
 @pytest.mark.slow

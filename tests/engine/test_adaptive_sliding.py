@@ -20,15 +20,19 @@ import numpy as np
 import pytest
 import xarray as xr
 import zarr
+
 from asymslide.atlas import adaptive as A
+from asymslide.atlas import plan as atlas_plan
+from asymslide.atlas import refinement, schema, writers
 from asymslide.atlas import sweep as S
+from asymslide.atlas import tasks as atlas_tasks
 
 ROOT = Path(__file__).resolve().parents[2]
 KH = np.logspace(-3, 3, 49)
 #: the beta-gamma plane at eta = inf where the Rayleigh branch's boundary and the sliding one differ
 AXES = {"beta": np.linspace(0.2, 0.7, 17), "gamma": np.geomspace(0.3, 30, 17)}
 FIXED = {"eta": math.inf}
-VALUES = (*S.GROWTH_VARS, *S.SLIDING_VARS)
+VALUES = (*schema.GROWTH_VARS, *schema.SLIDING_VARS)
 
 
 def _cli(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
@@ -51,17 +55,18 @@ def test_refinement_classes_flag_a_cell_where_either_verdict_changes() -> None:
     computed = np.full((n, n), -1, np.int8)
     computed[::4, ::4] = 0
     growth = np.full((n, n), -0.1)
-    spec = A.AdaptiveSpec(levels=2)
-    alone = A.refine_targets(1, spec, rayleigh, growth, computed)
-    pair = A.refine_targets(1, spec, rayleigh, growth, computed, A.refinement_classes(rayleigh, sliding))
+    spec = refinement.AdaptiveSpec(levels=2)
+    alone = refinement.refine_targets(1, spec, rayleigh, growth, computed)
+    pair = refinement.refine_targets(1, spec, rayleigh, growth, computed,
+                                     refinement.refinement_classes(rayleigh, sliding))
     assert not alone.any()
     assert pair.any() and not pair[:, :4].any()  # only the cells between x = 4 and 8, where sliding changes
-    assert (A.refinement_classes(rayleigh, np.full((n, n), -1, np.int8)) == -1).all()  # not computed stays -1
+    assert (refinement.refinement_classes(rayleigh, np.full((n, n), -1, np.int8)) == -1).all()  # not computed stays -1
 
 
 @pytest.mark.slow
 def test_the_sliding_verdict_field_equals_the_dense_one_from_a_fraction_of_the_points(dense: xr.Dataset) -> None:
-    ad = S.sweep(AXES, fixed=FIXED, kH=KH, gamma_c=False, adaptive=A.AdaptiveSpec(levels=2), sliding=True)
+    ad = S.sweep(AXES, fixed=FIXED, kH=KH, gamma_c=False, adaptive=refinement.AdaptiveSpec(levels=2), sliding=True)
     computed = ad.computed.values >= 0
     assert 0 < computed.sum() < 0.6 * computed.size
     for name in VALUES:  # bitwise (NaN == NaN) at the computed points: both verdicts' variables
@@ -78,34 +83,34 @@ def test_the_sliding_verdict_field_equals_the_dense_one_from_a_fraction_of_the_p
 def test_refining_the_rayleigh_verdict_alone_would_miss_the_sliding_boundary(dense: xr.Dataset) -> None:
     """Why the pair is refined: the points a Rayleigh-only refinement evaluates do not fill the sliding verdict
     right (the same grid, the sliding verdict filled from the cells of a Rayleigh-only sweep)."""
-    ray = S.sweep(AXES, fixed=FIXED, kH=KH, gamma_c=False, adaptive=A.AdaptiveSpec(levels=2))
+    ray = S.sweep(AXES, fixed=FIXED, kH=KH, gamma_c=False, adaptive=refinement.AdaptiveSpec(levels=2))
     computed = ray.computed.values
     sliding_there = np.where(computed >= 0, dense.verdict_all.values, -1).astype(np.int8)
-    filled = A.fill_classes(sliding_there, computed, 2)
+    filled = refinement.fill_classes(sliding_there, computed, 2)
     assert (filled != dense.verdict_all.values).any()
 
 
 def test_plans_and_refusals() -> None:
-    ray = S.make_plan(AXES, fixed=FIXED, kH=KH, gamma_c=False, adaptive=dict(levels=2))
+    ray = atlas_plan.make_plan(AXES, fixed=FIXED, kH=KH, gamma_c=False, adaptive=dict(levels=2))
     assert "verdict" not in ray.identity()["adaptive"] and ray.sliding is None  # older stores keep their identity
-    implied = S.make_plan(AXES, fixed=FIXED, kH=KH, gamma_c=False, adaptive=dict(levels=2, verdict="sliding"))
-    assert implied.sliding == S.SlidingSpec() and implied.identity()["adaptive"]["verdict"] == "sliding"
-    chosen = S.make_plan(AXES, fixed=FIXED, kH=KH, gamma_c=False, adaptive=dict(levels=2), sliding=True)
+    implied = atlas_plan.make_plan(AXES, fixed=FIXED, kH=KH, gamma_c=False, adaptive=dict(levels=2, verdict="sliding"))
+    assert implied.sliding == atlas_plan.SlidingSpec() and implied.identity()["adaptive"]["verdict"] == "sliding"
+    chosen = atlas_plan.make_plan(AXES, fixed=FIXED, kH=KH, gamma_c=False, adaptive=dict(levels=2), sliding=True)
     assert chosen.adaptive.verdict == "sliding"
-    with pytest.raises(S.SweepError, match="adaptive verdict must be one of rayleigh, sliding"):
-        S.make_plan(AXES, fixed=FIXED, kH=KH, adaptive=dict(levels=2, verdict="all"))
-    with pytest.raises(S.SweepError, match="cannot give the sliding verdict"):
-        S.make_plan(AXES, fixed=FIXED, kH=KH, adaptive=dict(levels=2, verdict="rayleigh"), sliding=True)
+    with pytest.raises(atlas_plan.SweepError, match="adaptive verdict must be one of rayleigh, sliding"):
+        atlas_plan.make_plan(AXES, fixed=FIXED, kH=KH, adaptive=dict(levels=2, verdict="all"))
+    with pytest.raises(atlas_plan.SweepError, match="cannot give the sliding verdict"):
+        atlas_plan.make_plan(AXES, fixed=FIXED, kH=KH, adaptive=dict(levels=2, verdict="rayleigh"), sliding=True)
 
 
 def test_a_journal_entry_written_before_entries_named_their_rows_is_read(tmp_path: Path) -> None:
     """Stores killed by an earlier version hold journal arrays without the ``rows`` attribute: the growth rows."""
     group = zarr.open_group(str(tmp_path / "old.zarr"), mode="w")
-    rows = np.full((2 + len(A._ROWS), 4), np.nan)
+    rows = np.full((2 + len(writers._ROWS), 4), np.nan)
     rows[0, :2], rows[1, :2], rows[2, :2] = (5, 7), 1, (0.25, -0.5)
-    group.require_group(A.JOURNAL).create_array("L1-old", data=rows)
-    [(index, level, values)] = A.read_journal(group)
-    assert index.tolist() == [5, 7] and level == 1 and list(values) == list(A._ROWS)
+    group.require_group(writers.JOURNAL).create_array("L1-old", data=rows)
+    [(index, level, values)] = writers.read_journal(group)
+    assert index.tolist() == [5, 7] and level == 1 and list(values) == list(writers._ROWS)
     assert values["growth"].tolist() == [0.25, -0.5]
 
 
@@ -116,15 +121,15 @@ SLIDING_ARGS = ["sweep", "--adaptive", "--verdict", "sliding", "--levels", "2", 
 #: a child running SLIDING_ARGS that SIGKILLs itself after writing its 2nd level-1 task to the journal
 _KILLING_CHILD = """
 import os, signal, sys
-from asymslide.atlas import adaptive as A
+from asymslide.atlas import writers
 from asymslide.cli import main
-append, written = A._Store.append, []
-def append_then_die(self, task, result):
-    append(self, task, result)
+write, written = writers.JournalWriter.write, []
+def write_then_die(self, task, result):
+    write(self, task, result)
     written.append(task.level)
     if written.count(1) == 2:
         os.kill(os.getpid(), signal.SIGKILL)
-A._Store.append = append_then_die
+writers.JournalWriter.write = write_then_die
 sys.exit(main(sys.argv[1:]))
 """
 
@@ -144,22 +149,22 @@ def test_a_killed_sliding_sweep_resumes_and_equals_an_uninterrupted_run(tmp_path
     child = subprocess.run([sys.executable, "-c", _KILLING_CHILD, *SLIDING_ARGS, "--out", str(killed)], cwd=ROOT,
                            capture_output=True, text=True, timeout=300)
     assert child.returncode == -signal.SIGKILL, child.stderr
-    journal = zarr.open_group(str(killed), mode="r")[A.JOURNAL]
-    assert all(entry.attrs["rows"] == list(A._ROWS) + list(S.SLIDING_VARS) for _, entry in journal.arrays())
-    before = A.stored_computed(killed)
+    journal = zarr.open_group(str(killed), mode="r")[writers.JOURNAL]
+    assert all(entry.attrs["rows"] == list(writers._ROWS) + list(schema.SLIDING_VARS) for _, entry in journal.arrays())
+    before = writers.stored_computed(killed)
     total, done = int((reference["computed"] >= 0).sum()), int((before >= 0).sum())
     assert 0 < done < total
     # the same sweep again, in this process (the plan the command line makes), counting the points it evaluates
-    axes = dict(S.parse_axis(a) for a in ("beta=0.2:0.7:17", "gamma=0.3:30:17:log"))
-    sliding = S.SlidingSpec(tuple(S.parse_axis("kH=1e-2:1e2:17:log")[1]), 1e-6)
-    with mock.patch.object(A, "run_points", wraps=A.run_points) as run_points:
+    axes = dict(atlas_plan.parse_axis(a) for a in ("beta=0.2:0.7:17", "gamma=0.3:30:17:log"))
+    sliding = atlas_plan.SlidingSpec(tuple(atlas_plan.parse_axis("kH=1e-2:1e2:17:log")[1]), 1e-6)
+    with mock.patch.object(A, "run_points", wraps=atlas_tasks.run_points) as run_points:
         S.sweep(axes, fixed=FIXED, kH=np.logspace(-3, 3, 49), chunk_points=16, workers=1, gamma_c=False,
-                adaptive=A.AdaptiveSpec(levels=2, verdict="sliding"), sliding=sliding, store=killed)
+                adaptive=refinement.AdaptiveSpec(levels=2, verdict="sliding"), sliding=sliding, store=killed)
     assert sum(call.args[0].points for call in run_points.call_args_list) == total - done
     after = _stored(killed)
     for name, values in reference.items():
         np.testing.assert_array_equal(after[name], values, err_msg=name)
-    assert A.JOURNAL not in zarr.open_group(str(killed), mode="r")
+    assert writers.JOURNAL not in zarr.open_group(str(killed), mode="r")
     info = _cli("info", str(killed))
     assert info.returncode == 0, info.stderr
     assert "refined where the sliding verdict (every branch) or the Rayleigh branch's changes" in info.stdout

@@ -20,9 +20,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from asymslide.atlas import sweep as S
 
 from asymslide import model
+from asymslide.atlas import dense, schema, tasks, writers
+from asymslide.atlas import plan as atlas_plan
+from asymslide.atlas import sweep as S
 from asymslide.cli import EXIT_SCHEDULER
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -35,7 +37,7 @@ def _expected(axes: dict[str, np.ndarray], fixed: dict[str, float], kH: np.ndarr
     n = len(axes)
     args = {name: np.asarray(v).reshape([-1 if i == j else 1 for j in range(n)])
             for i, (name, v) in enumerate(axes.items())}
-    return model.growth_analysis(kH, **{**S.DEFAULT_FIXED, **fixed, **args})
+    return model.growth_analysis(kH, **{**atlas_plan.DEFAULT_FIXED, **fixed, **args})
 
 
 def _assert_growth_equal(ds: xr.Dataset, expected: model.GrowthResult) -> None:
@@ -117,9 +119,9 @@ def test_the_whole_boundary_in_gamma_is_critical_gammas() -> None:
             "f": np.array([0.7714285714285714, 0.9])}
     fixed = {"eta": 10.0, "Delta": 0.2, "xi": 1.0}
     ds = S.sweep(axes, fixed=fixed, kH=KH, chunk_points=8)
-    assert ds.gamma_c_crossing.dims == ("beta", "f", "crossing") and ds.sizes["crossing"] == S.CROSSINGS
+    assert ds.gamma_c_crossing.dims == ("beta", "f", "crossing") and ds.sizes["crossing"] == schema.CROSSINGS
     want = model.critical_gammas(f=axes["f"][None, :], beta=axes["beta"][:, None], **fixed, kH=KH,
-                                 gamma_range=(0.1, 30.0), max_crossings=S.CROSSINGS)
+                                 gamma_range=(0.1, 30.0), max_crossings=schema.CROSSINGS)
     for var, field in (("gamma_c_crossing", "value"), ("gamma_c_location", "location"), ("gamma_c_kH", "kH"),
                        ("gamma_c_z", "z"), ("gamma_c_direction", "direction"),
                        ("gamma_c_crossing_reason", "reason"), ("gamma_c_n_crossings", "count")):
@@ -141,7 +143,7 @@ def test_no_crossing_in_the_range_gives_nan_and_a_reason() -> None:
 
 
 def test_all_branch_count_equals_model_unstable_count() -> None:
-    count = S.CountSpec(kH=(0.45, 0.77), window=(5.0, 1e-3, 2.0))
+    count = atlas_plan.CountSpec(kH=(0.45, 0.77), window=(5.0, 1e-3, 2.0))
     axes = {"eta": np.array([3.0, 10.0])}
     ds = S.sweep(axes, kH=KH, gamma_c=False, count=count)
     assert ds.unstable_count.dims == ("eta", "kH_count") and ds.unstable_count.attrs["im_min"] == 1e-3
@@ -199,7 +201,7 @@ def _sweep_until(store: Path, chunks: int, args: list[str] = RESUME_ARGS) -> sub
                             preexec_fn=_interruptible)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
-        if (store / "done_growth" / "zarr.json").exists() and S.done_chunks(store)["growth"].sum() >= chunks:
+        if (store / "done_growth" / "zarr.json").exists() and writers.done_chunks(store)["growth"].sum() >= chunks:
             return proc
         time.sleep(0.1)
     proc.kill()
@@ -213,11 +215,11 @@ def test_killed_sweep_resumes_and_equals_a_clean_run(tmp_path: Path) -> None:
     proc = _sweep_until(store, 10)
     proc.send_signal(signal.SIGKILL)
     proc.communicate(timeout=30)
-    flags = S.done_chunks(store)["growth"]
+    flags = writers.done_chunks(store)["growth"]
     assert 10 <= flags.sum() < flags.size  # a part was written, not all
     # the Zarr chunk files of the chunks marked done (c/i/j/k: the block's start over the chunk length per axis)
     plan = json.loads(xr.open_zarr(store, consolidated=False).attrs["plan"])
-    blocks = S._blocks([(len(v), plan["chunks"][n]) for n, v in plan["axes"].items()])
+    blocks = atlas_plan._blocks([(len(v), plan["chunks"][n]) for n, v in plan["axes"].items()])
     written = {}
     for i in np.flatnonzero(flags):
         key = [str(a // plan["chunks"][n]) for n, (a, _) in zip(plan["axes"], blocks[i], strict=True)]
@@ -225,7 +227,7 @@ def test_killed_sweep_resumes_and_equals_a_clean_run(tmp_path: Path) -> None:
         written[path] = path.stat().st_mtime_ns
     rerun = _cli(*RESUME_ARGS, "--out", str(store))
     assert rerun.returncode == 0, rerun.stderr
-    assert S.done_chunks(store)["growth"].all()
+    assert writers.done_chunks(store)["growth"].all()
     # the chunks written before the kill were not computed again
     assert all(p.stat().st_mtime_ns == t for p, t in written.items())
     axes = {"gamma": np.geomspace(0.5, 20, 16), "eta": np.geomspace(2, 1e4, 8), "f": np.linspace(0.5, 1.0, 6)}
@@ -271,23 +273,23 @@ def test_a_worker_computes_the_next_chunk_while_the_last_one_is_written(tmp_path
     """One worker thread: the first chunk's write waits until the worker has finished a second chunk. Had the
     worker waited for the write (Dask runs its callbacks before it hands out more work), the wait would time out."""
     computed = threading.Semaphore(0)
-    run_task = S.run_task
+    run_task = tasks.run_task
 
-    def counted(task: S.Task) -> dict[str, np.ndarray]:
+    def counted(task: tasks.Task) -> dict[str, np.ndarray]:
         out = run_task(task)
         computed.release()
         return out
 
     seen: list[bool] = []
-    write = S._write
+    write = writers._write
 
-    def slow_first_write(store: Path, task: S.Task, *args: object) -> None:
+    def slow_first_write(store: Path, task: tasks.Task, *args: object) -> None:
         if not seen:
             seen.append(computed.acquire(timeout=20) and computed.acquire(timeout=20))  # chunks 1 and 2 computed
         write(store, task, *args)
 
-    monkeypatch.setattr(S, "run_task", counted)
-    monkeypatch.setattr(S, "_write", slow_first_write)
+    monkeypatch.setattr(dense, "run_task", counted)
+    monkeypatch.setattr(writers, "_write", slow_first_write)
     axes = {"gamma": np.geomspace(1, 10, 4)}
     ds = S.sweep(axes, kH=KH, store=tmp_path / "a.zarr", gamma_c=False, chunk_points=1, workers=1)
     assert seen == [True]
@@ -297,22 +299,22 @@ def test_a_worker_computes_the_next_chunk_while_the_last_one_is_written(tmp_path
 
 def test_an_error_while_writing_stops_the_sweep_and_keeps_what_was_written(tmp_path: Path,
                                                                            monkeypatch: pytest.MonkeyPatch) -> None:
-    write = S._write
+    write = writers._write
 
-    def failing_third(store: Path, task: S.Task, *args: object) -> None:
+    def failing_third(store: Path, task: tasks.Task, *args: object) -> None:
         if task.index == 2:
             raise OSError("disk full (simulated)")
         write(store, task, *args)
 
-    monkeypatch.setattr(S, "_write", failing_third)
+    monkeypatch.setattr(writers, "_write", failing_third)
     axes = {"gamma": np.geomspace(1, 10, 6)}
     store = tmp_path / "a.zarr"
     with pytest.raises(OSError, match="disk full"):
         S.sweep(axes, kH=KH, store=store, gamma_c=False, chunk_points=1, workers=1)
     assert not [t for t in threading.enumerate() if t.name == "asymslide-writer"]
-    done = S.done_chunks(store)["growth"]
+    done = writers.done_chunks(store)["growth"]
     assert not done[2] and done.sum() >= 2  # chunks 0 and 1 (and any finished before the error) are kept
-    monkeypatch.setattr(S, "_write", write)
+    monkeypatch.setattr(writers, "_write", write)
     ds = S.sweep(axes, kH=KH, store=store, gamma_c=False, chunk_points=1, workers=1)  # the rerun completes it
     _assert_growth_equal(ds.load(), _expected(axes, {}))
 
@@ -434,7 +436,7 @@ print("ok")
     ("beta=0.1,0.2,0.3", [0.1, 0.2, 0.3]),
 ])
 def test_axis_specs(spec: str, values: list[float]) -> None:
-    name, v = S.parse_axis(spec)
+    name, v = atlas_plan.parse_axis(spec)
     assert name == spec.split("=")[0]
     np.testing.assert_allclose(v, values, rtol=1e-15)
 
@@ -442,7 +444,7 @@ def test_axis_specs(spec: str, values: list[float]) -> None:
 def test_the_command_line_default_chunk_is_the_engines() -> None:
     from asymslide import cli
 
-    assert cli.CHUNK_POINTS == S.CHUNK_POINTS
+    assert cli.CHUNK_POINTS == atlas_plan.CHUNK_POINTS
 
 
 @pytest.mark.slow
@@ -453,6 +455,6 @@ def test_ctrl_c_keeps_the_chunks_written_and_says_how_to_resume(tmp_path: Path) 
     _, err = proc.communicate(timeout=60)  # the chunk in flight finishes, nothing more starts
     assert proc.returncode == 130, err
     assert "interrupted" in err and "run the same command to resume" in err
-    flags = S.done_chunks(store)["growth"]
+    flags = writers.done_chunks(store)["growth"]
     assert 5 <= flags.sum() < flags.size
     assert not list(tmp_path.glob(".*creating*"))

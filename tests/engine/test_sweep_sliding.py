@@ -14,9 +14,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from asymslide.atlas import sweep as S
 
 from asymslide import model
+from asymslide.atlas import executor, schema, summary, writers
+from asymslide.atlas import plan as atlas_plan
+from asymslide.atlas import sweep as S
 
 ROOT = Path(__file__).resolve().parents[2]
 KH = np.logspace(-3, 3, 25)
@@ -35,7 +37,7 @@ def _expected(axes: dict[str, np.ndarray], fixed: dict[str, float]) -> model.Sli
     n = len(axes)
     args = {name: np.asarray(v).reshape([-1 if i == j else 1 for j in range(n)])
             for i, (name, v) in enumerate(axes.items())}
-    return model.sliding_analysis(**{**S.DEFAULT_FIXED, **fixed, **args})
+    return model.sliding_analysis(**{**atlas_plan.DEFAULT_FIXED, **fixed, **args})
 
 
 def _assert_sliding_equal(ds: xr.Dataset, r: model.SlidingResult) -> None:
@@ -69,10 +71,10 @@ def test_sliding_variables_equal_sliding_analysis_and_name_both_verdicts() -> No
 @pytest.mark.slow
 def test_finite_eta_a_floor_and_a_kh_grid_of_ones_own() -> None:
     axes = {"gamma": np.array([2.0, 5.0])}
-    spec = S.SlidingSpec(tuple(np.logspace(-1, 1, 9)), 1e-4)
+    spec = atlas_plan.SlidingSpec(tuple(np.logspace(-1, 1, 9)), 1e-4)
     ds = S.sweep(axes, fixed={"eta": 10.0}, kH=KH, gamma_c=False, sliding=spec)
-    r = model.sliding_analysis(**{**S.DEFAULT_FIXED, "eta": 10.0, "gamma": axes["gamma"]}, kH=np.logspace(-1, 1, 9),
-                               floor=1e-4)
+    r = model.sliding_analysis(**{**atlas_plan.DEFAULT_FIXED, "eta": 10.0, "gamma": axes["gamma"]},
+                               kH=np.logspace(-1, 1, 9), floor=1e-4)
     _assert_sliding_equal(ds, r)
     assert (ds["lower_bound_all"].values == 1).all()
     assert ds["growth_all"].attrs["floor"] == 1e-4
@@ -84,41 +86,42 @@ def test_a_store_with_sliding_resumes_reads_back_and_exports(tmp_path: Path) -> 
     S.sweep(AXES, kH=KH, gamma_c=False, sliding=True, store=store)
     again = S.sweep(AXES, kH=KH, gamma_c=False, sliding=True, store=store)  # resumed: nothing left to compute
     _assert_sliding_equal(again, _expected(AXES, {}))
-    assert all(flags.all() for flags in S.done_chunks(store).values()) and "sliding" in S.done_chunks(store)
-    with pytest.raises(S.SweepError, match="refusing to resume"):  # another floor is another plan
-        S.sweep(AXES, kH=KH, gamma_c=False, sliding=S.SlidingSpec(floor=1e-5), store=store)
+    assert all(flags.all() for flags in writers.done_chunks(store).values()) and "sliding" in writers.done_chunks(store)
+    with pytest.raises(atlas_plan.SweepError, match="refusing to resume"):  # another floor is another plan
+        S.sweep(AXES, kH=KH, gamma_c=False, sliding=atlas_plan.SlidingSpec(floor=1e-5), store=store)
     nc = S.export_netcdf(store, tmp_path / "a.nc")
     back = xr.open_dataset(nc, engine="scipy")
     np.testing.assert_array_equal(back["verdict_all"].values, again["verdict_all"].values)
-    text = "\n".join(S.iter_summary(store))
+    text = "\n".join(summary.iter_summary(store))
     assert "Rayleigh branch verdict coverage: 100.0 % of 6" in text
     assert "sliding verdict coverage: 100.0 % of 6" in text
     assert "Rayleigh branch stable but sliding unstable at" in text
 
 
 def test_a_plan_without_sliding_keeps_its_identity_and_its_store_says_rayleigh_only(tmp_path: Path) -> None:
-    plan = S.make_plan(AXES, kH=KH)
+    plan = atlas_plan.make_plan(AXES, kH=KH)
     assert "sliding" not in plan.identity()  # stores written before the sliding variables resume as before
     store = tmp_path / "old.zarr"
     S.sweep(AXES, kH=KH, gamma_c=False, store=store)
-    text = "\n".join(S.iter_summary(store))
+    text = "\n".join(summary.iter_summary(store))
     assert "covers the Rayleigh branch only" in text and "sliding verdict coverage" not in text
 
 
 @pytest.mark.parametrize(("kwargs", "message"), [
-    (dict(sliding=S.SlidingSpec(floor=0.0)), "floor"),
-    (dict(sliding=S.SlidingSpec(floor=math.nan)), "floor"),
-    (dict(sliding=S.SlidingSpec(kH=(1.0,))), "sliding kH grid"),
-    (dict(sliding=S.SlidingSpec(kH=(1.0, 0.5))), "sliding kH grid"),
+    (dict(sliding=atlas_plan.SlidingSpec(floor=0.0)), "floor"),
+    (dict(sliding=atlas_plan.SlidingSpec(floor=math.nan)), "floor"),
+    (dict(sliding=atlas_plan.SlidingSpec(kH=(1.0,))), "sliding kH grid"),
+    (dict(sliding=atlas_plan.SlidingSpec(kH=(1.0, 0.5))), "sliding kH grid"),
 ])
 def test_bad_sliding_settings_are_refused(kwargs: dict, message: str) -> None:
-    with pytest.raises(S.SweepError, match=message):
-        S.make_plan(AXES, kH=KH, **kwargs)
+    with pytest.raises(atlas_plan.SweepError, match=message):
+        atlas_plan.make_plan(AXES, kH=KH, **kwargs)
 
 
 def test_an_adaptive_sweep_on_the_rayleigh_verdict_refuses_the_sliding_one_with_a_reason() -> None:
-    with pytest.raises(S.SweepError, match="cannot give the sliding verdict"):
-        S.make_plan({"gamma": np.linspace(1, 3, 5)}, kH=KH, adaptive=dict(levels=1, verdict="rayleigh"), sliding=True)
+    with pytest.raises(atlas_plan.SweepError, match="cannot give the sliding verdict"):
+        atlas_plan.make_plan({"gamma": np.linspace(1, 3, 5)}, kH=KH, adaptive=dict(levels=1, verdict="rayleigh"),
+                             sliding=True)
 
 
 @pytest.mark.slow
@@ -139,7 +142,7 @@ def test_cli_sweep_sliding_and_info(tmp_path: Path) -> None:
 def test_a_gamma_axis_of_one_value_without_gamma_c_is_a_valid_sweep() -> None:
     """A one-value gamma axis gave gamma_range (v, v) and a refusal even without gamma_c; it now searches the default
     range (1e-2, 1e3) when gamma_c is asked for."""
-    plan = S.make_plan({"gamma": [3.0]}, kH=KH, gamma_c=False, sliding=True)
+    plan = atlas_plan.make_plan({"gamma": [3.0]}, kH=KH, gamma_c=False, sliding=True)
     assert plan.gamma_range == (1e-2, 1e3)
     ds = S.sweep({"gamma": [3.0]}, kH=KH, gamma_c=False, sliding=True)
     assert float(ds["growth_all"].values[0]) == float(model.sliding_analysis(gamma=3.0, f=0.9, beta=0.3).growth)
@@ -155,11 +158,11 @@ def test_sliding_thresholds_equal_the_models_and_resume(tmp_path: Path) -> None:
     certified crossing and status), beside the Rayleigh branch's gamma_c; written chunk by chunk and resumed; info
     names both; a plan without them keeps its identity."""
     store = tmp_path / "t.zarr"
-    spec = S.SlidingSpec(thresholds=True)
-    assert "thresholds" not in S.SlidingSpec().identity() and spec.identity()["thresholds"] is True
+    spec = atlas_plan.SlidingSpec(thresholds=True)
+    assert "thresholds" not in atlas_plan.SlidingSpec().identity() and spec.identity()["thresholds"] is True
     S.sweep(THRESHOLD_AXES, fixed={"beta": 0.3}, kH=KH, sliding=spec, store=store)
     ds = S.sweep(THRESHOLD_AXES, fixed={"beta": 0.3}, kH=KH, sliding=spec, store=store)  # nothing left
-    assert S.done_chunks(store)["gamma_c_all"].all()
+    assert writers.done_chunks(store)["gamma_c_all"].all()
     ref = model.critical_gammas(f=THRESHOLD_AXES["f"], beta=0.3, branches="all", gamma_range=(0.5, 4.0))
     np.testing.assert_array_equal(ds["gamma_c_all_crossing"].values, ref.value)
     np.testing.assert_array_equal(ds["gamma_c_all_crossing_reason"].values, ref.reason)
@@ -169,7 +172,7 @@ def test_sliding_thresholds_equal_the_models_and_resume(tmp_path: Path) -> None:
     rayleigh = ds["gamma_c"].values
     assert np.all(np.asarray(first) < np.where(np.isnan(rayleigh), np.inf, rayleigh))  # sliding goes first here
     assert "over every branch" in ds["gamma_c_all"].attrs["long_name"]
-    text = "\n".join(S.iter_summary(store))
+    text = "\n".join(summary.iter_summary(store))
     assert "gamma_c_all (sliding, every branch): found at 3 of 3 points" in text and "gamma_c: found at" in text
 
 
@@ -189,17 +192,17 @@ def test_sliding_tasks_run_in_processes_and_give_the_same_bits(monkeypatch: pyte
     """The sliding verdict holds the GIL, so with two workers its tasks run in two processes (the growth's on
     threads); the numbers are bitwise those of one worker."""
     handed: list[list[str]] = []
-    real = S._execute_in_processes
+    real = executor._execute_in_processes
 
     def spy(todo, *args):
         handed.append([t.kind for t in todo])
         return real(todo, *args)
 
-    monkeypatch.setattr(S, "_execute_in_processes", spy)
+    monkeypatch.setattr(executor, "_execute_in_processes", spy)
     two = S.sweep(AXES, kH=KH, gamma_c=False, sliding=True, workers=2, chunk_points=1)
     assert handed and all(kind == "sliding" for kinds in handed for kind in kinds) and len(handed[0]) == 6
     handed.clear()
     one = S.sweep(AXES, kH=KH, gamma_c=False, sliding=True, workers=1, chunk_points=1)
     assert handed == []  # one worker: in this process
-    for name in (*S.SLIDING_VARS, *S.GROWTH_VARS):
+    for name in (*schema.SLIDING_VARS, *schema.GROWTH_VARS):
         np.testing.assert_array_equal(two[name].values, one[name].values, err_msg=name)

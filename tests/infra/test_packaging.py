@@ -353,3 +353,73 @@ def test_the_app_opens_atlases_only_through_the_store() -> None:
                for path in sorted((ROOT / "app").rglob("*.py"))
                if (bad := _third_party_imports(path) & {"xarray", "zarr"})]
     assert readers == []
+
+
+#: the folder of each import package of the project
+PACKAGE_ROOTS = {f"asymslide.{sub}": ROOT / folder for sub, folder in SUBPACKAGES.items()}
+
+
+def _module_file(base: Path, dotted: str) -> Path | None:
+    """The module file of `dotted` (relative to the package folder `base`): a module or a package's __init__."""
+    target = base.joinpath(*dotted.split(".")) if dotted else base
+    return next((c for c in (target.with_suffix(".py"), target / "__init__.py") if c.is_file()), None)
+
+
+def _from_base(path: Path, node) -> tuple[Path, str] | None:
+    """(package folder, module path in it) of a ``from ... import`` of the project (None: not the project's)."""
+    if node.level:
+        base = path.parent
+        for _ in range(node.level - 1):
+            base = base.parent
+        return base, node.module or ""
+    top = next((name for name in PACKAGE_ROOTS if (node.module or "").startswith(name)), None)
+    return None if top is None else (PACKAGE_ROOTS[top], node.module[len(top) + 1:])
+
+
+def _module_imports(path: Path) -> set[Path]:
+    """The project's modules that a module imports, at any depth of its code (an import inside a function is still
+    a dependency: it only hides a cycle until the function runs)."""
+    import ast
+
+    found: set[Path | None] = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module == "asymslide":
+            found |= {_module_file(ROOT / SUBPACKAGES[a.name], "") for a in node.names if a.name in SUBPACKAGES}
+        elif isinstance(node, ast.ImportFrom) and (where := _from_base(path, node)) is not None:
+            base, module = where
+            for alias in node.names:  # from . import sweep: the submodule, if there is one
+                sub = _module_file(base, f"{module}.{alias.name}" if module else alias.name)
+                found.add(sub if sub is not None else _module_file(base, module))
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                top = next((name for name in PACKAGE_ROOTS if alias.name.startswith(name)), None)
+                if top is not None:
+                    found.add(_module_file(PACKAGE_ROOTS[top], alias.name[len(top) + 1:]))
+    return {f for f in found if f is not None and f != path}
+
+
+def _cycles(graph: dict[Path, set[Path]]) -> list[list[Path]]:
+    """The import cycles of a graph (module -> modules it imports): the strongly connected components of more than
+    one module (scipy's csgraph)."""
+    from scipy.sparse import csr_array
+    from scipy.sparse.csgraph import connected_components
+
+    nodes = sorted(graph)
+    at = {v: i for i, v in enumerate(nodes)}
+    edges = [(at[v], at[w]) for v in nodes for w in graph[v] if w in at]
+    rows, cols = zip(*edges, strict=True) if edges else ((), ())
+    matrix = csr_array(([1] * len(edges), (rows, cols)), shape=(len(nodes), len(nodes)))
+    _, labels = connected_components(matrix, directed=True, connection="strong")
+    groups = [[v for v, label in zip(nodes, labels, strict=True) if label == k] for k in set(labels)]
+    return sorted(g for g in groups if len(g) > 1)
+
+
+def test_no_import_cycle_within_a_layer() -> None:
+    """The modules of each layer import each other one way only (a package's ``__init__`` that gathers its modules
+    is the top of its package, so a module importing it back is a cycle too)."""
+    cycles = []
+    for folder_name in (*SUBPACKAGES.values(), "asymslide"):
+        folder = ROOT / folder_name
+        graph = {path: _module_imports(path) & set(folder.rglob("*.py")) for path in folder.rglob("*.py")}
+        cycles += [" -> ".join(str(p.relative_to(ROOT)) for p in cycle) for cycle in _cycles(graph)]
+    assert cycles == []

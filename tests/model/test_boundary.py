@@ -13,12 +13,12 @@ import math
 
 import numpy as np
 import pytest
-from asymslide.model._kernels import growth as K
-from asymslide.model.thresholds import CROSSING_STATUS, X_CERTIFIED, X_EDGE
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from asymslide import model
+from asymslide.model._kernels import growth as K
+from asymslide.model.crossings import CROSSING_STATUS, X_CERTIFIED, X_EDGE
 from tests import oracle
 
 KH = np.logspace(-3, 3, 97)  # the atlases' default kH grid

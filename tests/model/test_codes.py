@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from asymslide.model import _kernels as K
 
 from asymslide import model
+from asymslide.model import _kernels as K
 
 ROOT = Path(__file__).resolve().parents[2]
 

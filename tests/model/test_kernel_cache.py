@@ -19,6 +19,7 @@ import sys
 from pathlib import Path
 
 import pytest
+
 from asymslide.model import _kernels
 from asymslide.model._kernels import _common
 

@@ -11,9 +11,10 @@ import cmath
 import math
 
 import pytest
-from asymslide.model._kernels import elementary as K
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
+
+from asymslide.model._kernels import elementary as K
 
 EPS = 2.220446049250313e-16
 ULPS = 4.0

@@ -12,11 +12,11 @@ import math
 
 import numpy as np
 import pytest
-from asymslide.model import lab_units as L
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from asymslide import model
+from asymslide.model import lab_units as L
 
 SETTINGS = settings(max_examples=200, deadline=None)
 RTOL = 1e-12

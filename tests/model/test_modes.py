@@ -11,13 +11,13 @@ from unittest import mock
 
 import numpy as np
 import pytest
-from asymslide.model import modes
-from asymslide.model.modes import unstable_count, unstable_modes
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from mpmath import mp
 
 from asymslide import model
+from asymslide.model import modes
+from asymslide.model.modes import unstable_count, unstable_modes
 from tests import oracle
 
 PAPER = dict(gamma=3.0, f=0.9, beta=0.3)

@@ -10,13 +10,13 @@ from asymslide import model
 
 
 def _public_modules() -> list:
-    return [importlib.import_module(f"model.{m.name}") for m in pkgutil.iter_modules(model.__path__)
+    return [importlib.import_module(f"{model.__name__}.{m.name}") for m in pkgutil.iter_modules(model.__path__)
             if not m.name.startswith("_")]
 
 
 def test_star_import_gives_every_name_in_all() -> None:
     namespace: dict = {}
-    exec("from model import *", namespace)  # noqa: S102 (a fixed statement, the check itself)
+    exec(f"from {model.__name__} import *", namespace)  # noqa: S102 (a fixed statement, the check itself)
     missing = [name for name in model.__all__ if name not in namespace]
     assert not missing
     assert len(set(model.__all__)) == len(model.__all__), "duplicate names in __all__"

@@ -15,12 +15,12 @@ import warnings
 import mpmath as mp
 import numpy as np
 import pytest
-from asymslide.model import PAPER_DEFAULTS as P
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from scipy.integrate import IntegrationWarning, quad
 
 from asymslide import model
+from asymslide.model import PAPER_DEFAULTS as P
 
 CS, NU, MU = P.c_s, P.nu, P.mu
 KW = P.model_kwargs()  # Gamma, X_c0, mu, c_s, nu, plane="stress"

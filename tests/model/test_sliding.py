@@ -14,12 +14,12 @@ import random
 
 import numpy as np
 import pytest
-from asymslide.model import sliding
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from mpmath import mp
 
 from asymslide import model
+from asymslide.model import sliding
 from tests import oracle
 
 INF = math.inf

@@ -6,9 +6,9 @@ import math
 
 import numpy as np
 import pytest
-from asymslide.model import stability
 
 from asymslide import model
+from asymslide.model import stability
 from tests import oracle
 
 PAPER = dict(f=0.9, beta=0.3)
@@ -53,10 +53,10 @@ def test_delta_xi_growth_check_value():
 def test_critical_gamma_and_eta_check_values():
     gc = model.critical_gamma(**PAPER)
     assert abs(gc - 2.4149) < 5e-5
-    assert abs(float(model.max_growth(stability.DEFAULT_KH, gamma=gc, **PAPER)[0])) < 1e-14
+    assert abs(float(model.max_growth(model.thresholds.DEFAULT_KH, gamma=gc, **PAPER)[0])) < 1e-14
     ec = model.critical_eta(gamma=3.0, **PAPER)
     assert abs(ec - 3.2982) < 5e-5
-    g, k = model.max_growth(stability.DEFAULT_KH, gamma=3.0, eta=ec, **PAPER)
+    g, k = model.max_growth(model.thresholds.DEFAULT_KH, gamma=3.0, eta=ec, **PAPER)
     assert abs(float(g)) < 1e-14
     assert abs(float(k) - 0.976) < 0.01
 

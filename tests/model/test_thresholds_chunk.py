@@ -13,21 +13,20 @@ import math
 
 import numpy as np
 import pytest
-from asymslide.model import stability, thresholds
+from scipy import optimize
+
+from asymslide import model
+from asymslide.model import crossings, stability, thresholds
 from asymslide.model._kernels import growth
+from asymslide.model.crossings import CROSSING_STATUS, THRESHOLD_STATUS
 from asymslide.model.thresholds import (
-    CROSSING_STATUS,
-    THRESHOLD_STATUS,
     critical_eta_chunk,
     critical_gamma_chunk,
     crossings_chunk,
     threshold_chunk,
 )
-from scipy import optimize
 
-from asymslide import model
-
-S = np.log(stability.DEFAULT_KH)
+S = np.log(thresholds.DEFAULT_KH)
 PAPER = dict(f=0.9, beta=0.3)
 ROWS = ("gamma", "f", "beta", "eta", "Delta", "xi")
 SCAN = np.exp(np.linspace(math.log(1e-2), math.log(1e3), 17))  # the scan values of the default gamma range
@@ -44,7 +43,7 @@ def brent_threshold(name: str, base: dict, bounds: tuple[float, float]) -> float
     """The first zero of the continuous max growth by a 17-value scan and scipy's brentq in ln x (NaN if none)."""
 
     def growth(t: float) -> float:
-        return float(stability.growth_analysis(stability.DEFAULT_KH, **base, **{name: math.exp(t)}).growth)
+        return float(stability.growth_analysis(thresholds.DEFAULT_KH, **base, **{name: math.exp(t)}).growth)
 
     ts = np.linspace(math.log(bounds[0]), math.log(bounds[1]), 17)
     vals = [growth(t) for t in ts]
@@ -75,10 +74,10 @@ def test_check_values_critical_gamma_and_eta() -> None:
     """docs/physics.md §7: gamma_c = 2.4149 (eta = inf) and eta_c = 3.2982 (gamma = 3), f = 0.9, beta = 0.3."""
     gc, reason = critical_gamma_chunk(S, np.array([[0.9], [0.3], [math.inf], [1.0], [0.0]]))  # (5, n) layout
     assert reason.tolist() == [0] and abs(gc[0] - 2.4149) < 5e-5
-    assert abs(float(model.max_growth(stability.DEFAULT_KH, gamma=gc[0], **PAPER)[0])) < 1e-14
+    assert abs(float(model.max_growth(thresholds.DEFAULT_KH, gamma=gc[0], **PAPER)[0])) < 1e-14
     ec, reason = critical_eta_chunk(S, params6(gamma=3.0, f=0.9, beta=0.3))  # (6, n) layout, eta row ignored
     assert reason.tolist() == [0] and abs(ec[0] - 3.2982) < 5e-5
-    assert abs(float(model.max_growth(stability.DEFAULT_KH, gamma=3.0, eta=ec[0], **PAPER)[0])) < 1e-14
+    assert abs(float(model.max_growth(thresholds.DEFAULT_KH, gamma=3.0, eta=ec[0], **PAPER)[0])) < 1e-14
 
 
 @pytest.mark.parametrize(("name", "seed", "n"), [("gamma", 1, 12), ("eta", 2, 6)])
@@ -309,18 +308,18 @@ def test_more_crossings_than_stored(synthetic) -> None:
 def test_sign_change_across_undefined_values(synthetic) -> None:
     """Growth of both signs only across undefined scan values: a crossing that cannot be located (reason 5)."""
     r = _one(lambda x: -0.01 if x < 1.5 else (math.nan if x < 3 else 0.01), synthetic)
-    assert r.count.tolist() == [1] and r.reason[0, 0] == thresholds.X_UNDEFINED and r.status[0] == 3
+    assert r.count.tolist() == [1] and r.reason[0, 0] == crossings.X_UNDEFINED and r.status[0] == 3
     assert not r.complete[0] and math.isnan(r.value[0, 0]) and r.lo[0, 0] < 1.5 and r.hi[0, 0] > 3
 
 
 def test_undefined_inside_the_bracket(synthetic) -> None:
     """NaN between the bracketing scan values, right where the zero is: undefined, no silent jump elsewhere."""
     r = _one(lambda x: math.nan if 2.4 < x < 2.6 else math.log(x / 2.5), synthetic)
-    assert r.reason[0, 0] == thresholds.X_UNDEFINED and r.status[0] == 3 and math.isnan(r.value[0, 0])
+    assert r.reason[0, 0] == crossings.X_UNDEFINED and r.status[0] == 3 and math.isnan(r.value[0, 0])
 
 
-@pytest.mark.parametrize(("masked", "reason"), [(lambda x: 84 if x < 0.8 else 0, thresholds.X_JUMP_MASKED),
-                                                (lambda x: 0, thresholds.X_JUMP)])
+@pytest.mark.parametrize(("masked", "reason"), [(lambda x: 84 if x < 0.8 else 0, crossings.X_JUMP_MASKED),
+                                                (lambda x: 0, crossings.X_JUMP)])
 def test_jump_is_located_and_refused(synthetic, masked, reason: int) -> None:
     """A max growth jumping from -0.03 to +0.05 at x = 0.8: no neutral mode, the bracket is narrowed (by bisection
     once false position stalls) until G changes across it JUMP_FACTOR times more than its slopes (0 here, floored
@@ -338,7 +337,7 @@ def test_certificate_refuses_a_smooth_zero_next_to_a_jump(synthetic) -> None:
     """A zero of a smooth function at 2.5 hidden by a jump at 2.5 + 1e-10: the neutral mode converges, but G at
     2.5 (1 + 1e-9) is not of the size its slope allows (the jump): not certified there; refused as a jump."""
     r = _one(lambda x: 0.03 * math.log(x / 2.5) + (0.02 if x > 2.5 * (1 + 1e-10) else 0.0), synthetic)
-    assert r.reason[0, 0] in (thresholds.X_JUMP, thresholds.X_NOT_CERTIFIED) and math.isnan(r.value[0, 0])
+    assert r.reason[0, 0] in (crossings.X_JUMP, crossings.X_NOT_CERTIFIED) and math.isnan(r.value[0, 0])
 
 
 def test_tangential_zero_is_not_certified(synthetic) -> None:
