@@ -1,4 +1,4 @@
-"""asymslide web app: six scenes in tabs (TAB_TITLES), a Lab-units panel, paper-figure presets, and the state in the
+"""asymslide web app: six scenes in tabs (app/tabs.py), a Lab-units panel, paper-figure presets, and the state in the
 URL query.
 
 Serve it with ``make serve`` (``panel serve app/main.py ...``) and open http://localhost:5006.
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import html
 from functools import partial
+from typing import TypeVar
 
 import panel as pn
 import param
@@ -16,7 +17,7 @@ from bokeh.models import Tooltip
 
 from asymslide.app import jobs
 from asymslide.app.all_branches import AllBranchesScene
-from asymslide.app.atlas import AtlasRequest, AtlasScene
+from asymslide.app.atlas import AtlasScene
 from asymslide.app.lab import LabScene
 from asymslide.app.params import (
     CUSTOM,
@@ -36,18 +37,13 @@ from asymslide.app.rupture import RuptureScene
 from asymslide.app.server_gc import configure_gc, track_session
 from asymslide.app.spectrum import SpectrumScene
 from asymslide.app.stability_map import StabilityMapScene
+from asymslide.app.tabs import TABS_REGISTRY
 from asymslide.app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
-from asymslide.app.urlstate import TABS, Updates, parse_query, query_string
+from asymslide.app.urlstate import TABS, Updates, parse_query, query_string, url_attributes
 from asymslide.app.workarounds import guard_detached_updates, guard_stream_registry, use_server_stylesheets
 
 guard_detached_updates()  # panes of a tab switched away from keep the page's stylesheets (app/workarounds.py)
 guard_stream_registry()  # sessions on several threads build plots at once (app/workarounds.py)
-
-#: tabs whose scene is built when first shown (see App.__init__)
-LAZY_TABS = ("map", "thin", "rupture", "branches", "atlas")
-
-#: the tab titles, in the order of urlstate.TABS
-TAB_TITLES = ("Spectrum", "Stability map", "Thin-on-thick", "Rupture fronts", "All branches", "Atlas")
 
 TITLE = "asymslide — frictional sliding without reflection symmetry"
 
@@ -109,6 +105,10 @@ def request_args() -> dict[str, list[bytes]]:
         return {}
 
 
+#: a scene class the page wires by name (App._scene)
+Scene = TypeVar("Scene", bound=pn.viewable.Viewer)
+
+
 class App:
     """One browser session: shared parameters, scenes, presets, URL state and messages."""
 
@@ -123,28 +123,28 @@ class App:
         # differ from them (the Lab-units panel then says so), and a material named alone brings its values
         self._apply(updates)
         self.lab = LabScene(params=self.lab_params, spectrum=self.spectrum_params)  # in Spectrum and Stability map
-        self.spectrum = SpectrumScene(params=self.spectrum_params, lab=self.lab)
-        self.map = StabilityMapScene(params=self.spectrum_params, lab=self.lab, **updates["map"])
-        # the page's one set of material constants (ρ, c_s, σ₀, the material) is the Lab-units panel's
-        self.thin = ThinOnThickScene(params=self.thin_params, material=self.lab_params)
-        self.rupture = RuptureScene(params=self.rupture_params, material=self.lab_params)
-        self.branches = AllBranchesScene(params=self.spectrum_params, **updates["branches"])
-        self.atlas = AtlasScene(params=self.spectrum_params, requested=AtlasRequest(**updates["atlas"]))
-        # the Stability-map, Thin-on-thick and All-branches scenes are built when their tab is first shown: a new
-        # session pays only for what it opens on (about half of create_app's cost), and parameter changes
-        # update only the widgets that exist (StabilityMapScene.ensure_map defers its pane updates for this)
-        self._scenes = {"spectrum": self.spectrum, "map": self.map, "thin": self.thin, "rupture": self.rupture,
-                        "branches": self.branches, "atlas": self.atlas}
+        # every tab's scene, in tab order (app/tabs.py: what each is built from)
+        self._scenes = {t.key: t.build(self, updates) for t in TABS_REGISTRY}
+        # the scenes the page wires by name (URL, presets, messages)
+        self.spectrum = self._scene("spectrum", SpectrumScene)
+        self.map = self._scene("map", StabilityMapScene)
+        self.thin = self._scene("thin", ThinOnThickScene)
+        self.rupture = self._scene("rupture", RuptureScene)
+        self.branches = self._scene("branches", AllBranchesScene)
+        self.atlas = self._scene("atlas", AtlasScene)
+        # a lazy tab's panel is built when the tab is first shown: a new session pays only for what it opens on
+        # (about half of create_app's cost), and parameter changes update only the widgets that exist
+        # (StabilityMapScene.ensure_map defers its pane updates for this)
         self._tab_content = {key: pn.Column(sizing_mode="stretch_width") for key in TABS}
         self.tabs = pn.Tabs(
-            *((title, self._tab_content[key]) for title, key in zip(TAB_TITLES, TABS, strict=True)),
+            *((t.title, self._tab_content[t.key]) for t in TABS_REGISTRY),
             active=TABS.index(tab) if tab else 0,
             dynamic=True,  # only the visible scene is rendered (and computes)
             sizing_mode="stretch_width",
             stylesheets=[TABS_CSS],
         )
-        for index, key in enumerate(TABS):
-            if key not in LAZY_TABS or index == self.tabs.active:
+        for index, t in enumerate(TABS_REGISTRY):
+            if not t.lazy or index == self.tabs.active:
                 self._build_tab(index)
         self.tabs.param.watch(lambda e: self._build_tab(e.new, later=True), "active")
         self.presets = load_presets()
@@ -154,8 +154,9 @@ class App:
         self.thin_params.param.watch(self.write_url, list(self.thin_params.param))
         self.lab_params.param.watch(self.write_url, list(self.lab_params.param))
         self.rupture_params.param.watch(self.write_url, list(self.rupture_params.param))
-        self.map.param.watch(self.write_url, ["plane", "resolution", "verdict", "floor"])
-        self.branches.param.watch(self.write_url, ["log10_kH", "re_max", "im_min", "im_max"])
+        for t in TABS_REGISTRY:  # the scenes' own URL settings (the map's plane, …, the All-branches kH, …)
+            if t.url_settings is not None:
+                self._scenes[t.key].param.watch(self.write_url, url_attributes(t.key))
         self.tabs.param.watch(self.write_url, "active")
         self.atlas.param.watch(self.write_url, ["atlas", "data", "x_axis", "y_axis", "indices", "surface_axes",
                                                 "verdict"])
@@ -166,6 +167,13 @@ class App:
         branches_tab = TABS.index("branches")
         self.branches.active = self.tabs.active == branches_tab
         self.tabs.param.watch(lambda e: setattr(self.branches, "active", e.new == branches_tab), "active")
+
+    def _scene(self, key: str, cls: type[Scene]) -> Scene:
+        """The scene of the tab `key`, checked to be a `cls` (the page wires some scenes by name)."""
+        scene = self._scenes[key]
+        if not isinstance(scene, cls):
+            raise TypeError(f"the {key!r} tab's scene is a {type(scene).__name__}, not a {cls.__name__}")
+        return scene
 
     def _build_tab(self, index: int, later: bool = False) -> None:
         """Fill the tab `index` with its scene's panel the first time it is shown. `later` (a tab the user opens on a
@@ -178,7 +186,7 @@ class App:
         if not later or doc is None:
             content.objects = [self._scenes[TABS[index]].__panel__()]
             return
-        content.objects = [placeholder(f"Opening the {TAB_TITLES[index]} tab…")]
+        content.objects = [placeholder(f"Opening the {TABS_REGISTRY[index].title} tab…")]
         doc.add_next_tick_callback(partial(self._fill_tab, index))
 
     def _fill_tab(self, index: int) -> None:
@@ -214,9 +222,11 @@ class App:
         return out
 
     def param_objects(self) -> dict[str, param.Parameterized]:
-        """The parameter objects by URL target (app.urlstate.TARGETS)."""
-        return {"spectrum": self.spectrum_params, "thin": self.thin_params, "lab": self.lab_params,
-                "rupture": self.rupture_params, "map": self.map, "branches": self.branches}
+        """The parameter objects by URL target (app.urlstate.TARGETS): the shared ones, then the scenes with their
+        own URL settings (app.tabs.Tab.url_settings)."""
+        shared = {"spectrum": self.spectrum_params, "thin": self.thin_params, "lab": self.lab_params,
+                  "rupture": self.rupture_params}
+        return {**shared, **{t.key: self._scenes[t.key] for t in TABS_REGISTRY if t.url_settings is not None}}
 
     def show_messages(self, messages: list[str], title: str) -> None:
         self.messages.object = f"**{title}:**\n\n" + "\n".join(f"- {m}" for m in messages) if messages else ""

@@ -19,7 +19,6 @@ from functools import partial
 
 import param
 
-from .all_branches import AllBranchesScene
 from .params import (
     Choice,
     LabParams,
@@ -30,19 +29,24 @@ from .params import (
     ThinOnThickParams,
     declared_parameters,
 )
-from .stability_map import StabilityMapScene
+from .tabs import TABS_REGISTRY
 
 #: longest raw value quoted back in a message (values are HTML-escaped as well)
 MAX_QUOTE = 24
 
-#: query value of each tab, in tab order
-TABS = ("spectrum", "map", "thin", "rupture", "branches", "atlas")
+#: query value of each tab, in tab order (the keys of app.tabs.TABS_REGISTRY)
+TABS = tuple(tab.key for tab in TABS_REGISTRY)
 
+#: the shared parameter classes whose declarations have URL keys, by target name
+SHARED_TARGETS: dict[str, type[param.Parameterized]] = {
+    "spectrum": SpectrumParams, "thin": ThinOnThickParams, "lab": LabParams, "rupture": RuptureParams}
 #: the parameter classes whose declarations have URL keys, by target name (the keys of :data:`Updates`): the shared
-#: parameters and the scenes' own settings (the map's plane and resolution, the All-branches kH and window)
+#: parameters, then the scenes' own settings under their tab's key (app.tabs.Tab.url_settings: the map's plane and
+#: resolution, the All-branches kH and window)
 TARGETS: dict[str, type[param.Parameterized]] = {
-    "spectrum": SpectrumParams, "thin": ThinOnThickParams, "lab": LabParams, "rupture": RuptureParams,
-    "map": StabilityMapScene, "branches": AllBranchesScene}
+    **SHARED_TARGETS, **{tab.key: tab.url_settings for tab in TABS_REGISTRY if tab.url_settings is not None}}
+assert len(TARGETS) == len(SHARED_TARGETS) + sum(tab.url_settings is not None for tab in TABS_REGISTRY), \
+    "a tab's URL settings share a target name with the shared parameters"
 
 #: keys of earlier versions, read as the keys that replaced them (old links keep working): the thin-on-thick and
 #: rupture-front material constants are now the one shared set of the Lab-units panel
@@ -99,6 +103,12 @@ def _query_params() -> tuple[QueryParam, ...]:
 QUERY = _query_params()
 BY_KEY = {q.key: q for q in QUERY}
 assert len(BY_KEY) == len(QUERY), "two declarations share a URL key"
+
+
+def url_attributes(target: str) -> list[str]:
+    """The attributes of the target `target` that the URL holds (with the ∞ switch of a Physical that has one): the
+    page rewrites the URL when one of them changes."""
+    return [name for q in QUERY if q.target == target for name in (q.attribute, q.infinite) if name]
 
 
 def _quote(raw: str) -> str:

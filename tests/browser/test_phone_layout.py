@@ -18,9 +18,12 @@ import pytest
 from bokeh.models import CustomJSTickFormatter, LogTickFormatter
 
 from asymslide.app.common import LOG_COORDINATE_TICKS
-from asymslide.app.main import TAB_TITLES
 from asymslide.app.params import TICKS_JS
+from asymslide.app.tabs import TABS_REGISTRY
 from tests.conftest import open_app, unexpected
+
+#: the tabs' titles, in the order shown
+TAB_TITLES = [tab.title for tab in TABS_REGISTRY]
 
 #: a phone's screen (CSS px)
 PHONE = {"width": 390, "height": 844}
