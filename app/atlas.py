@@ -1,7 +1,7 @@
 """Scene "Atlas": a stored stability atlas (``asymslide sweep``), explored slice by slice.
 
 An atlas is the Rayleigh branch's maximal growth rate on an N-D grid of (γ, f, β, η, Δ, ξ), with the exact threshold
-γ_c over the other axes (atlas/sweep.py; docs/physics.md §9). This scene shows any two axes as a heat map of the
+γ_c over the other axes (atlas/schema.py; docs/physics.md §9). This scene shows any two axes as a heat map of the
 growth with the neutral curve (growth = 0) and, where γ is one of the two, the slice of the γ_c surface; the other axes
 are sliders that snap to the grid. A slice change only reads the stored cube (no model function is called). A 3-D
 view shows the neutral surface (growth = 0) over three chosen axes, and a click on a cell sets the shared parameters

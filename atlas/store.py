@@ -33,7 +33,7 @@ from .writers import done_chunks, store_stamp
 MAX_IN_MEMORY = 512e6
 #: the names an atlas may have (NAME.zarr in the atlas directory)
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,99}$")
-#: the crossing variables of the boundary in γ (atlas/sweep.py; docs/physics.md §9)
+#: the crossing variables of the boundary in γ (atlas/schema.py; docs/physics.md §9)
 CROSSING_VARIABLES = ("gamma_c_crossing", "gamma_c_location", "gamma_c_direction", "gamma_c_crossing_reason")
 
 

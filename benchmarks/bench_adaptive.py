@@ -89,7 +89,7 @@ def compare(adaptive_store: Path, dense_store: Path) -> dict:
 def compare_sample(adaptive_store: Path, n: int, eta: float, sample: int, seed: int = 0) -> dict:
     """Agreement of an adaptive store with the dense model call at `sample` random points (half among the filled,
     half among the computed ones; fewer if there are fewer): the dense values there are computed here, one point at
-    a time as the dense sweep does (:func:`asymslide.atlas.sweep.growth_arrays`)."""
+    a time as the dense sweep does (:func:`asymslide.atlas.tasks.growth_arrays`)."""
     a = _read(adaptive_store, (*GROWTH_VARS, "computed", "verdict_filled"))
     computed = a["computed"].reshape(-1) >= 0
     rng = np.random.default_rng(seed)

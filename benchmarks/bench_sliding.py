@@ -334,7 +334,7 @@ def adaptive_atlas(n: int = 33, sample: int = 400, seed: int = 32) -> str:
 
 
 def threads_vs_processes(n: int = 60, seed: int = 33) -> str:
-    """Why sliding sweeps run in processes: asymslide.atlas.sweep.sliding_arrays on two blocks of `n` random points at
+    """Why sliding sweeps run in processes: asymslide.atlas.tasks.sliding_arrays on two blocks of `n` random points at
     eta = inf, one after the other, in two threads, and in two spawned processes (warm: each process computes one
     point first)."""
     import multiprocessing
@@ -363,10 +363,10 @@ def threads_vs_processes(n: int = 60, seed: int = 33) -> str:
         t0 = time.perf_counter()
         list(pool.map(partial(atlas_tasks.sliding_arrays, spec), blocks))
         processes = time.perf_counter() - t0
-    return (f"\nThe sliding verdict holds the GIL (asymslide.atlas.sweep.sliding_arrays on 2 x {n} random points at "
+    return (f"\nThe sliding verdict holds the GIL (asymslide.atlas.tasks.sliding_arrays on 2 x {n} random points at "
             f"eta = inf): one after the other {serial:.2f} s; two threads {threads:.2f} s ({serial / threads:.2f}x); "
             f"in two processes {processes:.2f} s ({serial / processes:.2f}x). So sweeps run the sliding tasks in "
-            "processes (asymslide.atlas.sweep._execute).\n")
+            "processes (asymslide.atlas.executor.execute).\n")
 
 
 def main() -> None:
