@@ -317,7 +317,7 @@ def plot_ranges(lam: np.ndarray, rate: np.ndarray, band: tuple[float, float],
     [mm] and the peak growth rate [1/s]; the y range is that of the rates inside the shown λ range.
 
     Both are set on every frame: a DynamicMap keeps a plot option that a later frame leaves out, so a stable
-    setting shown after an unstable one kept the unstable one's ±1000 1/s (issue 33)."""
+    setting shown after an unstable one kept the unstable one's ±1000 1/s."""
     growing = bool(np.isfinite(peak_rate) and peak_rate > 0)
     x0, x1 = wavelength_window(lam, band, growing)
     with np.errstate(invalid="ignore"):

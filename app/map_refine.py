@@ -1,4 +1,4 @@
-"""The Stability map refined where its verdict changes: the cells the neutral curve crosses, at finer levels (issue 33).
+"""The Stability map refined where its verdict changes: the cells the neutral curve crosses, at finer levels.
 
 The map's base grid has n cells per axis, each drawn with the value at its centre (:meth:`Axis.values`). Level l
 splits every cell of level l - 1 into 2 x 2, so the finest level L has N = n · 2^L cells per axis, and the cells of

@@ -326,7 +326,7 @@ class SpectrumParams(param.Parameterized):
         def show_eta(infinite: bool) -> None:
             """While η = ∞ is ticked the slider is disabled and shows no number (not its last finite value; the
             box below it says ∞). BokehJS does not redraw a slider's title for a new `format`: a formatter that read
-            ∞ kept reading ∞ after the box was unticked (issue 33), so the number is hidden instead."""
+            ∞ kept reading ∞ after the box was unticked, so the number is hidden instead."""
             w["log10_eta"].param.update(disabled=infinite, show_value=not infinite)
 
         show_eta(self.eta_infinite)

@@ -60,7 +60,7 @@ C_LABEL = "c/c_R"
 VM_LABEL = "v_m [m/s]"
 DS_LABEL = "Δσ_yy/σ₀ at v_m"
 #: the y-axis label of (c): Δσ_yy/σ₀ is a ratio; its axis is logarithmic (the curves span 10⁻² to 10⁰ at the
-#: paper's inputs, rising steeply towards c_R: a linear axis flattened them to 0; issue 33)
+#: paper's inputs, rising steeply towards c_R: a linear axis flattened them to 0)
 DS_LOG_LABEL = "Δσ_yy/σ₀ at v_m (dimensionless, log scale)"
 
 ASSUMPTIONS = """\

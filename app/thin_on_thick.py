@@ -58,7 +58,7 @@ Z_LABEL = "c/c_s"
 GY_LABEL = "G_y"
 V_LABEL = "v [m/s]"
 DS_LABEL = "Δσ_yy/σ₀"
-#: legend names of the reference lines of Fig. 3b (every line a user sees is named: issue 33)
+#: legend names of the reference lines of Fig. 3b (every line a user sees is named)
 ZERO_LABEL = "G_y = 0"
 C_R_LABEL = "c_R (thin block)"
 #: relative difference below which ν counts as the material's: a shared URL holds ν to 6 digits (app/urlstate.py)
@@ -144,8 +144,8 @@ def gy_title(kW: float) -> str:
 
 def material_readout_with_nu(lab: LabParams, nu: float) -> str:
     """:func:`~app.params.material_readout` and the ν a scene uses. ν has its own widget, so it can differ from the
-    named preset's after the material was chosen: it is then marked as not the material's (issue 33: the readout
-    named fused silica beside ν = 0.44)."""
+    named preset's after the material was chosen: it is then marked as not the material's (a readout
+    once named fused silica beside ν = 0.44)."""
     line = material_readout(lab)
     if lab.material == CUSTOM:
         return line + f", ν = {fmt(nu)}"

@@ -157,14 +157,16 @@ def model_name(rev: str | None = None) -> str:
 
 
 def export_revision(rev: str, target: Path, packages: tuple[str, ...] = ("model",)) -> Path:
-    """`git archive` the `packages` (folders) of revision `rev` into target. A revision of one import name also gets
-    its asymslide/ folder, with links asymslide/model -> model/ (and so on) standing in for the installed mapping,
-    so that ``sys.path.insert(0, target); import asymslide.model`` imports the exported code."""
+    """`git archive` the `packages` (folders; those the revision has) of revision `rev` into target. A revision of
+    one import name also gets its asymslide/ folder, with links asymslide/model -> model/ (and so on) standing in for
+    the installed mapping, so that ``sys.path.insert(0, target); import asymslide.model`` imports the exported code."""
     import io
     import tarfile
 
     mapped = model_name(rev) == "asymslide.model"
-    wanted = tuple(dict.fromkeys((*packages, "asymslide") if mapped else packages))
+    tree = set(subprocess.run(["git", "-C", str(ROOT), "ls-tree", "--name-only", rev], capture_output=True, text=True,
+                              check=True, timeout=60).stdout.split())
+    wanted = tuple(p for p in dict.fromkeys((*packages, "asymslide") if mapped else packages) if p in tree)
     data = subprocess.run(["git", "-C", str(ROOT), "archive", rev, *wanted], capture_output=True, check=True,
                           timeout=120).stdout
     with tarfile.open(fileobj=io.BytesIO(data)) as tar:
@@ -272,7 +274,7 @@ def sweep_ab(old_rev: str, rounds: int = 3) -> str:
     cache = Path(os.environ.get("NUMBA_CACHE_DIR", ROOT / ".numba_cache"))
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        old_root = export_revision(old_rev, tmp / "old", ("model", "asymslide"))
+        old_root = export_revision(old_rev, tmp / "old", ("model", "atlas", "atlas_engine", "asymslide"))
         runs = {"old": (old_root, model_name(old_rev), tmp / "cache_old"), "new": (ROOT, model_name(), cache)}
         for name, run in runs.items():  # compile (old) or load the cache once before timing
             _timed_sweep(*run, tmp / f"{name}.zarr")

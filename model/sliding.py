@@ -448,7 +448,8 @@ FOLLOW_ROUNDS = 4  # Newton rounds on the stationary point, then certified there
 STATIONARY_TOL = 1e-10  # |step in ln kH| at which the stationary point has converged
 END_TOL = 1e-12  # a maximum within this of an end of the range (in ln kH) lies at that end
 TRACK_FRACTION = 0.25  # roots above this x the maximum (and the floor) at a grid point are followed to their peaks
-# (at eta = inf; M/8 found no more on issue 31's samples once the roots across the cuts are followed)
+# (at eta = inf; M/8 found no more on the samples of docs/physics.md §14.8 once the roots across the cuts are
+# followed)
 TRACK_FRACTION_FINITE = 0.5  # ... at finite eta (windows ~ 1/level, many roots: M/4 costs 1.6-1.9x, §14.8)
 FLOOR_WATCH = 0.1  # eta = inf: the roots in [floor x FLOOR_WATCH, floor) at a grid point are followed between them
 CERT_MARGIN = 1e-9  # a peak counts as higher than the maximum M above M (1 + CERT_MARGIN)

@@ -318,3 +318,15 @@ def test_every_test_module_lives_in_its_layers_folder() -> None:
 def test_make_test_fast_runs_the_model_and_the_engine_without_the_slow_tests() -> None:
     recipe = subprocess.run(["make", "-n", "test-fast"], cwd=ROOT, capture_output=True, text=True, check=True).stdout
     assert 'pytest tests/model tests/engine -m "not slow"' in recipe
+
+
+def test_no_issue_numbers_in_code_or_tests() -> None:
+    """Names, docstrings and comments say what is tested or why code is as it is, not which issue added it (bug
+    stories live in docs/design-notes.md)."""
+    import re
+
+    pattern = re.compile(r"\bissues? ?#?\d+|\(issue\b", re.IGNORECASE)
+    found = [f"{path.relative_to(ROOT)}:{n}" for folder in ("model", "atlas", "app", "asymslide", "tests")
+             for path in sorted((ROOT / folder).rglob("*.py")) if path.name != "test_infra.py"
+             for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1) if pattern.search(line)]
+    assert found == []
