@@ -26,19 +26,13 @@ import param
 from asymslide import model
 
 from .common import FAMILY_NAMES
+from .declarations import Physical, from_log10, physical_parameters
 from .docs import reference_card
-from .params import (
-    EQUATION_STYLES,
-    Physical,
-    SpectrumParams,
-    csv_download,
-    fmt,
-    from_log10,
-    heading,
-    make_widgets,
-    physical_parameters,
-    scene_layout,
-)
+from .exports import csv_download
+from .layout import EQUATION_STYLES, heading, scene_layout
+from .params import SpectrumParams
+from .plotting import fmt
+from .widgets import make_widgets
 
 # --------------------------------------------------------------------------------------------
 # grids, window limits, labels

@@ -1,6 +1,6 @@
 """What several scenes share, defined once: the growth-map colours and labels, log-axis tick labels, and the neutral
 curve of the Stability-map and Atlas heat maps. (How often a session shows a background computation's progress:
-:data:`app.jobs.UPDATE_INTERVAL`; the phone breakpoint: :data:`app.params.NARROW_PX`; the order of the model's
+:data:`app.jobs.UPDATE_INTERVAL`; the phone breakpoint: :data:`app.layout.NARROW_PX`; the order of the model's
 arguments: :attr:`app.params.SpectrumParams.MODEL_ARGS`.)
 """
 
@@ -40,7 +40,7 @@ COLOUR_LEGEND = ("Red: unstable (max growth > 0), blue: stable, white: nearly ne
 #: tick labels of a linear axis whose coordinate is log10 of a value (the Atlas heat map's log axes): a power of ten
 #: as 10ⁿ, as Bokeh's log axes write it (10⁻¹, 10⁰, 10³), a value between two to two significant digits, plain from
 #: 0.01 to 10⁴ ("0.32", "3.2", "320") and with its power of ten outside ("3.2×10⁴"). The app's linear axes:
-#: :data:`app.params.TICKS_JS`; its log10 sliders: :data:`app.params.LOG10_TICKS`.
+#: :data:`app.plotting.TICKS_JS`; its log10 sliders: :data:`app.widgets.LOG10_TICKS`.
 LOG_COORDINATE_TICKS = """
 const sup = n => String(n).replace(/./g, c => '⁻⁰¹²³⁴⁵⁶⁷⁸⁹'['-0123456789'.indexOf(c)]);
 const n = Math.round(tick);

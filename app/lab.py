@@ -34,18 +34,11 @@ from asymslide import model
 
 from . import spectrum as sp
 from .common import FAMILY_NAMES
+from .declarations import declared_parameters
 from .docs import reference_card
-from .params import (
-    LabParams,
-    SpectrumParams,
-    csv_download,
-    csv_table,
-    declared_parameters,
-    fmt,
-    follow_material,
-    model_args,
-    zero_line_hook,
-)
+from .exports import csv_download, csv_table
+from .params import LabParams, SpectrumParams, follow_material, model_args
+from .plotting import fmt, zero_line_hook
 from .workarounds import frozen_document
 
 #: kH grid of the lab spectrum: the Spectrum scene's, so that matched sliders share one cached computation

@@ -81,7 +81,7 @@ def _key(layers: Mapping[LayerKey, Layer], label: object, n: int) -> LayerKey | 
 def push(pane: pn.pane.HoloViews, layers: Mapping[LayerKey, Layer], *, empty_others: bool = False,
          title: str | None = None) -> bool:
     """Write `layers` (by legend label, or (label, n): :data:`LayerKey`) into every rendered copy of the overlay in
-    `pane`, then run the overlay's hooks on what is drawn (e.g. :func:`app.params.fit_y_hook`,
+    `pane`, then run the overlay's hooks on what is drawn (e.g. :func:`app.plotting.fit_y_hook`,
     :func:`app.spectrum.band_legend_hook`: HoloViews runs them after each of its own updates; they read the Bokeh
     models, so they fit the data written here).
     `empty_others`: the other layers with a data source are emptied (they belong to inputs no longer shown).

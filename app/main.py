@@ -19,19 +19,10 @@ from asymslide.app import jobs
 from asymslide.app.all_branches import AllBranchesScene
 from asymslide.app.atlas import AtlasScene
 from asymslide.app.lab import LabScene
-from asymslide.app.params import (
-    CUSTOM,
-    NARROW_PX,
-    PLACEHOLDER,
-    FitPlots,
-    LabParams,
-    RuptureParams,
-    SpectrumParams,
-    configure_session,
-    placeholder,
-    set_with_material,
-)
+from asymslide.app.layout import NARROW_PX, PLACEHOLDER, FitPlots, placeholder
+from asymslide.app.params import CUSTOM, LabParams, RuptureParams, SpectrumParams, set_with_material
 from asymslide.app.paths import CSS, FAVICON, LOGO
+from asymslide.app.plotting import configure_session
 from asymslide.app.presets import Preset, load_presets, preset_args
 from asymslide.app.rupture import RuptureScene
 from asymslide.app.server_gc import configure_gc, track_session

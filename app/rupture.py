@@ -28,20 +28,10 @@ from asymslide import model
 
 from . import live
 from .docs import reference_card
-from .params import (
-    CUSTOM,
-    PALETTE,
-    LabParams,
-    RuptureParams,
-    controls_column,
-    csv_download,
-    csv_table,
-    fit_y_hook,
-    fmt,
-    material_readout,
-    scene_layout,
-    shared_material_widgets,
-)
+from .exports import csv_download, csv_table
+from .layout import controls_column, material_readout, scene_layout, shared_material_widgets
+from .params import CUSTOM, LabParams, RuptureParams
+from .plotting import PALETTE, fit_y_hook, fmt
 from .thin_on_thick import material_readout_with_nu
 
 #: the plates of the experiment are thin: plane stress (model.PAPER_DEFAULTS.plane; Eq. dsigma's thin block is too)

@@ -24,7 +24,7 @@ from asymslide import model
 
 from . import jobs
 from .common import FAMILY_NAMES
-from .params import fmt
+from .plotting import fmt
 
 #: the strides of the passes, coarsest first (each halves the last; the final pass computes every point)
 STRIDES = (8, 4, 2, 1)

@@ -22,19 +22,10 @@ from asymslide import model
 
 from . import jobs, live, sliding_work
 from .common import FAMILY_NAMES
-from .params import (
-    EQUATION_STYLES,
-    PALETTE,
-    SpectrumParams,
-    controls_column,
-    csv_download,
-    csv_table,
-    fit_y_hook,
-    fmt,
-    placeholder,
-    scene_layout,
-    zero_line_hook,
-)
+from .exports import csv_download, csv_table
+from .layout import EQUATION_STYLES, controls_column, placeholder, scene_layout
+from .params import SpectrumParams
+from .plotting import PALETTE, fit_y_hook, fmt, zero_line_hook
 
 #: kH grid of the plots
 KH = np.logspace(-3, 3, 400)

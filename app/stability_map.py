@@ -52,16 +52,11 @@ from . import map_refine as mr
 from . import sliding_boundary as sb
 from . import sliding_map as sm
 from .common import COLOUR_LEGEND, GROWTH_CMAP, GROWTH_LABEL, MARGINAL, NAN_COLOR, neutral_lines
-from .params import (
-    Choice,
-    SpectrumParams,
-    controls_column,
-    csv_download,
-    csv_table,
-    fmt,
-    readable_ticks_hook,
-    scene_layout,
-)
+from .declarations import Choice
+from .exports import csv_download, csv_table
+from .layout import controls_column, scene_layout
+from .params import SpectrumParams
+from .plotting import fmt, readable_ticks_hook
 from .workarounds import frozen_document
 
 # --------------------------------------------------------------------------------------------

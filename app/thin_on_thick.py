@@ -25,22 +25,11 @@ from bokeh.models import GlyphRenderer
 from asymslide import model
 
 from . import live
-from .params import (
-    CUSTOM,
-    PALETTE,
-    LabParams,
-    RuptureParams,
-    ThinOnThickParams,
-    controls_column,
-    csv_download,
-    csv_table,
-    fit_y_hook,
-    fmt,
-    material_readout,
-    physical_parameters,
-    scene_layout,
-    shared_material_widgets,
-)
+from .declarations import physical_parameters
+from .exports import csv_download, csv_table
+from .layout import controls_column, material_readout, scene_layout, shared_material_widgets
+from .params import CUSTOM, LabParams, RuptureParams, ThinOnThickParams
+from .plotting import PALETTE, fit_y_hook, fmt
 
 #: kW grid of the effective-moduli plots (Fig. 3a and inset)
 KW = np.logspace(-2, 3, 400)
@@ -143,7 +132,7 @@ def gy_title(kW: float) -> str:
 
 
 def material_readout_with_nu(lab: LabParams, nu: float) -> str:
-    """:func:`~app.params.material_readout` and the ν a scene uses. ν has its own widget, so it can differ from the
+    """:func:`~app.layout.material_readout` and the ν a scene uses. ν has its own widget, so it can differ from the
     named preset's after the material was chosen: it is then marked as not the material's (a readout
     once named fused silica beside ν = 0.44)."""
     line = material_readout(lab)

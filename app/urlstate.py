@@ -4,8 +4,8 @@ Reading is strict and never evaluates anything: each number is parsed with :func
 matched against a fixed list of words; a value that is not a finite number is ignored, a number outside the
 parameter's range is clamped to it, unknown keys are ignored, and every such decision becomes a message shown to
 the user. Writing replaces ``location.search`` with the current values. The keys, their ranges and their kinds
-come from the declarations in app/params.py (:class:`~app.params.Physical`, :class:`~app.params.Choice`,
-:class:`~app.params.Switch`).
+come from the declarations in app/params.py (:class:`~app.declarations.Physical`, :class:`~app.declarations.Choice`,
+:class:`~app.declarations.Switch`).
 """
 
 from __future__ import annotations
@@ -19,16 +19,8 @@ from functools import partial
 
 import param
 
-from .params import (
-    Choice,
-    LabParams,
-    Physical,
-    RuptureParams,
-    SpectrumParams,
-    Switch,
-    ThinOnThickParams,
-    declared_parameters,
-)
+from .declarations import Choice, Physical, Switch, declared_parameters
+from .params import LabParams, RuptureParams, SpectrumParams, ThinOnThickParams
 from .tabs import TABS_REGISTRY
 
 #: longest raw value quoted back in a message (values are HTML-escaped as well)

@@ -72,7 +72,8 @@ from tornado.websocket import websocket_connect
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))  # `model` for the verification, also when run as a script
-from asymslide.app.params import SpectrumParams, physical_parameters  # noqa: E402
+from asymslide.app.declarations import physical_parameters  # noqa: E402
+from asymslide.app.params import SpectrumParams  # noqa: E402
 from benchmarks.hostspeed import host_line, host_loop_seconds  # noqa: E402
 from tests.support.served_app import ServedApp, cpu_seconds  # noqa: E402
 

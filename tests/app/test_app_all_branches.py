@@ -18,7 +18,8 @@ from pyviz_comms import Comm
 from asymslide import model
 from asymslide.app import all_branches as ab
 from asymslide.app.all_branches import KH_COUNT, KH_FINE, AllBranchesScene
-from asymslide.app.params import SpectrumParams, from_log10
+from asymslide.app.declarations import from_log10
+from asymslide.app.params import SpectrumParams
 from tests.conftest import open_app, set_slider
 from tests.support.spies import Calls, spying
 

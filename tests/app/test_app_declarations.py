@@ -6,17 +6,8 @@ from __future__ import annotations
 import pytest
 
 from asymslide.app.all_branches import AllBranchesScene
-from asymslide.app.params import (
-    Choice,
-    LabParams,
-    Physical,
-    RuptureParams,
-    SpectrumParams,
-    Switch,
-    ThinOnThickParams,
-    declared_parameters,
-    physical_parameters,
-)
+from asymslide.app.declarations import Choice, Physical, Switch, declared_parameters, physical_parameters
+from asymslide.app.params import LabParams, RuptureParams, SpectrumParams, ThinOnThickParams
 from asymslide.app.spectrum import FAMILY
 from asymslide.app.stability_map import PLANES, StabilityMapScene
 from asymslide.app.urlstate import QUERY, TARGETS, parse_query
@@ -100,7 +91,7 @@ def test_symbols_and_meanings_come_from_the_model() -> None:
 
 def test_sliders_show_as_many_decimals_as_their_step() -> None:
     """Sliders show as many decimals as their step (the c/c_R slider once read "1" at 0.996)."""
-    from asymslide.app.params import decimals
+    from asymslide.app.widgets import decimals
 
     assert [decimals(s) for s in (1.0, 0.5, 0.1, 0.01, 0.005, 0.001)] == [0, 1, 1, 2, 3, 3]
     w = RuptureParams().make_widgets()
@@ -142,7 +133,7 @@ def test_references_to_the_physics_notes_open_their_section() -> None:
 def test_log_slider_values_read_in_one_style(browser_page) -> None:
     """The η slider read "1.00e+4", "100" and "1.00" (toPrecision(3)); now plain numbers from 0.01 to 10⁴ and powers
     of ten beyond, in one style (the formatter run in Chromium as BokehJS runs it)."""
-    from asymslide.app.params import LOG10_TICKS
+    from asymslide.app.widgets import LOG10_TICKS
 
     shown = browser_page.evaluate("([code, ticks]) => ticks.map(t => new Function('tick', code)(t))",
                                   [LOG10_TICKS, [8, 5.4, 4, 2, 0, -1, -1.3, -2, -2.5, 0.6]])

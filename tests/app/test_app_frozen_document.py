@@ -11,7 +11,7 @@ from bokeh.document.models import DocumentModelManager
 from bokeh.models import ColumnDataSource, GlyphRenderer, Span
 from panel.io.state import set_curdoc
 
-from asymslide.app.params import set_frozen
+from asymslide.app.declarations import set_frozen
 from asymslide.app.spectrum import SpectrumScene
 from asymslide.app.workarounds import frozen_document
 

@@ -15,7 +15,7 @@ import pytest
 from asymslide import model
 from asymslide.app import spectrum as sp
 from asymslide.app import thin_on_thick as tt
-from asymslide.app.params import ZERO_LINE
+from asymslide.app.plotting import ZERO_LINE
 from asymslide.app.presets import load_presets
 from asymslide.app.urlstate import BY_KEY, QUERY, TABS, parse_query, query_string
 from tests.conftest import open_app, set_slider
@@ -351,7 +351,7 @@ def test_a_pane_outside_the_document_keeps_the_sessions_stylesheets() -> None:
 @pytest.mark.slow
 def test_tabs_opened_later_keep_the_pages_styles(served_app: str, browser_page) -> None:
     """Tabs rendered after the page has loaded get Bootstrap's full stylesheet (h3 at 28 px): the headings of the
-    controls (app.params.heading) keep one size whichever tab they are in. And no stylesheet is requested from
+    controls (app.layout.heading) keep one size whichever tab they are in. And no stylesheet is requested from
     Panel's CDN (offline here) when the Stability map finishes after its tab was left."""
     page = browser_page
     requested = []

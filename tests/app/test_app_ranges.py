@@ -14,7 +14,8 @@ from bokeh.document import Document
 from bokeh.models import GlyphRenderer, Range1d
 
 from asymslide.app.all_branches import AllBranchesScene
-from asymslide.app.params import SpectrumParams, set_frozen
+from asymslide.app.declarations import set_frozen
+from asymslide.app.params import SpectrumParams
 from asymslide.app.spectrum import SpectrumScene
 from asymslide.app.thin_on_thick import ThinOnThickScene
 

@@ -253,7 +253,7 @@ def test_zero_line_is_drawn_once_and_survives_updates() -> None:
     """The y = 0 line of the growth-rate plot is a Bokeh Span added by a hook, once, also after updates."""
     from bokeh.document import Document
 
-    from asymslide.app.params import ZERO_LINE
+    from asymslide.app.plotting import ZERO_LINE
 
     scene = SpectrumScene()
     plot = hv.renderer("bokeh").get_plot(scene.im_dmap, doc=Document())

@@ -2,8 +2,8 @@
 
 - At 390 x 844 (a phone), every tab: no plot title and no legend runs past its plot's canvas (Bokeh cuts them off
   there: titles are drawn on one line, legends where HoloViews put them), no figure past the screen, and the page
-  does not scroll sideways (app.params.FitPlots wraps the titles and moves the legends below their plots).
-- Tick labels: one style on every axis (app.params.TICKS_JS, app.common.LOG_COORDINATE_TICKS): zero is "0", never
+  does not scroll sideways (app.layout.FitPlots wraps the titles and moves the legends below their plots).
+- Tick labels: one style on every axis (app.plotting.TICKS_JS, app.common.LOG_COORDINATE_TICKS): zero is "0", never
   Bokeh's "0.000e+0".
 - The console: opening every tab logs no warning or error but those of :data:`ALLOWED_CONSOLE` (the libraries').
 """
@@ -18,7 +18,7 @@ import pytest
 from bokeh.models import CustomJSTickFormatter, LogTickFormatter
 
 from asymslide.app.common import LOG_COORDINATE_TICKS
-from asymslide.app.params import TICKS_JS
+from asymslide.app.plotting import TICKS_JS
 from asymslide.app.tabs import TABS_REGISTRY
 from tests.conftest import open_app, unexpected
 
@@ -188,7 +188,7 @@ def test_the_plots_keep_their_titles_and_legends_on_a_wide_page(served_app: str,
     open_app(page, served_app)
     for tab in ("Spectrum", "All branches"):
         show_tab(page, tab)
-        page.wait_for_timeout(1000)  # a few rounds of app.params.FitPlots
+        page.wait_for_timeout(1000)  # a few rounds of app.layout.FitPlots
         assert clipped_plots(page, 1400, settle_ms=5000) == []
         shown = page.evaluate("""() => [...Bokeh.index.all_views()].filter(v => v.model.type === 'Figure' &&
           v.el.isConnected && v.el.getBoundingClientRect().width > 0).map(v => ({title: v.model.title.text,
@@ -239,9 +239,9 @@ def test_tick_labels_have_one_readable_style_and_zero_reads_0(browser_context) -
 
 @pytest.mark.parametrize("logy", [False, True])
 def test_every_plot_uses_the_readable_tick_labels(logy: bool) -> None:
-    """Every element's plot runs app.params.readable_ticks_hook (a default option): a linear axis gets the app's
+    """Every element's plot runs app.plotting.readable_ticks_hook (a default option): a linear axis gets the app's
     formatter, even in an Overlay that sets its own hooks; a log axis keeps Bokeh's 10ⁿ labels. (No browser.)"""
-    import asymslide.app.params  # noqa: F401 -- sets the defaults
+    import asymslide.app.plotting  # noqa: F401 -- sets the defaults
 
     overlay = (hv.Curve([(1, 0.0), (2, 1e-4)]) * hv.Scatter([(1, 2e-4)])).opts(
         hv.opts.Overlay(logy=logy, hooks=[lambda plot, element: None]))
