@@ -98,7 +98,7 @@ def atlas(browser, url: str, name: str, store: Path, screenshot: Path) -> None:
                          f"console errors: {errors}") from None
     shown = page.evaluate(IMAGE_JS)
     growth = xr.open_zarr(store, consolidated=False).growth
-    # the heat map shows the first two axes; every other axis starts at its middle index (app/atlas.py)
+    # the heat map shows the first two axes; every other axis starts at its middle index (app/atlas/request.py)
     middle = {d: growth.sizes[d] // 2 for d in growth.dims[2:]}
     want = growth.isel(middle).values
     page.wait_for_function("() => Bokeh.documents[0].is_idle", timeout=60_000)

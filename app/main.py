@@ -17,7 +17,7 @@ from bokeh.models import Tooltip
 
 from asymslide.app import jobs
 from asymslide.app.all_branches import AllBranchesScene
-from asymslide.app.atlas import AtlasScene
+from asymslide.app.atlas.scene import AtlasScene
 from asymslide.app.lab import LabScene
 from asymslide.app.layout import NARROW_PX, PLACEHOLDER, FitPlots, placeholder
 from asymslide.app.params import CUSTOM, LabParams, RuptureParams, SpectrumParams, set_with_material

@@ -16,7 +16,8 @@ import panel as pn
 import param
 
 from .all_branches import AllBranchesScene
-from .atlas import AtlasRequest, AtlasScene
+from .atlas.request import AtlasRequest
+from .atlas.scene import AtlasScene
 from .lab import LabScene
 from .params import LabParams, RuptureParams, SpectrumParams, ThinOnThickParams
 from .rupture import RuptureScene

@@ -207,10 +207,10 @@ def _parse_atlas_verdict(raw: str, atlas: dict[str, object], messages: list[str]
 
 
 def _parse_atlas(key: str, raw: str, atlas: dict[str, object], messages: list[str]) -> None:
-    """One of the Atlas tab's keys into `atlas` (the fields of app.atlas.AtlasRequest), or a message. Only names of
-    the atlas directory's listing and of the six parameters are accepted, never a path."""
+    """One of the Atlas tab's keys into `atlas` (the fields of app.atlas.request.AtlasRequest), or a message. Only
+    names of the atlas directory's listing and of the six parameters are accepted, never a path."""
     if key == "atlas":
-        from .atlas import list_atlases
+        from .atlas.directory import list_atlases
 
         names = list_atlases()
         if raw in names:
@@ -244,7 +244,7 @@ def _parse_atlas(key: str, raw: str, atlas: dict[str, object], messages: list[st
 
 
 def atlas_query(state: Mapping[str, object]) -> dict[str, str]:
-    """The Atlas tab's URL keys for its state (app.atlas.AtlasScene.url_state: name, x, y, at, surface)."""
+    """The Atlas tab's URL keys for its state (app.atlas.scene.AtlasScene.url_state: name, x, y, at, surface)."""
     out: dict[str, str] = {}
     if state.get("name"):
         out["atlas"] = str(state["name"])

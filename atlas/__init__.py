@@ -14,6 +14,9 @@ below and the app and the command line above. The pipeline runs one way:
 - :mod:`~asymslide.atlas.summary` -- what a store holds, in lines (``asymslide info``) and counts;
 - :mod:`~asymslide.atlas.store` -- the atlas directory the app reads.
 
+Beside the pipeline, :mod:`~asymslide.atlas.surface` is the neutral surface of a 3-D grid (pure NumPy geometry),
+which the Atlas tab's 3-D view draws.
+
 It imports :mod:`asymslide.model` and the scientific stack only, never the app or the command line
 (ARCHITECTURE.md).
 """

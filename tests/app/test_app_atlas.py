@@ -13,8 +13,12 @@ import pytest
 import xarray as xr
 
 from asymslide import model
-from asymslide.app import atlas as A
+from asymslide.app.atlas import directory as D
+from asymslide.app.atlas.heatmap import COLOURS, HeatMap
+from asymslide.app.atlas.readout import REFUSED_CROSSING
+from asymslide.app.atlas.scene import AtlasScene
 from asymslide.app.params import SpectrumParams
+from asymslide.atlas import store
 from asymslide.atlas import sweep as S
 from tests.conftest import save_screenshot
 from tests.support.headless import build_app
@@ -48,11 +52,11 @@ def boundary_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.fixture
 def atlas_dir(atlas_store: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(atlas_store))
-    A._load.cache_clear()  # the atlases read from the store: its misses
+    store.read_atlas.cache_clear()  # the atlases read from the store: its misses
     return atlas_store
 
 
-def _heat(scene: A.AtlasScene) -> A.HeatMap:
+def _heat(scene: AtlasScene) -> HeatMap:
     """The drawn heat map of the scene (its figure in the pane, its sources updated)."""
     scene._show_heat_map()
     heat = scene.heat_map()
@@ -62,11 +66,11 @@ def _heat(scene: A.AtlasScene) -> A.HeatMap:
 
 @pytest.mark.slow
 def test_only_atlases_of_the_directory_are_listed_and_opened(atlas_dir: Path) -> None:
-    assert A.list_atlases() == ["eta-gamma", "small"]
-    assert A.resolve("small") == atlas_dir / "small.zarr"
+    assert D.list_atlases() == ["eta-gamma", "small"]
+    assert D.resolve("small") == atlas_dir / "small.zarr"
     for bad in ("../small", "/etc/passwd", "small/../small", "", ".hidden", "missing", "small.zarr", "a" * 300):
-        assert A.resolve(bad) is None, bad
-    scene = A.AtlasScene(requested="../../etc")
+        assert D.resolve(bad) is None, bad
+    scene = AtlasScene(requested="../../etc")
     scene.refresh()
     scene.refresh()
     assert scene.data is None and "is not in" in scene.message
@@ -74,10 +78,10 @@ def test_only_atlases_of_the_directory_are_listed_and_opened(atlas_dir: Path) ->
 
 def test_slice_is_the_stored_cube_and_a_slice_change_calls_no_model_function(atlas_dir: Path,
                                                                             monkeypatch: pytest.MonkeyPatch) -> None:
-    scene = A.AtlasScene(requested="small")
+    scene = AtlasScene(requested="small")
     scene.refresh()
     stored = xr.open_zarr(atlas_dir / "small.zarr", consolidated=False)
-    assert (scene.x_axis, scene.y_axis) == ("gamma", "beta") and A._load.cache_info().misses == 1
+    assert (scene.x_axis, scene.y_axis) == ("gamma", "beta") and store.read_atlas.cache_info().misses == 1
 
     def forbidden(*_a, **_k):
         raise AssertionError("a slice change called the model")
@@ -103,18 +107,18 @@ def test_slice_is_the_stored_cube_and_a_slice_change_calls_no_model_function(atl
     np.testing.assert_array_equal(heat.cells.data["image"][0], want)
     stored_c = stored.gamma_c_crossing.isel(beta=scene.indices["beta"]).values
     assert len(_drawn_thresholds(heat)) == int(np.isfinite(stored_c).sum())  # γ on y: the γ_c(f) lines
-    assert A._load.cache_info().misses == 1  # read once; the slices come from memory
+    assert store.read_atlas.cache_info().misses == 1  # read once; the slices come from memory
     assert [w.label for w in scene.sliders.objects] == ["β"]
 
 
-def _drawn_thresholds(heat: A.HeatMap) -> list[tuple[float, float]]:
+def _drawn_thresholds(heat: HeatMap) -> list[tuple[float, float]]:
     """Every vertex of the drawn threshold lines (both directions), in plotted coordinates."""
     return [(float(x), float(y)) for source in heat.thresholds.values()
             for xs, ys in zip(source.data["xs"], source.data["ys"], strict=True) for x, y in zip(xs, ys, strict=True)]
 
 
 def test_neutral_curve_separates_the_signs(atlas_dir: Path) -> None:
-    scene = A.AtlasScene(requested="small")
+    scene = AtlasScene(requested="small")
     scene.refresh()
     heat = _heat(scene)
     x, y, g = scene.slice2d()
@@ -138,7 +142,7 @@ def test_colours_are_the_legend_and_the_stability_map(atlas_dir: Path) -> None:
     """Red: unstable (growth > 0), blue: stable, as the legend says and as the Stability map draws (RdBu_r)."""
     from holoviews.plotting.util import process_cmap
 
-    scene = A.AtlasScene(requested="small")
+    scene = AtlasScene(requested="small")
     scene.refresh()
     mapper = _heat(scene).mapper
     assert mapper.low < 0 < mapper.high
@@ -147,7 +151,7 @@ def test_colours_are_the_legend_and_the_stability_map(atlas_dir: Path) -> None:
     stability_map = process_cmap("RdBu_r", len(mapper.palette))  # app/stability_map.py's colour map
     assert _rgb(stability_map[-1])[0] > _rgb(stability_map[-1])[2] and _rgb(stability_map[0])[2] > \
         _rgb(stability_map[0])[0]
-    assert A.COLOURS.startswith("Red: unstable (max growth > 0), blue: stable")
+    assert COLOURS.startswith("Red: unstable (max growth > 0), blue: stable")
 
 
 def _lab(color: str) -> np.ndarray:
@@ -178,40 +182,21 @@ def test_not_computable_never_looks_like_nearly_neutral_growth() -> None:
 
 def test_click_sets_all_six_shared_parameters(atlas_dir: Path) -> None:
     params = SpectrumParams(gamma=1.0, f=0.2, beta=0.5, eta_infinite=False, log10_eta=2.0, Delta=0.5, xi=3.0)
-    scene = A.AtlasScene(requested="small", params=params)
+    scene = AtlasScene(requested="small", params=params)
     scene.refresh()
     scene._set_index("f", 1)
     scene._on_tap(x=math.log10(AXES["gamma"][5]) + 0.01, y=AXES["beta"][3] - 0.01)
     assert params.gamma == AXES["gamma"][5] and params.beta == AXES["beta"][3] and params.f == AXES["f"][1]
     assert params.eta_infinite and params.Delta == 1.0 and params.xi == 0.0  # the atlas's fixed values
     assert "Parameters set from the atlas cell" in scene.message
-    other = A.AtlasScene(requested="eta-gamma", params=params)
+    other = AtlasScene(requested="eta-gamma", params=params)
     other.refresh()
     other._on_tap(x=math.log10(1e3), y=math.log10(0.5))
     assert not params.eta_infinite and params.log10_eta == pytest.approx(3.0) and params.gamma == pytest.approx(0.5)
 
 
-def test_neutral_surface_is_exact_for_a_linear_field_and_skips_masked_cells() -> None:
-    x, y, z = np.linspace(0, 1, 6), np.linspace(-1, 2, 7), np.geomspace(0.1, 3, 5)
-    X, Y, Z = np.meshgrid(x, y, z, indexing="ij")
-    field = 0.4 * X + 0.3 * Y - 0.5 * Z - 0.1234  # no grid value within MARGINAL of 0
-    vertices, triangles = A.neutral_surface(x, y, z, field)
-    assert len(triangles) > 20 and triangles.max() < len(vertices)
-    plane = 0.4 * vertices[:, 0] + 0.3 * vertices[:, 1] - 0.5 * vertices[:, 2] - 0.1234
-    np.testing.assert_allclose(plane, 0.0, atol=1e-12)  # linear interpolation on tetrahedron edges is exact here
-    # a masked grid point: no triangle in the eight cells around it (the boundary is not guessed there)
-    masked = field.copy()
-    masked[2, 3, 2] = np.nan
-    v2, t2 = A.neutral_surface(x, y, z, masked)
-    centroids = v2[t2].mean(axis=1)
-    around = ((centroids[:, 0] > x[1]) & (centroids[:, 0] < x[3]) & (centroids[:, 1] > y[2]) & (centroids[:, 1] < y[4])
-              & (centroids[:, 2] > z[1]) & (centroids[:, 2] < z[3]))
-    assert 0 < len(t2) < len(triangles) and not around.any()
-    assert len(A.neutral_surface(x, y, z, np.abs(field) + 1)[1]) == 0  # no sign change: no surface
-
-
 def test_surface_figure_is_the_neutral_surface_over_the_atlas_ranges(atlas_dir: Path) -> None:
-    scene = A.AtlasScene(requested="small")
+    scene = AtlasScene(requested="small")
     scene.refresh()
     fig = scene.surface_figure()
     mesh = fig["data"][0]
@@ -241,7 +226,7 @@ def test_the_3d_view_is_whole_zooms_on_the_wheel_reads_depth_and_log_axes_in_val
     """The figure is as tall as its pane and seen from further out than Plotly's default camera (which cut the box's
     near corner off at the bottom), the wheel zooms, the surface is coloured by its third axis with a colour bar (it
     was one flat colour), and a log axis is a Plotly log axis over the parameter's values."""
-    scene = A.AtlasScene(requested="small")
+    scene = AtlasScene(requested="small")
     scene.refresh()
     fig = scene.surface_figure()
     layout, mesh = fig["layout"], fig["data"][0]
@@ -282,12 +267,12 @@ def test_the_default_atlas_is_named_by_what_it_is_and_its_hash_url_still_opens_i
 
     from asymslide.app.urlstate import query_string
 
-    name = A.default_name()
+    name = D.default_name()
     assert name.startswith("default-")
     shutil.copytree(atlas_store / "small.zarr", tmp_path / f"{name}.zarr")  # a complete store under the default's name
     shutil.copytree(atlas_store / "eta-gamma.zarr", tmp_path / "eta-gamma.zarr")
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
-    A._load.cache_clear()
+    store.read_atlas.cache_clear()
     app = build_app({"tab": ["atlas"], "atlas": [name]})  # an old link
     scene = app.atlas
     assert not app.messages.visible and scene.atlas == name and scene.data is not None
@@ -318,7 +303,7 @@ def test_heat_map_tick_labels_stay_apart_on_a_phone(atlas_dir: Path) -> None:
     are not drawn, and a log axis's labels are short."""
     from bokeh.models import NoOverlap
 
-    scene = A.AtlasScene(requested="small")
+    scene = AtlasScene(requested="small")
     scene.refresh()
     fig = _heat(scene).figure
     assert fig.xaxis[0].ticker.desired_num_ticks <= 4  # Bokeh's default is 6
@@ -330,21 +315,21 @@ def test_heat_map_tick_labels_stay_apart_on_a_phone(atlas_dir: Path) -> None:
 @pytest.mark.slow
 def test_default_atlas_is_computed_on_first_use(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path / "cache"))
-    monkeypatch.setattr(A, "DEFAULT_AXES", {"gamma": np.geomspace(0.5, 10, 4), "eta": np.geomspace(2, 100, 3),
+    monkeypatch.setattr(D, "DEFAULT_AXES", {"gamma": np.geomspace(0.5, 10, 4), "eta": np.geomspace(2, 100, 3),
                                             "f": np.array([0.5, 0.9]), "beta": np.array([0.2, 0.3])})
-    monkeypatch.setattr(A, "DEFAULT_KH", KH)
-    monkeypatch.setattr(A, "_default_job", None)
+    monkeypatch.setattr(D, "DEFAULT_KH", KH)
+    monkeypatch.setattr(D, "_default_job", None)
     monkeypatch.setattr(S, "sweep", mock.Mock(wraps=S.sweep))  # a spy
-    scene = A.AtlasScene()
+    scene = AtlasScene()
     scene.refresh()
-    assert scene.data is None and not A.default_ready()
+    assert scene.data is None and not D.default_ready()
     scene.start_default()
     assert scene.progress.visible and "Computing the default atlas" in scene.status.object
     scene.wait(60)  # without a server: wait for the computation, then show it
-    assert S.sweep.call_count == 1 and A.default_ready() and not scene.progress.visible
-    assert scene.atlas == A.default_name() and scene.data is not None and len(scene.data.names) == 4
-    assert (tmp_path / "cache" / f"{A.default_name()}.zarr").is_dir()
-    again = A.AtlasScene()  # the next session opens it at once
+    assert S.sweep.call_count == 1 and D.default_ready() and not scene.progress.visible
+    assert scene.atlas == D.default_name() and scene.data is not None and len(scene.data.names) == 4
+    assert (tmp_path / "cache" / f"{D.default_name()}.zarr").is_dir()
+    again = AtlasScene()  # the next session opens it at once
     again.start_default()
     assert again.data is not None and S.sweep.call_count == 1
 
@@ -354,13 +339,13 @@ def test_a_folder_the_server_cannot_write_is_explained_and_its_atlases_still_ope
     """A mounted atlas folder the server's user cannot write (simulated: tests run as root, who may write anything)
     -> the tab says why the default atlas is not computed and how to fix it; the folder's atlases open."""
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(atlas_store))
-    monkeypatch.setattr(A, "_default_job", None)
+    monkeypatch.setattr(D, "_default_job", None)
 
     def read_only(path, *args, **kwargs):
         raise PermissionError(13, "Permission denied", str(path))
 
-    monkeypatch.setattr(A.store, "open", read_only, raising=False)  # the lock file beside the default atlas
-    scene = A.AtlasScene()
+    monkeypatch.setattr(store, "open", read_only, raising=False)  # the lock file beside the default atlas
+    scene = AtlasScene()
     scene.refresh()
     scene.start_default()
     scene.wait(60)
@@ -368,7 +353,7 @@ def test_a_folder_the_server_cannot_write_is_explained_and_its_atlases_still_ope
     assert "Permission denied" in scene.status.object and "Traceback" not in scene.status.object
     scene.atlas = "small"  # what the folder has still opens
     assert scene.data is not None and scene.data.name == "small"
-    monkeypatch.setattr(A, "_default_job", None)
+    monkeypatch.setattr(D, "_default_job", None)
 
 
 @pytest.mark.slow
@@ -379,9 +364,9 @@ def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects
     two different axes, the sliders the other axes, and the heat map a 2-D slice -- without a reload."""
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
     axes = {"gamma": np.geomspace(0.5, 10, 4), "eta": np.geomspace(2, 100, 3), "f": np.array([0.5, 0.9])}
-    monkeypatch.setattr(A, "DEFAULT_AXES", axes)
-    monkeypatch.setattr(A, "DEFAULT_KH", KH)
-    monkeypatch.setattr(A, "_default_job", None)
+    monkeypatch.setattr(D, "DEFAULT_AXES", axes)
+    monkeypatch.setattr(D, "DEFAULT_KH", KH)
+    monkeypatch.setattr(D, "_default_job", None)
     held, release = threading.Event(), threading.Event()
     real = S.sweep
 
@@ -392,7 +377,7 @@ def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects
         return real(*args, **kwargs)
 
     monkeypatch.setattr(S, "sweep", held_sweep)
-    scene = A.AtlasScene()
+    scene = AtlasScene()
     scene.__panel__()
     assert held.wait(60)
     scene.computation.update()  # headless: show the job's state now (served: the session's next tick does)
@@ -402,8 +387,8 @@ def test_an_atlas_that_appears_after_the_tab_was_built_is_shown_with_its_selects
     release.set()
     scene.wait(60)
     assert scene.data is not None and not scene.progress.visible
-    assert scene.atlas_select.value == A.default_name()
-    assert list(scene.atlas_select.options.values()) == [A.default_name()]
+    assert scene.atlas_select.value == D.default_name()
+    assert list(scene.atlas_select.options.values()) == [D.default_name()]
     assert (scene.x_select.value, scene.y_select.value) == ("gamma", "eta")
     assert [w.label for w in scene.sliders.objects] == ["f"]
     heat = scene.heat_map()
@@ -415,16 +400,16 @@ def test_a_failed_default_atlas_is_shown_and_started_again_when_the_tab_is_shown
     """An error of the default atlas's computation is shown in the tab (its type and message, not a traceback); the
     session keeps working, and showing the tab again starts the computation again."""
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
-    monkeypatch.setattr(A, "DEFAULT_AXES", {"gamma": np.geomspace(0.5, 10, 3), "f": np.array([0.5, 0.9])})
-    monkeypatch.setattr(A, "DEFAULT_KH", KH)
-    monkeypatch.setattr(A, "_default_job", None)
+    monkeypatch.setattr(D, "DEFAULT_AXES", {"gamma": np.geomspace(0.5, 10, 3), "f": np.array([0.5, 0.9])})
+    monkeypatch.setattr(D, "DEFAULT_KH", KH)
+    monkeypatch.setattr(D, "_default_job", None)
     real = S.sweep
 
     def failing(*_args, **_kwargs):
         raise RuntimeError("disk on fire (test)")
 
     monkeypatch.setattr(S, "sweep", failing)
-    scene = A.AtlasScene()
+    scene = AtlasScene()
     scene.start_default()
     scene.wait(60)
     assert scene.status.object == "**Default atlas failed**: RuntimeError: disk on fire (test)"
@@ -432,11 +417,11 @@ def test_a_failed_default_atlas_is_shown_and_started_again_when_the_tab_is_shown
     monkeypatch.setattr(S, "sweep", real)
     scene.start_default()
     scene.wait(60)
-    assert scene.data is not None and scene.atlas == A.default_name() and scene.status.object == ""
+    assert scene.data is not None and scene.atlas == D.default_name() and scene.status.object == ""
 
 
 def test_x_and_y_axes_cannot_be_the_same(atlas_dir: Path) -> None:
-    scene = A.AtlasScene(requested="small")
+    scene = AtlasScene(requested="small")
     scene.refresh()
     assert (scene.x_axis, scene.y_axis) == ("gamma", "beta")
     assert "gamma" not in scene.y_select.options.values() and set(scene.y_select.options.values()) == {"beta", "f"}
@@ -462,9 +447,9 @@ def test_url_names_an_atlas_of_the_directory_only(atlas_store: Path, tmp_path: P
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path))
 
     # a page opening on the Atlas tab without a valid atlas computes the default one: keep it tiny here
-    monkeypatch.setattr(A, "DEFAULT_AXES", {"gamma": np.geomspace(0.5, 10, 3), "f": np.array([0.5, 0.9])})
-    monkeypatch.setattr(A, "DEFAULT_KH", KH)
-    monkeypatch.setattr(A, "_default_job", None)
+    monkeypatch.setattr(D, "DEFAULT_AXES", {"gamma": np.geomspace(0.5, 10, 3), "f": np.array([0.5, 0.9])})
+    monkeypatch.setattr(D, "DEFAULT_KH", KH)
+    monkeypatch.setattr(D, "_default_job", None)
     from asymslide.app.urlstate import TABS, query_string
 
     app = build_app({"tab": ["atlas"], "atlas": ["eta-gamma"]})
@@ -569,7 +554,7 @@ def test_undetermined_cells_are_hatched_with_their_reason_and_every_crossing_is_
     crossing by direction and marks the refused sign changes; the readouts count them."""
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(boundary_store))
     stored = xr.open_zarr(boundary_store / "boundary.zarr", consolidated=False)
-    scene = A.AtlasScene(requested="boundary")
+    scene = AtlasScene(requested="boundary")
     scene.refresh()
     assert (scene.x_axis, scene.y_axis) == ("gamma", "Delta")
     heat = _heat(scene)
@@ -598,7 +583,7 @@ def test_undetermined_cells_are_hatched_with_their_reason_and_every_crossing_is_
     refused = (reasons >= 0) & ~np.isin(reasons, (0, 1))
     assert refused.any()
     np.testing.assert_allclose(10 ** np.asarray(heat.refused.data["x"]), stored.gamma_c_location.values[refused])
-    assert set(heat.refused.data["why"]) == {A.REFUSED_CROSSING[int(r)] for r in reasons[refused]}
+    assert set(heat.refused.data["why"]) == {REFUSED_CROSSING[int(r)] for r in reasons[refused]}
     # legend: what the slice has, nothing else (no older-atlas γ_c entry, no stabilising one here)
     shown = {item.label["value"] for item in heat.figure.legend[0].items if item.visible}
     assert "undetermined (hatched)" in shown and "γ_c: unstable above (certified)" in shown
@@ -618,7 +603,7 @@ def test_undetermined_cells_are_hatched_with_their_reason_and_every_crossing_is_
 
 
 def test_refused_crossing_labels_are_model_codes() -> None:
-    assert set(A.REFUSED_CROSSING) <= set(model.CROSSING_STATUS) - {0, 1}
+    assert set(REFUSED_CROSSING) <= set(model.CROSSING_STATUS) - {0, 1}
 
 
 # ------------------------------------------------------------------------------------------------

@@ -15,11 +15,13 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from asymslide.app import atlas as A
 from asymslide.app import sliding_map as slm
+from asymslide.app.atlas.heatmap import FILLED_CLASSES
+from asymslide.app.atlas.request import AtlasRequest
+from asymslide.app.atlas.scene import AtlasScene
 from asymslide.app.common import FAMILY_NAMES
 from asymslide.app.urlstate import parse_query, query_string
-from asymslide.atlas import plan
+from asymslide.atlas import plan, store
 from asymslide.atlas import sweep as S
 from tests.conftest import open_app, save_screenshot
 from tests.support.headless import build_app
@@ -54,7 +56,7 @@ def atlas_dir(sliding_store: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPat
     directory = tmp_path / "atlases"
     shutil.copytree(sliding_store, directory)
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(directory))
-    A._load.cache_clear()
+    store.read_atlas.cache_clear()
     return directory
 
 
@@ -62,8 +64,8 @@ def _stored(directory: Path, name: str) -> xr.Dataset:
     return xr.open_zarr(directory / f"{name}.zarr", consolidated=False).load()
 
 
-def _scene(name: str, x: str = "beta", **kwargs) -> A.AtlasScene:
-    scene = A.AtlasScene(requested=A.AtlasRequest(name=name, x=x, y="gamma", **kwargs))
+def _scene(name: str, x: str = "beta", **kwargs) -> AtlasScene:
+    scene = AtlasScene(requested=AtlasRequest(name=name, x=x, y="gamma", **kwargs))
     scene.refresh()
     scene._show_heat_map()
     assert scene.image_pane.object is scene.heat_map().figure
@@ -201,7 +203,7 @@ def test_an_adaptive_sliding_atlas_shows_the_filled_verdict_it_colours(atlas_dir
     hit = (computed < 0).T.ravel()
     assert 0 < hit.sum() < hit.size
     heat = scene.heat_map()
-    pale = {k: colour for k, (_, colour) in A.FILLED_CLASSES.items()}
+    pale = {k: colour for k, (_, colour) in FILLED_CLASSES.items()}
 
     def filled(name: str) -> list[str]:
         return [pale[int(k)] for k in ds[name].values.T.ravel()[hit]]

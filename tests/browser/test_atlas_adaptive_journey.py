@@ -17,7 +17,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from asymslide.app import atlas as AT
+from asymslide.app.atlas.heatmap import FILLED_CLASSES
+from asymslide.app.atlas.readout import adaptive_readout
+from asymslide.app.atlas.scene import AtlasScene
+from asymslide.app.plotting import fmt
 from asymslide.atlas import refinement
 from asymslide.atlas import sweep as S
 from tests.browser.test_journeys import _IMAGE_JS, WAIT, idle
@@ -105,7 +108,7 @@ def test_an_adaptive_atlas_shows_computed_values_and_filled_classes_apart(
     assert len(fills) == 1, layers
     fill = fills[0]
     assert fill["n"] == int(not_computed.sum())
-    want = {f"not computed: {AT.FILLED_CLASSES[int(k)][0]} (from its cell)" for k in np.unique(filled[not_computed])}
+    want = {f"not computed: {FILLED_CLASSES[int(k)][0]} (from its cell)" for k in np.unique(filled[not_computed])}
     assert set(fill["filled_legend"]) == want
     assert any("not computed: @why" in t for t in fill["tips"]), fill
     assert all(w.startswith("verdict ") and "from its cell (level " in w for w in fill["why"]), fill
@@ -136,19 +139,19 @@ def test_an_adaptive_atlas_shows_computed_values_and_filled_classes_apart(
     labels = [t.strip().rstrip(":") for t in page.locator(".bk-Tooltip .bk-tooltip-row-label").all_text_contents()]
     values = [t.strip() for t in page.locator(".bk-Tooltip .bk-tooltip-row-value").all_text_contents()]
     rows = dict(zip(labels, values, strict=True))
-    assert rows.get("γ") in {AT.fmt(float(v)) for v in AXES["gamma"]}, rows
-    assert rows.get("f") in {AT.fmt(float(v)) for v in AXES["f"]}, rows
+    assert rows.get("γ") in {fmt(float(v)) for v in AXES["gamma"]}, rows
+    assert rows.get("f") in {fmt(float(v)) for v in AXES["f"]}, rows
 
 
 def test_not_computed_points_are_neither_not_computable_nor_exported_as_values(atlas_dir_with_adaptive: Path) -> None:
     """Headless: the readouts count not computable points among the computed ones only (a not computed point is NaN
     in `growth` too), the 3-D view marks none of the not computed points as masked, and the slice CSV says which
     rows were computed and gives every row its filled class."""
-    scene = AT.AtlasScene(requested={"name": "adaptive", "x": "gamma", "y": "f", "at": {"beta": 0.35}})
+    scene = AtlasScene(requested={"name": "adaptive", "x": "gamma", "y": "f", "at": {"beta": 0.35}})
     scene.refresh()
     d = scene.data
     assert d is not None and d.adaptive and d.filled_level is not None
-    readout = AT.adaptive_readout(d)  # the refinement in the words `asymslide info` prints
+    readout = adaptive_readout(d)  # the refinement in the words `asymslide info` prints
     assert "margin 0, guard off, boundary followed" in readout and "--guard` looks closer" in readout
     computed = np.asarray(d.computed) >= 0
     masked = int((computed & ~np.isfinite(np.asarray(d.growth))).sum())
@@ -175,7 +178,7 @@ def atlas_dir_with_two_axes(atlas_dir_with_adaptive: Path) -> Path:
 def test_an_atlas_of_two_axes_has_no_blank_3d_view(atlas_dir_with_two_axes: Path) -> None:
     """Headless: with two axes the 3-D tab says why there is no surface and hides the empty plot and menu; with three
     it shows them and says nothing."""
-    scene = AT.AtlasScene(requested={"name": "two", "x": "gamma", "y": "f"})
+    scene = AtlasScene(requested={"name": "two", "x": "gamma", "y": "f"})
     scene.refresh()
     assert scene.data is not None and scene.data.names == ["gamma", "f"]
     assert "No 3-D view of atlas two" in scene.surface_note() and "2 axes (γ, f)" in scene.surface_note()

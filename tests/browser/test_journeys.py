@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from asymslide.app import atlas as A
+from asymslide.app.atlas import directory as atlas_directory
 from asymslide.app.presets import load_presets
 from asymslide.atlas import sweep as engine
 from tests.conftest import (
@@ -170,9 +170,9 @@ def click_preset(page, label: str) -> None:
 def fresh_atlas_dir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     """An empty atlas directory whose default atlas is the tiny one (computed on first use, as the real one)."""
     monkeypatch.setenv("ASYMSLIDE_ATLAS_DIR", str(tmp_path / "atlases"))
-    monkeypatch.setattr(A, "DEFAULT_AXES", TINY_DEFAULT)
-    monkeypatch.setattr(A, "DEFAULT_KH", KH)
-    monkeypatch.setattr(A, "_default_job", None)
+    monkeypatch.setattr(atlas_directory, "DEFAULT_AXES", TINY_DEFAULT)
+    monkeypatch.setattr(atlas_directory, "DEFAULT_KH", KH)
+    monkeypatch.setattr(atlas_directory, "_default_job", None)
     return tmp_path / "atlases"
 
 
@@ -212,7 +212,7 @@ def test_first_use_of_the_atlas_tab_shows_the_default_atlas_without_a_reload(
     idle(page)
     assert page.evaluate("() => window.asymslideJourney") == "same page"  # no reload
     selects = page.evaluate(_SELECTS_JS)
-    name = A.default_name()
+    name = atlas_directory.default_name()
     assert selects["Atlas"]["value"] == name and selects["Atlas"]["options"] == [name]
     x, y = selects["x axis"]["value"], selects["y axis"]["value"]
     assert (x, y) == ("gamma", "eta")
