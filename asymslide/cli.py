@@ -131,7 +131,7 @@ def _adaptive_spec(args: argparse.Namespace) -> tuple[list[str], object]:
 def _sweep_settings(args: argparse.Namespace, specs: Sequence[str]) -> tuple[dict, dict]:
     """The axes (from `specs`) and the other settings of ``asymslide sweep``'s arguments (SweepError or ValueError if
     bad)."""
-    from asymslide.atlas.plan import CountSpec, SlidingSpec, SweepError, _number, parse_axis, parse_fixed
+    from asymslide.atlas.plan import CountSpec, SlidingSpec, SweepError, parse_axis, parse_fixed, parse_number
 
     axes = dict(parse_axis(a) for a in specs)
     if len(axes) != len(args.axis):
@@ -149,7 +149,7 @@ def _sweep_settings(args: argparse.Namespace, specs: Sequence[str]) -> tuple[dic
         count = CountSpec(tuple(parse_axis(f"kH={args.count_kH}")[1]), window)  # type: ignore[arg-type]
     sliding = None
     if args.sliding or args.verdict == "sliding" or args.sliding_thresholds:  # these need the sliding verdict
-        sliding = SlidingSpec(tuple(parse_axis(f"kH={args.sliding_kH}")[1]), _number("--floor", args.floor),
+        sliding = SlidingSpec(tuple(parse_axis(f"kH={args.sliding_kH}")[1]), parse_number("--floor", args.floor),
                               args.sliding_thresholds)
     settings = dict(fixed=fixed, kH=kh, rtol=args.rtol, growth=not args.no_growth, gamma_c=not args.no_gamma_c,
                     gamma_range=gamma_range, count=count, chunk_points=args.chunk_points, sliding=sliding)

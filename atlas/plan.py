@@ -114,7 +114,7 @@ class Plan:
         """The plan as JSON-able data: equal identities give equal numbers (with the same model)."""
         return {
             "axes": {k: list(v) for k, v in self.axes.items()},
-            "fixed": {k: _json_float(v) for k, v in self.fixed.items()},
+            "fixed": {k: json_float(v) for k, v in self.fixed.items()},
             "kH": list(self.kH),
             "rtol": self.rtol,
             "growth": self.growth,
@@ -144,7 +144,7 @@ class Plan:
         return _blocks([(len(self.axes[n]), self.chunks[f"sliding:{n}"]) for n in self.names])
 
 
-def _json_float(x: float) -> float | str:
+def json_float(x: float) -> float | str:
     return "inf" if x == math.inf else float(x)
 
 
@@ -181,7 +181,7 @@ def parse_axis(spec: str) -> tuple[str, np.ndarray]:
         parts = values.split(":")
         if len(parts) not in (3, 4) or (len(parts) == 4 and parts[3] not in ("log", "lin")):
             raise SweepError(f"axis {name}: expected lo:hi:n[:log|:lin]; got {values!r}")
-        lo, hi = _number(name, parts[0]), _number(name, parts[1])
+        lo, hi = parse_number(name, parts[0]), parse_number(name, parts[1])
         try:
             n = int(parts[2])
         except ValueError:
@@ -196,7 +196,7 @@ def parse_axis(spec: str) -> tuple[str, np.ndarray]:
             raise SweepError(f"axis {name}: a log-spaced axis needs lo > 0; got {lo:g}")
         pts = np.geomspace(lo, hi, n) if log else np.linspace(lo, hi, n)
         return name, pts
-    return name, np.array([_number(name, v) for v in values.split(",") if v.strip()])
+    return name, np.array([parse_number(name, v) for v in values.split(",") if v.strip()])
 
 
 def parse_fixed(spec: str) -> tuple[str, float]:
@@ -204,10 +204,10 @@ def parse_fixed(spec: str) -> tuple[str, float]:
     if "=" not in spec:
         raise SweepError(f"fixed {spec!r}: expected name=value")
     name, _, value = (s.strip() for s in spec.partition("="))
-    return name, _number(name, value)
+    return name, parse_number(name, value)
 
 
-def _number(name: str, text: str) -> float:
+def parse_number(name: str, text: str) -> float:
     """A float from text; only float() is applied (nothing is evaluated)."""
     try:
         return float(text)

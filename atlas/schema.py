@@ -47,7 +47,7 @@ import numpy as np
 from asymslide import model
 
 from . import __version__  # the distribution's version, recorded in every store
-from .plan import Plan, _json_float, sliding_thresholds
+from .plan import Plan, json_float, sliding_thresholds
 from .refinement import AdaptiveSpec
 from .refinement import summary as adaptive_summary
 
@@ -92,10 +92,15 @@ CROSSING_VARS = {
     "gamma_c_direction": (np.int8, 0, "+1 destabilising (unstable above), -1 stabilising, 0 not certified or none"),
     "gamma_c_crossing_reason": (np.int8, -1, "reason code of each crossing (model.CROSSING_STATUS; -1: none)"),
 }
-#: the sliding threshold's variables (every branch; asymslide sweep --sliding-thresholds): the Rayleigh branch's
-#: names with ``gamma_c_all`` for ``gamma_c`` (model.crossings_chunk with branches="all", docs/physics.md §14.10)
-def _all(name: str) -> str:
+
+
+def all_branches_name(name: str) -> str:
+    """The name of a threshold variable of sliding (every branch; asymslide sweep --sliding-thresholds): the Rayleigh
+    branch's name with ``gamma_c_all`` for ``gamma_c`` (model.crossings_chunk with branches="all", docs/physics.md
+    §14.10)."""
     return name.replace("gamma_c", "gamma_c_all", 1)
+
+
 #: per-point summaries of the boundary in gamma: dtype, fill, long name
 CROSSING_SUMMARY_VARS = {
     "gamma_c_n_crossings": (np.int16, -1, "sign changes of the max growth found in the gamma range (-1: not computed; "
@@ -103,7 +108,7 @@ CROSSING_SUMMARY_VARS = {
     "gamma_c_complete": (np.int8, -1, "1 where every crossing found is certified, 0 where not (-1: not computed)"),
 }
 #: the sliding threshold's crossing variables (with the ``crossing`` dimension)
-CROSSING_ALL_VARS = {_all(name): v for name, v in CROSSING_VARS.items()}
+CROSSING_ALL_VARS = {all_branches_name(name): v for name, v in CROSSING_VARS.items()}
 #: Zarr fill values (what a chunk not written yet reads as) of the integer variables; floats: NaN
 INT_FILL = {"n_masked": -1, "gamma_c_reason": -1, "unstable_count": -2, "verdict": -1, "verdict_reason": -1,
             "gamma_c_direction": 0, "gamma_c_crossing_reason": -1, "gamma_c_n_crossings": -1, "gamma_c_complete": -1,
@@ -150,7 +155,7 @@ def _attrs(plan: Plan, command: str | None) -> dict[str, Any]:
         "git_revision": git_revision(),
         "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         "plan": json.dumps(plan.identity()),
-        "fixed": json.dumps({k: _json_float(v) for k, v in plan.fixed.items()}),
+        "fixed": json.dumps({k: json_float(v) for k, v in plan.fixed.items()}),
         "kH_grid": f"{len(plan.kH)} points from {plan.kH[0]:g} to {plan.kH[-1]:g} (variable kH)",
         "rtol": "None (full certified accuracy)" if plan.rtol is None else float(plan.rtol),
         "command": command or "",
@@ -276,9 +281,8 @@ def _gamma_c_all_vars(plan: Plan) -> dict[str, Any]:
     data = {}
     for name, (dims, arr, attrs) in _gamma_c_vars(plan).items():
         long_name = attrs["long_name"].replace("on the Rayleigh branch", "over every branch")
-        data[_all(name)] = (dims, arr, {**attrs, "long_name": f"sliding (every branch, growth floor {spec.floor:g}, kH "
-                                                              f"{spec.kH[0]:g} to {spec.kH[-1]:g}): {long_name}",
-                                        "floor": spec.floor})
+        text = f"sliding (every branch, growth floor {spec.floor:g}, kH {spec.kH[0]:g} to {spec.kH[-1]:g}): {long_name}"
+        data[all_branches_name(name)] = (dims, arr, {**attrs, "long_name": text, "floor": spec.floor})
     return data
 
 
@@ -334,7 +338,7 @@ def _adaptive_vars(spec: AdaptiveSpec, sliding: bool = False) -> dict[str, tuple
     }
 
 
-def _encoding(ds, fast: bool = False) -> dict[str, dict]:
+def encoding(ds, fast: bool = False) -> dict[str, dict]:
     """Fill values; `fast`: Zstandard at level 1 instead of Zarr's default level (the same size on atlas data, ~3x
     faster to write: an adaptive sweep rewrites a chunk at every level that touches it)."""
     extra: dict[str, Any] = {}

@@ -20,7 +20,7 @@ import numpy as np
 from asymslide import model
 
 from .plan import PARAMETERS, CountSpec, Plan, SlidingSpec, sliding_thresholds
-from .schema import CROSSINGS, _all
+from .schema import CROSSINGS, all_branches_name
 
 #: the task kinds whose model calls hold the GIL (run in processes: :func:`asymslide.atlas.executor.execute`)
 GIL_KINDS = ("sliding", "gamma_c_all")
@@ -101,7 +101,7 @@ def run_task(task: Task) -> dict[str, np.ndarray]:
         assert task.sliding is not None
         c = model.crossings_chunk("gamma", np.log(np.asarray(task.sliding.kH)), params, task.gamma_range, None,
                                   CROSSINGS, "all", task.sliding.floor)
-        return {_all(name): arr for name, arr in _crossing_arrays(c, shape).items()}
+        return {all_branches_name(name): arr for name, arr in _crossing_arrays(c, shape).items()}
     if task.kind == "count":
         assert task.count is not None
         re_max, im_min, im_max = task.count.window

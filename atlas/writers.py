@@ -29,7 +29,7 @@ from .schema import (
     CROSSINGS,
     GROWTH_VARS,
     SLIDING_VARS,
-    _encoding,
+    encoding,
     git_revision,
     model_fingerprint,
     template,
@@ -131,7 +131,7 @@ def open_store(plan: Plan, path: Path, command: str | None = None) -> Path:
     ds0 = template(plan, command)
     tmp = path.with_name(f".{path.name}.creating-{os.getpid()}")
     try:
-        ds0.to_zarr(tmp, compute=False, mode="w-", encoding=_encoding(ds0, fast=plan.adaptive is not None),
+        ds0.to_zarr(tmp, compute=False, mode="w-", encoding=encoding(ds0, fast=plan.adaptive is not None),
                     consolidated=False)
         os.rename(tmp, path)
     finally:

@@ -423,3 +423,19 @@ def test_no_import_cycle_within_a_layer() -> None:
         graph = {path: _module_imports(path) & set(folder.rglob("*.py")) for path in folder.rglob("*.py")}
         cycles += [" -> ".join(str(p.relative_to(ROOT)) for p in cycle) for cycle in _cycles(graph)]
     assert cycles == []
+
+
+def test_the_atlas_layer_the_app_and_the_command_line_use_only_public_names_of_other_modules() -> None:
+    """A module of atlas/, app/ or asymslide/ imports no underscored name from another module of the project: what
+    one module needs of another is that module's public API (the model keeps package-private helpers for its
+    kernels)."""
+    import ast
+
+    private = []
+    for folder in ("atlas", "app", "asymslide"):
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            for node in ast.walk(ast.parse(path.read_text(), str(path))):
+                if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith("asymslide")):
+                    names = [a.name for a in node.names if a.name.startswith("_") and not a.name.startswith("__")]
+                    private += [f"{path.relative_to(ROOT)}: {node.module} {name}" for name in names]
+    assert private == []
