@@ -27,7 +27,7 @@ from asymslide.app.presets import Preset, load_presets, preset_args
 from asymslide.app.rupture import RuptureScene
 from asymslide.app.server_gc import configure_gc, track_session
 from asymslide.app.spectrum import SpectrumScene
-from asymslide.app.stability_map import StabilityMapScene
+from asymslide.app.stability_map.scene import StabilityMapScene
 from asymslide.app.tabs import TABS_REGISTRY
 from asymslide.app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
 from asymslide.app.urlstate import TABS, Updates, parse_query, query_string, url_attributes

@@ -3,11 +3,12 @@
 On a plane whose y axis is γ (η-γ, f-γ, β-γ), the boundary between stable and unstable sliding (every branch, the
 map's growth floor) is drawn through the model's certified crossings in γ of the max growth over every branch
 (:func:`model.critical_gammas` with ``branches="all"``; docs/physics.md §14.10), at each x value of the map's grid,
-every crossing in both directions, as the Rayleigh branch's neutral curve is (app.stability_map.compute_crossings).
-A column costs ~0.5 s at η = ∞ and a few seconds at finite η: the curve is computed after the sliding map, as a job,
-:data:`COLUMNS_PER_CHUNK` columns at a time, each chunk a pure cached call (the map's chunk cache; computed in the
-worker process of :mod:`app.jobs` when served: the search is mostly Python and would hold the server's
-interpreter), and drawn as it grows (the job publishes the columns done so far).
+every crossing in both directions, as the Rayleigh branch's neutral curve is
+(app.stability_map.compute.compute_crossings). A column costs ~0.5 s at η = ∞ and a few seconds at finite η: the
+curve is computed after the sliding map, as a job, :data:`COLUMNS_PER_CHUNK` columns at a time, each chunk a pure
+cached call (the map's chunk cache; computed in the worker process of :mod:`app.jobs` when served: the search is
+mostly Python and would hold the server's interpreter), and drawn as it grows (the job publishes the columns done so
+far).
 
 The app computes no physics: every number comes from :func:`model.critical_gammas`.
 """
@@ -73,7 +74,7 @@ def compute_boundary(key: tuple, x: np.ndarray, x_name: str, gamma_range: tuple[
 
 def crossing_counts(c: dict) -> tuple[int, int]:
     """(certified thresholds, sign changes that are not thresholds) among the crossings `c` of a map's columns (the
-    Rayleigh branch's, app.stability_map.compute_crossings, or this boundary's)."""
+    Rayleigh branch's, app.stability_map.compute.compute_crossings, or this boundary's)."""
     certified = int((np.isin(c["reason"], model.CERTIFIED_CROSSINGS) & np.isfinite(c["value"])).sum())
     refused = int(((c["reason"] >= 0) & ~np.isin(c["reason"], model.CERTIFIED_CROSSINGS)).sum())
     return certified, refused

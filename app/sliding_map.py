@@ -6,7 +6,7 @@ the map's grid: every :data:`STRIDES`-th point first (a 5 Ã— 5 preview of a 40 Ã
 the spacing, down to every point. No point is computed twice. Until the last pass, a cell not yet computed shows
 the value of the computed point at the lower-left corner of its block (nearest below, :func:`preview_index`), and
 the hover says so. Each chunk of :data:`CHUNK_POINTS` points is a pure cached call (the map's
-:class:`~app.stability_map.ChunkCache`, shared by the sessions), so a map seen before comes back at once.
+:class:`~app.stability_map.compute.ChunkCache`, shared by the sessions), so a map seen before comes back at once.
 
 The app computes no physics: every number comes from :func:`model.sliding_analysis`.
 """

@@ -22,7 +22,7 @@ from .lab import LabScene
 from .params import LabParams, RuptureParams, SpectrumParams, ThinOnThickParams
 from .rupture import RuptureScene
 from .spectrum import SpectrumScene
-from .stability_map import StabilityMapScene
+from .stability_map.scene import StabilityMapScene
 from .thin_on_thick import ThinOnThickScene
 
 

@@ -231,32 +231,33 @@ def atlas_cost(n: int = 12) -> str:
 
 def map_cost(plane: str = "β-γ", resolution: str = "medium") -> str:
     """The Stability map of both verdicts as the app computes it (issue 32 point 6): the Rayleigh branch's map
-    (app.stability_map.compute_map), then the sliding verdict in coarse-to-fine passes (app.sliding_map), on one
+    (app.stability_map.compute.compute_map), then the sliding verdict in coarse-to-fine passes (app.sliding_map), on one
     job thread with empty caches; against the model's own cost, model.sliding_analysis over the same grid in one
     call. Reported: the time to the first coarse view (the Rayleigh map + the first pass) and to the whole map, and
     the app's overhead over the model."""
     from asymslide.app import jobs
     from asymslide.app import sliding_map as slm
-    from asymslide.app import stability_map as sm
     from asymslide.app.params import SpectrumParams
+    from asymslide.app.stability_map import compute, grids
+    from asymslide.app.stability_map.scene import StabilityMapScene
 
-    scene = sm.StabilityMapScene(plane=plane, resolution=resolution, params=SpectrumParams())
+    scene = StabilityMapScene(plane=plane, resolution=resolution, params=SpectrumParams())
     key, skey = scene.map_key, scene.sliding_key
     n = key[1]
-    x, y = sm.plane_axes(plane, n)
-    names = (sm.PLANES[plane][0].name, sm.PLANES[plane][1].name)
+    x, y = grids.plane_axes(plane, n)
+    names = (grids.PLANES[plane][0].name, grids.PLANES[plane][1].name)
     args = dict(zip(SpectrumParams.MODEL_ARGS, SpectrumParams().model_args(), strict=True))
     args[names[0]], args[names[1]] = x[None, :], y[:, None]
     model.sliding_analysis(**{**args, names[0]: x[None, :2], names[1]: y[:2, None]})  # warm
     t0 = time.perf_counter()
     model.sliding_analysis(**args, floor=skey[-1])
     t_model = time.perf_counter() - t0
-    sm.CHUNKS.clear()
+    compute.CHUNKS.clear()
     t0 = time.perf_counter()
-    jobs.Job(lambda job: sm.compute_map(key, job), name="map").start().wait(None)
+    jobs.Job(lambda job: compute.compute_map(key, job), name="map").start().wait(None)
     t_rayleigh = time.perf_counter() - t0
     first: list[float] = []
-    job = jobs.Job(lambda job: slm.compute_sliding_map(skey, x, y, names, sm.CHUNKS.get, sm.CHUNKS.put, job),
+    job = jobs.Job(lambda job: slm.compute_sliding_map(skey, x, y, names, compute.CHUNKS.get, compute.CHUNKS.put, job),
                    name="sliding map")
     job.subscribe(lambda: first.append(time.perf_counter()) if job.state().partial is not None and not first else None)
     t0 = time.perf_counter()

@@ -14,8 +14,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from asymslide.app import stability_map as sm  # noqa: E402
 from asymslide.app.params import SpectrumParams  # noqa: E402
+from asymslide.app.stability_map import compute, grids  # noqa: E402
 
 
 class _Job:
@@ -32,10 +32,10 @@ def timed(key: tuple) -> tuple[float, int]:
     """Best of two cold runs of the map job of `key`: seconds, points evaluated."""
     best, points = float("inf"), 0
     for _ in range(2):
-        sm.CHUNKS.clear()
-        sm.compute_crossings.clear()
+        compute.CHUNKS.clear()
+        compute.compute_crossings.clear()
         t0 = time.perf_counter()
-        res = sm.compute_map(key, _Job())
+        res = compute.compute_map(key, _Job())
         best = min(best, time.perf_counter() - t0)
         points = res.x.size * res.y.size + (0 if res.refined is None else res.refined.points["x"].size)
     return best, points
@@ -43,12 +43,12 @@ def timed(key: tuple) -> tuple[float, int]:
 
 def main() -> None:
     args = SpectrumParams().model_args()
-    timed(sm.key_for("β-γ", "coarse", args))  # warm the kernels
+    timed(grids.key_for("β-γ", "coarse", args))  # warm the kernels
     print("| plane | old medium 40 × 40 | new medium 24 × 24 → 96 × 96 | old fine 64 × 64 "
           "| new fine 40 × 40 → 160 × 160 |")
     print("|---|---|---|---|---|")
-    for plane in sm.PLANES:
-        medium, fine = sm.key_for(plane, "medium", args), sm.key_for(plane, "fine", args)
+    for plane in grids.PLANES:
+        medium, fine = grids.key_for(plane, "medium", args), grids.key_for(plane, "fine", args)
         cells = [timed((plane, 40, medium[2], 0)), timed(medium), timed((plane, 64, fine[2], 0)), timed(fine)]
         print(f"| {plane} | " + " | ".join(f"{t:.2f} s, {p} points" for t, p in cells) + " |")
 

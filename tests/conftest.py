@@ -390,11 +390,12 @@ def fresh_caches() -> Iterator[None]:
     """Empty the app's caches (pn.cache and the map chunks) around a test."""
     import panel as pn
 
-    from asymslide.app import spectrum, stability_map
+    from asymslide.app import spectrum
+    from asymslide.app.stability_map import compute as stability_map_compute
 
     def clear() -> None:
         pn.state.clear_caches()
-        stability_map.CHUNKS.clear()
+        stability_map_compute.CHUNKS.clear()
         spectrum.SLIDING_CACHE.clear()
 
     clear()

@@ -148,7 +148,7 @@ def test_colours_are_the_legend_and_the_stability_map(atlas_dir: Path) -> None:
     assert mapper.low < 0 < mapper.high
     low, high = _rgb(mapper.palette[0]), _rgb(mapper.palette[-1])
     assert high[0] > high[2] and low[2] > low[0]  # the largest growth red, the most negative blue
-    stability_map = process_cmap("RdBu_r", len(mapper.palette))  # app/stability_map.py's colour map
+    stability_map = process_cmap("RdBu_r", len(mapper.palette))  # app/stability_map/'s colour map
     assert _rgb(stability_map[-1])[0] > _rgb(stability_map[-1])[2] and _rgb(stability_map[0])[2] > \
         _rgb(stability_map[0])[0]
     assert COLOURS.startswith("Red: unstable (max growth > 0), blue: stable")

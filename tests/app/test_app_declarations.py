@@ -9,7 +9,8 @@ from asymslide.app.all_branches import AllBranchesScene
 from asymslide.app.declarations import Choice, Physical, Switch, declared_parameters, physical_parameters
 from asymslide.app.params import LabParams, RuptureParams, SpectrumParams, ThinOnThickParams
 from asymslide.app.spectrum import FAMILY
-from asymslide.app.stability_map import PLANES, StabilityMapScene
+from asymslide.app.stability_map.grids import PLANES
+from asymslide.app.stability_map.scene import StabilityMapScene
 from asymslide.app.urlstate import QUERY, TARGETS, parse_query
 
 CLASSES = (("spectrum", SpectrumParams), ("thin", ThinOnThickParams), ("lab", LabParams), ("rupture", RuptureParams))

@@ -28,7 +28,7 @@ def _refined(n: int = 12, levels: int = 2, calls: list[int] | None = None) -> tu
 
 
 def test_levels_nest_and_level_zero_is_the_maps_grid() -> None:
-    from asymslide.app.stability_map import PLANES
+    from asymslide.app.stability_map.grids import PLANES
 
     for ax in (a for pair in PLANES.values() for a in pair):
         base = ax.values(24)

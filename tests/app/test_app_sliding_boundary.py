@@ -11,7 +11,7 @@ import pytest
 from asymslide import model
 from asymslide.app import jobs, sliding_work
 from asymslide.app import sliding_boundary as sb
-from asymslide.app.stability_map import ChunkCache
+from asymslide.app.stability_map.compute import ChunkCache
 
 #: three columns of the f-γ plane at η = ∞, β = 0.3 (f = 0.3: no threshold in range; 0.6, 0.9: one each)
 X = np.array([0.3, 0.6, 0.9])

@@ -17,9 +17,11 @@ import pytest
 from asymslide import model
 from asymslide.app import jobs
 from asymslide.app import sliding_map as slm
-from asymslide.app import stability_map as sm
+from asymslide.app.common import MARGINAL
 from asymslide.app.params import SpectrumParams
-from asymslide.app.stability_map import PLANES, StabilityMapScene
+from asymslide.app.stability_map import grids, map_plot
+from asymslide.app.stability_map.grids import PLANES
+from asymslide.app.stability_map.scene import StabilityMapScene
 from tests.conftest import open_app, save_screenshot
 
 pytestmark = pytest.mark.usefixtures("fresh_caches")
@@ -28,8 +30,8 @@ pytestmark = pytest.mark.usefixtures("fresh_caches")
 @pytest.fixture
 def small(monkeypatch: pytest.MonkeyPatch) -> None:
     """12 x 12 maps at the default resolution: passes of strides 8, 4, 2, 1 (4, 5, 27 and 108 points)."""
-    monkeypatch.setitem(sm.RESOLUTIONS, StabilityMapScene.param.resolution.default, 12)
-    monkeypatch.setitem(sm.LEVELS, StabilityMapScene.param.resolution.default, 0)
+    monkeypatch.setitem(grids.RESOLUTIONS, StabilityMapScene.param.resolution.default, 12)
+    monkeypatch.setitem(grids.LEVELS, StabilityMapScene.param.resolution.default, 0)
 
 
 def _rayleigh_map(scene: StabilityMapScene) -> None:
@@ -52,7 +54,7 @@ def _sliding(scene: StabilityMapScene, timeout: float = 300.0) -> slm.SlidingMap
 def _expected(plane: str, n: int, p: SpectrumParams, floor: float) -> model.SlidingResult:
     """model.sliding_analysis over the whole plane in one call (independent of the passes and chunks)."""
     ax, ay = PLANES[plane]
-    x, y = sm.plane_axes(plane, n)
+    x, y = grids.plane_axes(plane, n)
     args = dict(zip(SpectrumParams.MODEL_ARGS, p.model_args(), strict=True))
     args[ax.name], args[ay.name] = x[None, :], y[:, None]
     return model.sliding_analysis(**args, floor=floor)
@@ -131,7 +133,7 @@ def test_the_default_map_is_coloured_by_the_sliding_verdict_and_equals_the_model
     unstable, stable = int((r.verdict == 1).sum()), int((r.verdict == 0).sum())
     assert f"**Sliding (every branch)** unstable at {unstable} of 144 points" in text
     assert f"stable at {stable}, undetermined at {int((r.verdict == 2).sum())} (Im z ≥ 1e-06, kH 0.01 to 100)" in text
-    hidden = int(((r.verdict == 1) & ~(scene.result.growth > sm.MARGINAL)).sum())
+    hidden = int(((r.verdict == 1) & ~(scene.result.growth > MARGINAL)).sum())
     assert hidden > 0  # f = 0.9, beta = 0.3: some cells are stable on the Rayleigh branch only
     assert f"**Rayleigh-branch stable, sliding unstable** {hidden} point(s)" in text
     assert "**Unstable (Rayleigh branch)**" in text
@@ -164,7 +166,8 @@ def test_the_sliding_boundary_is_drawn_through_the_models_thresholds_of_sliding_
         assert (v[~stable_side, i] == 1).any(), (i, g)
     layers = scene._neutral("β-γ").values()
     path, dots = layers[3], layers[4]
-    assert path.label.startswith("sliding boundary") and path.opts.get().kwargs["color"] == sm.SLIDING_BOUNDARY_COLOR
+    assert path.label.startswith("sliding boundary")
+    assert path.opts.get().kwargs["color"] == map_plot.SLIDING_BOUNDARY_COLOR
     np.testing.assert_allclose(np.sort(dots.dimension_values(1)), np.sort(want.value[ok]), rtol=1e-12)
     assert all(set(np.round(seg.dimension_values(1), 12)) <= set(np.round(want.value[ok], 12))
                for seg in path.split())
@@ -377,7 +380,7 @@ def test_the_star_cell_readout_names_both_verdicts_and_the_family(small) -> None
     scene = StabilityMapScene(params=params, plane="β-γ")
     _sliding(scene)
     iy, ix = scene.star_cell()
-    x, y = sm.plane_axes("β-γ", 12)
+    x, y = grids.plane_axes("β-γ", 12)
     r = model.sliding_analysis(gamma=y[iy], f=0.9, beta=x[ix])
     assert r.verdict == 1 and r.rayleigh.verdict == 0, (x[ix], y[iy])
     text = scene.readout()

@@ -15,10 +15,12 @@ import pytest
 
 from asymslide import model
 from asymslide.app import jobs
-from asymslide.app import stability_map as sm
+from asymslide.app.common import MARGINAL
 from asymslide.app.params import SpectrumParams
 from asymslide.app.sliding_map import RAYLEIGH, SLIDING
-from asymslide.app.stability_map import KH, PLANES, StabilityMapScene
+from asymslide.app.stability_map import compute, fig4c, grids, preview
+from asymslide.app.stability_map.grids import KH, PLANES
+from asymslide.app.stability_map.scene import StabilityMapScene
 from tests.conftest import open_app
 from tests.support.headless import build_app
 from tests.support.spies import Calls, spying
@@ -32,7 +34,7 @@ pytestmark = pytest.mark.usefixtures("fresh_caches")
 calls = Calls()
 
 
-_spies = spying((sm, calls))
+_spies = spying((compute, calls), (fig4c, calls), (preview, calls))
 
 
 @pytest.fixture(autouse=True)
@@ -46,11 +48,11 @@ def _rayleigh_colouring(monkeypatch: pytest.MonkeyPatch) -> None:
 def small(monkeypatch):
     """8 x 8 maps at the default resolution (4 chunks of 2 rows), not refined: the logic tests do not need the real
     one (the refinement is tested by test_map_equals_model_max_growth and tests/app/test_app_map_refine.py)."""
-    monkeypatch.setitem(sm.RESOLUTIONS, DEFAULT_RESOLUTION, 8)
-    monkeypatch.setitem(sm.LEVELS, DEFAULT_RESOLUTION, 0)
+    monkeypatch.setitem(grids.RESOLUTIONS, DEFAULT_RESOLUTION, 8)
+    monkeypatch.setitem(grids.LEVELS, DEFAULT_RESOLUTION, 0)
 
 
-def _computed(scene: StabilityMapScene) -> sm.MapResult:
+def _computed(scene: StabilityMapScene) -> compute.MapResult:
     """Render the map (which starts the computation), wait for it, render again; the finished map."""
     scene.view()[()]
     scene.wait()
@@ -63,7 +65,7 @@ def _computed(scene: StabilityMapScene) -> sm.MapResult:
 def _expected(plane: str, n: int, p: SpectrumParams) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """x, y and model.max_growth over the whole plane in one call (independent of the scene's chunking)."""
     ax, ay = PLANES[plane]
-    x, y = sm.plane_axes(plane, n)
+    x, y = grids.plane_axes(plane, n)
     args = dict(zip(("gamma", "f", "beta", "eta", "Delta", "xi"), p.model_args(), strict=True))
     args[ax.name], args[ay.name] = x[None, :], y[:, None]
     growth, kh = model.max_growth(KH, **args)
@@ -78,7 +80,7 @@ def _assert_drawn_values_are_the_models(plane: str, p: SpectrumParams, mesh: hv.
     changes."""
     drawn = mesh.dimension_values("growth", flat=False)
     at_x, at_y = (mesh.dimension_values(d, flat=False) for d in ("at_x", "at_y"))
-    levels = sm.LEVELS[DEFAULT_RESOLUTION]
+    levels = grids.LEVELS[DEFAULT_RESOLUTION]
     assert levels == 2 and drawn.shape == (y.size * 2**levels, x.size * 2**levels)
     points = np.unique(np.column_stack([at_x.ravel(), at_y.ravel()]), axis=0)
     ax, ay = PLANES[plane]
@@ -89,7 +91,7 @@ def _assert_drawn_values_are_the_models(plane: str, p: SpectrumParams, mesh: hv.
     want = np.array([index[px, py] for px, py in zip(at_x.ravel(), at_y.ravel(), strict=True)]).reshape(drawn.shape)
     np.testing.assert_array_equal(drawn, want)
     refined = ~np.isin(at_x, x) | ~np.isin(at_y, y)
-    up, down = growth > sm.MARGINAL, growth <= sm.MARGINAL  # NaN is neither
+    up, down = growth > MARGINAL, growth <= MARGINAL  # NaN is neither
     changes = [(a[:, 1:] & b[:, :-1]) | (a[:, :-1] & b[:, 1:]) for a, b in ((up, down), (up.T, down.T))]
     assert refined.any() == any(c.any() for c in changes)
 
@@ -131,13 +133,13 @@ def test_map_equals_model_max_growth(plane: str, p: dict) -> None:
     params = SpectrumParams(**p)
     scene = StabilityMapScene(params=params, plane=plane)
     res = _computed(scene)
-    n = sm.RESOLUTIONS[DEFAULT_RESOLUTION]
+    n = grids.RESOLUTIONS[DEFAULT_RESOLUTION]
     x, y, growth, kh = _expected(plane, n, params)
     np.testing.assert_array_equal(res.x, x)
     np.testing.assert_array_equal(res.y, y)
     np.testing.assert_array_equal(res.growth, growth)  # NaN where the model gives NaN
     np.testing.assert_array_equal(res.kH_at_max, kh)
-    assert res.chunks_total == len(sm.chunk_rows(n)) == calls["compute_chunk"]
+    assert res.chunks_total == len(grids.chunk_rows(n)) == calls["compute_chunk"]
 
     overlay = scene.view()[()]
     mesh = _layer(overlay, hv.QuadMesh)
@@ -150,7 +152,7 @@ def test_map_equals_model_max_growth(plane: str, p: dict) -> None:
 
     finite = np.isfinite(growth)
     text = scene.readout()
-    frac = np.sum(growth[finite] > sm.MARGINAL) / finite.sum()
+    frac = np.sum(growth[finite] > MARGINAL) / finite.sum()
     assert f"**Unstable (Rayleigh branch)** {100 * frac:.1f} %" in text
     # the not computable points, by reason (NaN rows once had n_masked_kH = 0 under a legend saying the branch was
     # masked at every kH)
@@ -191,7 +193,7 @@ def test_neutral_curve_separates_stable_from_unstable() -> None:
 def test_plane_parameters_move_only_the_marker(small) -> None:
     scene = StabilityMapScene()  # η-γ plane
     _computed(scene)
-    n_chunks = len(sm.chunk_rows(8))
+    n_chunks = len(grids.chunk_rows(8))
     assert calls["compute_chunk"] == calls["growth_analysis"] == n_chunks
     fired = []
     scene.param.watch(fired.append, "map_key")
@@ -206,7 +208,7 @@ def test_plane_parameters_move_only_the_marker(small) -> None:
 def test_other_parameters_recompute_exactly_once(small) -> None:
     scene = StabilityMapScene()
     _computed(scene)
-    n_chunks = len(sm.chunk_rows(8))
+    n_chunks = len(grids.chunk_rows(8))
     scene.params.f = 0.5
     res = _computed(scene)
     scene.view()[()]
@@ -226,10 +228,10 @@ def test_xi_at_delta_one_recomputes_nothing(small) -> None:
     scene.params.xi = 3.0
     scene.view()[()]
     scene.wait()
-    assert scene.map_key == key and calls["compute_chunk"] == len(sm.chunk_rows(8))
+    assert scene.map_key == key and calls["compute_chunk"] == len(grids.chunk_rows(8))
     scene.params.Delta = 0.5  # now xi matters
     _computed(scene)
-    assert calls["compute_chunk"] == 2 * len(sm.chunk_rows(8))
+    assert calls["compute_chunk"] == 2 * len(grids.chunk_rows(8))
 
 
 def test_plane_and_resolution_are_part_of_the_key(small) -> None:
@@ -238,13 +240,13 @@ def test_plane_and_resolution_are_part_of_the_key(small) -> None:
     scene.plane = "f-γ"
     scene.params.f = 1.5  # a parameter of the f-γ plane: nothing new
     res = _computed(scene)
-    assert res.plane == "f-γ" and calls["compute_chunk"] == 2 * len(sm.chunk_rows(8))
+    assert res.plane == "f-γ" and calls["compute_chunk"] == 2 * len(grids.chunk_rows(8))
     scene.params.param.update(eta_infinite=False, log10_eta=2.0)  # off the f-γ plane: recomputes
     _computed(scene)
-    assert calls["compute_chunk"] == 3 * len(sm.chunk_rows(8))
+    assert calls["compute_chunk"] == 3 * len(grids.chunk_rows(8))
     key = scene.map_key
     scene.resolution = "coarse"  # another grid: a new key, so the next render computes it
-    assert scene.map_key[1] == sm.RESOLUTIONS["coarse"] != key[1] and scene.map_key[::2] == key[::2]
+    assert scene.map_key[1] == grids.RESOLUTIONS["coarse"] != key[1] and scene.map_key[::2] == key[::2]
     assert scene.map_download.disabled and "Not computed yet" in scene.readout()
 
 
@@ -257,7 +259,7 @@ def test_two_sessions_compute_their_maps_at_the_same_time(small, monkeypatch) ->
     """No process-wide lock: a chunk of one session's map is computed while another session's chunk is (the
     barrier is passed only if both computations are inside compute_chunk together)."""
     both_inside = threading.Barrier(2, timeout=30)
-    real = sm.compute_chunk
+    real = compute.compute_chunk
     met: list[bool] = []
 
     def meeting_chunk(plane, n, start, stop, fixed):
@@ -269,7 +271,7 @@ def test_two_sessions_compute_their_maps_at_the_same_time(small, monkeypatch) ->
                 met.append(False)
         return real(plane, n, start, stop, fixed)
 
-    monkeypatch.setattr(sm, "compute_chunk", meeting_chunk)
+    monkeypatch.setattr(compute, "compute_chunk", meeting_chunk)
     one, two = StabilityMapScene(), StabilityMapScene()
     two.params.f = 0.5  # another map: no chunk in common
     one.view()[()]
@@ -283,7 +285,7 @@ def test_two_sessions_compute_their_maps_at_the_same_time(small, monkeypatch) ->
 def test_stale_computation_stops_after_its_chunk(small, monkeypatch) -> None:
     seen: list[tuple] = []
     first_started, go_on = threading.Event(), threading.Event()
-    real = sm.compute_chunk
+    real = compute.compute_chunk
 
     def blocking_chunk(plane, n, start, stop, fixed):
         seen.append(fixed)
@@ -292,7 +294,7 @@ def test_stale_computation_stops_after_its_chunk(small, monkeypatch) -> None:
             assert go_on.wait(30)
         return real(plane, n, start, stop, fixed)
 
-    monkeypatch.setattr(sm, "compute_chunk", blocking_chunk)
+    monkeypatch.setattr(compute, "compute_chunk", blocking_chunk)
     scene = StabilityMapScene()
     scene.view()[()]
     assert first_started.wait(30)
@@ -305,7 +307,7 @@ def test_stale_computation_stops_after_its_chunk(small, monkeypatch) -> None:
     go_on.set()
     assert stale.wait(30).status == jobs.CANCELLED
     scene.wait()
-    n_chunks = len(sm.chunk_rows(8))
+    n_chunks = len(grids.chunk_rows(8))
     assert sum(f == old_fixed for f in seen) == 1  # the stale one stopped after its current chunk
     assert stale.state().done["chunks"] == 1 and stale.state().result is None
     assert sum(f == scene.map_key[2] for f in seen) == n_chunks
@@ -316,17 +318,17 @@ def test_stale_computation_stops_after_its_chunk(small, monkeypatch) -> None:
 
 
 def test_model_error_is_shown_and_the_scene_recovers(small, monkeypatch) -> None:
-    real = sm.compute_chunk
+    real = compute.compute_chunk
 
     def failing(*_args):
         raise ValueError("beta out of range (test)")
 
-    monkeypatch.setattr(sm, "compute_chunk", failing)
+    monkeypatch.setattr(compute, "compute_chunk", failing)
     scene = StabilityMapScene()
     scene.view()[()]
     scene.wait()
     assert scene.status.startswith("error") and "beta out of range (test)" in scene.readout()
-    monkeypatch.setattr(sm, "compute_chunk", real)
+    monkeypatch.setattr(compute, "compute_chunk", real)
     scene.params.f = 0.7
     _computed(scene)
     assert scene.status == "done" and "**Failed**" not in scene.readout()
@@ -378,10 +380,10 @@ def test_fig4c_equals_model_and_is_cached_by_f_only() -> None:
     scene = StabilityMapScene()
     overlay = scene.fig4c_dmap[()]
     scatter, curve = _layer(overlay, hv.Scatter, "exact threshold"), _layer(overlay, hv.Curve)
-    np.testing.assert_array_equal(scatter.dimension_values(0), sm.BETA_EXACT)
-    np.testing.assert_array_equal(scatter.dimension_values(1), model.critical_chi(sm.BETA_EXACT, f=0.9))
-    np.testing.assert_array_equal(curve.dimension_values(0), sm.BETA_CRITERION)
-    np.testing.assert_array_equal(curve.dimension_values(1), model.criterion_chi(sm.BETA_CRITERION))
+    np.testing.assert_array_equal(scatter.dimension_values(0), fig4c.BETA_EXACT)
+    np.testing.assert_array_equal(scatter.dimension_values(1), model.critical_chi(fig4c.BETA_EXACT, f=0.9))
+    np.testing.assert_array_equal(curve.dimension_values(0), fig4c.BETA_CRITERION)
+    np.testing.assert_array_equal(curve.dimension_values(1), model.criterion_chi(fig4c.BETA_CRITERION))
     star = _layer(overlay, hv.Points)
     np.testing.assert_allclose(star.array()[0], [0.3, 3.0 * 0.9])
     assert calls["compute_fig4c"] == 1
@@ -407,20 +409,20 @@ def test_fig4c_shows_the_sliding_threshold_where_the_model_certifies_it() -> Non
     assert "chi_c_sliding (every branch) not computed yet" in comment and "chi_c_sliding" not in header
     scene.fig4c_dmap[()]  # drawing Fig. 4c starts the job
     scene.wait_fig4c(180)
-    ref = model.critical_gammas(f=0.9, beta=sm.BETA_EXACT, branches="all")
+    ref = model.critical_gammas(f=0.9, beta=fig4c.BETA_EXACT, branches="all")
     first = np.array([next((ref.value[i, k] for k in range(ref.value.shape[1]) if ref.reason[i, k] in (0, 1)),
-                           np.nan) for i in range(sm.BETA_EXACT.size)])
+                           np.nan) for i in range(fig4c.BETA_EXACT.size)])
     points = _layer(scene.fig4c_dmap[()], hv.Scatter, "sliding threshold")
-    np.testing.assert_array_equal(points.dimension_values(0), sm.BETA_EXACT)
+    np.testing.assert_array_equal(points.dimension_values(0), fig4c.BETA_EXACT)
     np.testing.assert_array_equal(points.dimension_values(1), first * 0.9)
     found = np.isfinite(first)
     assert 0 < found.sum() < found.size  # certified at most β; refused (NaN, with the reason) at the others
-    rayleigh = model.critical_chi(sm.BETA_EXACT, f=0.9)
+    rayleigh = model.critical_chi(fig4c.BETA_EXACT, f=0.9)
     assert np.all(first[found] * 0.9 < rayleigh[found])  # another branch goes unstable first (docs §14.10)
     text = scene.fig4c_readout()
     assert f"**Sliding threshold (every branch, f = 0.9)** certified at {int(found.sum())} of 14 β" in text
     assert "the end of the kH range searched" in text
-    for b, status in zip(sm.BETA_EXACT[~found], ref.status[~found], strict=True):
+    for b, status in zip(fig4c.BETA_EXACT[~found], ref.status[~found], strict=True):
         assert f"β = {b:.4g}: {model.THRESHOLD_STATUS[int(status)]}" in text
     comment, header, data = _read_csv(scene.fig4c_csv())
     assert header[-1] == "chi_c_sliding" and "first certified crossing" in comment
@@ -431,9 +433,9 @@ def test_fig4c_shows_the_sliding_threshold_where_the_model_certifies_it() -> Non
 
 
 def test_fig4c_without_threshold_is_masked_with_the_reason() -> None:
-    d = sm.compute_fig4c(0.0)  # f = 0: no coupling, no threshold
+    d = fig4c.compute_fig4c(0.0)  # f = 0: no coupling, no threshold
     assert np.all(np.isnan(d["exact"])) and "no stability threshold" in d["reason"]
-    np.testing.assert_array_equal(d["criterion"], model.criterion_chi(sm.BETA_CRITERION))
+    np.testing.assert_array_equal(d["criterion"], model.criterion_chi(fig4c.BETA_CRITERION))
 
 
 # --------------------------------------------------------------------------------------------
@@ -471,7 +473,7 @@ def test_map_csv_is_what_the_map_shows(small) -> None:
 def test_the_refined_maps_csv_adds_its_refined_points(monkeypatch) -> None:
     """At the default resolution (refined at the neutral curve) the CSV holds the base grid (level 0) and, below it,
     every point added by the refinement with its level: each row the model's value at the row's point."""
-    monkeypatch.setitem(sm.RESOLUTIONS, DEFAULT_RESOLUTION, 10)
+    monkeypatch.setitem(grids.RESOLUTIONS, DEFAULT_RESOLUTION, 10)
     scene = StabilityMapScene(params=SpectrumParams(f=0.7), plane="β-γ")
     res = _computed(scene)
     comment, header, data = _read_csv(scene.map_download.callback())
@@ -511,9 +513,9 @@ def test_fig4c_csv_is_what_fig4c_shows() -> None:
     scene = StabilityMapScene()
     comment, header, data = _read_csv(scene.fig4c_download.callback())
     assert header == ["beta", "chi_c_criterion", "chi_c_exact"] and "f = 0.9" in comment  # sliding: not yet
-    np.testing.assert_array_equal(data[:, 0], sm.BETA_CRITERION)
-    np.testing.assert_array_equal(data[:, 1], model.criterion_chi(sm.BETA_CRITERION))
-    np.testing.assert_array_equal(data[1::2, 2], model.critical_chi(sm.BETA_EXACT, f=0.9))
+    np.testing.assert_array_equal(data[:, 0], fig4c.BETA_CRITERION)
+    np.testing.assert_array_equal(data[:, 1], model.criterion_chi(fig4c.BETA_CRITERION))
+    np.testing.assert_array_equal(data[1::2, 2], model.critical_chi(fig4c.BETA_EXACT, f=0.9))
     assert np.all(np.isnan(data[0::2, 2]))
 
 
@@ -574,7 +576,7 @@ def test_served_map_shows_the_model_values(served_app: str, browser_page) -> Non
     open_app(page, served_app, "Stability map")
     page.wait_for_function(_MAP_JS, timeout=60_000)
     d = page.evaluate(_MAP_JS)
-    n, levels = sm.RESOLUTIONS[DEFAULT_RESOLUTION], sm.LEVELS[DEFAULT_RESOLUTION]
+    n, levels = grids.RESOLUTIONS[DEFAULT_RESOLUTION], grids.LEVELS[DEFAULT_RESOLUTION]
     cells = n * 2**levels  # the map refined at its neutral curve: every cell drawn with the value at its hover's point
     assert len(d["growth"]) == cells * cells and len(d["at_x"]) == cells * cells
     args = dict(zip(("gamma", "f", "beta", "eta", "Delta", "xi"), SpectrumParams().model_args(), strict=True))
@@ -585,7 +587,7 @@ def test_served_map_shows_the_model_values(served_app: str, browser_page) -> Non
     x, y, growth, _ = _expected("η-γ", n, SpectrumParams())  # the base grid's points are drawn where not refined
     at = set(zip(d["at_x"], d["at_y"], strict=True))
     assert sum((float(px), float(py)) in at for px in x for py in y) > n * n // 2
-    n_chunks = len(sm.chunk_rows(n)) + levels
+    n_chunks = len(grids.chunk_rows(n)) + levels
     try:
         page.wait_for_function(_PROGRESS_JS, arg=n_chunks, timeout=10_000)  # the bar shows the finished chunks
     except Exception:
@@ -599,7 +601,7 @@ def test_the_progress_bar_is_labelled(small, monkeypatch) -> None:
     """Every long phase has a labelled progress bar (the map's said nothing of what it counts); it ends at the last
     chunk."""
     held, go_on = threading.Event(), threading.Event()
-    real = sm.compute_chunk
+    real = compute.compute_chunk
 
     def held_after_the_first(plane, n, start, stop, fixed):
         if start > 0 and not go_on.is_set():
@@ -607,7 +609,7 @@ def test_the_progress_bar_is_labelled(small, monkeypatch) -> None:
             assert go_on.wait(30)
         return real(plane, n, start, stop, fixed)
 
-    monkeypatch.setattr(sm, "compute_chunk", held_after_the_first)
+    monkeypatch.setattr(compute, "compute_chunk", held_after_the_first)
     scene = StabilityMapScene(plane="f-γ")
     scene.view()[()]
     assert held.wait(30)
@@ -628,7 +630,7 @@ def test_new_inputs_mid_computation_cancel_it_in_the_browser(served_app: str, br
     then the new map; the stale computation stops after its chunk and never reaches the page. (Empty caches: a coarse
     map an earlier test of this process computed would come back from the cache at once, with no progress to see.)"""
     held, go_on = threading.Event(), threading.Event()
-    real = sm.compute_chunk
+    real = compute.compute_chunk
     computed: list[int] = []
 
     def held_first(plane, n, start, stop, fixed):
@@ -638,20 +640,20 @@ def test_new_inputs_mid_computation_cancel_it_in_the_browser(served_app: str, br
             assert go_on.wait(60)
         return real(plane, n, start, stop, fixed)
 
-    monkeypatch.setattr(sm, "compute_chunk", held_first)
+    monkeypatch.setattr(compute, "compute_chunk", held_first)
     page = browser_page
     open_app(page, served_app, "Stability map")
-    medium, fine = sm.RESOLUTIONS["medium"], sm.RESOLUTIONS["fine"]
-    medium_words = sm.grid_words(medium, sm.LEVELS["medium"])
+    medium, fine = grids.RESOLUTIONS["medium"], grids.RESOLUTIONS["fine"]
+    medium_words = grids.grid_words(medium, grids.LEVELS["medium"])
     page.get_by_text(f"Computing the η-γ map ({medium_words}): 0 of").first.wait_for(timeout=60_000)
     assert held.wait(60)
     page.get_by_role("button", name="fine").first.click()
-    fine_words = sm.grid_words(fine, sm.LEVELS["fine"])
+    fine_words = grids.grid_words(fine, grids.LEVELS["fine"])
     page.get_by_text(f"Computing the η-γ map ({fine_words})").first.wait_for(timeout=60_000)
     go_on.set()
     page.get_by_text(f"The η-γ map ({fine_words})", exact=True).first.wait_for(timeout=120_000)
     page.wait_for_function(_MAP_JS, timeout=60_000)
-    assert len(page.evaluate(_MAP_JS)["growth"]) == (fine * 2 ** sm.LEVELS["fine"]) ** 2
+    assert len(page.evaluate(_MAP_JS)["growth"]) == (fine * 2 ** grids.LEVELS["fine"]) ** 2
     assert computed.count(medium) == 1  # the stale map stopped after its current chunk
     assert page.console_errors == []
 
@@ -688,7 +690,7 @@ def test_every_plane_revisited_shows_its_own_map(served_app: str, browser_page) 
     page = browser_page
     page.set_viewport_size({"width": 1280, "height": 1400})
     open_app(page, served_app + "?tab=map&map_res=coarse&map_verdict=rayleigh")
-    n = sm.RESOLUTIONS["coarse"]
+    n = grids.RESOLUTIONS["coarse"]
     planes = list(PLANES)
     for plane in planes + planes[::-1] + planes[1:]:
         page.locator("button", has_text=plane).first.click()
@@ -745,7 +747,7 @@ def test_the_neutral_curve_is_drawn_through_the_models_certified_thresholds(smal
             below, above = np.searchsorted(res.y, g) - 1, np.searchsorted(res.y, g)
             if 0 <= below and above < n and np.isfinite(res.growth[[below, above], i]).all():
                 assert np.sign(res.growth[below, i]) != np.sign(res.growth[above, i]) or abs(
-                    res.growth[below, i]) <= sm.MARGINAL or abs(res.growth[above, i]) <= sm.MARGINAL
+                    res.growth[below, i]) <= MARGINAL or abs(res.growth[above, i]) <= MARGINAL
     segments = path.split()
     assert segments and all(set(np.round(seg.dimension_values(1), 12)) <= set(np.round(want.value[ok], 12))
                             for seg in segments)
@@ -766,14 +768,14 @@ def test_a_plane_without_gamma_keeps_the_grid_contour_and_says_so(small) -> None
 @pytest.fixture
 def sixteen(monkeypatch):
     """16 x 16 maps at the default resolution: finer than the 12 x 12 preview, as every real resolution is."""
-    monkeypatch.setitem(sm.RESOLUTIONS, DEFAULT_RESOLUTION, 16)
-    monkeypatch.setitem(sm.LEVELS, DEFAULT_RESOLUTION, 0)
+    monkeypatch.setitem(grids.RESOLUTIONS, DEFAULT_RESOLUTION, 16)
+    monkeypatch.setitem(grids.LEVELS, DEFAULT_RESOLUTION, 0)
 
 
 def _growth(plane: str, n: int, p: SpectrumParams) -> np.ndarray:
     """model.growth_analysis over the plane at n x n points, in one call (independent of the scene's chunks)."""
     ax, ay = PLANES[plane]
-    x, y = sm.plane_axes(plane, n)
+    x, y = grids.plane_axes(plane, n)
     args = dict(zip(SpectrumParams.MODEL_ARGS, p.model_args(), strict=True))
     args[ax.name], args[ay.name] = x[None, :], y[:, None]
     return np.asarray(model.growth_analysis(KH, **args).growth, float)
@@ -816,25 +818,26 @@ def test_a_held_slider_off_the_plane_draws_a_labelled_preview_of_the_held_inputs
     assert "Drawn now: a preview of the held values; its dashed grey line" in scene.legend()
     fig = hv.render(scene.view(), backend="bokeh")
     assert fig.title.text == "Max growth rate of the Rayleigh branch over the η-γ plane: preview, 12 × 12 points"
-    assert calls["compute_chunk"] == len(sm.chunk_rows(16)) + len(sm.chunk_rows(12))  # the map's, then the preview's
+    # the map's chunks, then the preview's
+    assert calls["compute_chunk"] == len(grids.chunk_rows(16)) + len(grids.chunk_rows(12))
 
 
 def test_each_move_cancels_the_previous_preview_and_the_last_value_wins(sixteen, monkeypatch) -> None:
     """Three moves while the first preview computes: the first two jobs are cancelled, the second never computes
     anything (a preview starts computing once the previous one has stopped: no backlog), the last is shown."""
     held, go_on = threading.Event(), threading.Event()
-    real = sm.compute_chunk
+    real = compute.compute_chunk
     computed: list[float] = []
 
     def held_first(plane, n, start, stop, fixed):
-        if n == sm.PREVIEW_POINTS:
+        if n == preview.PREVIEW_POINTS:
             computed.append(dict(fixed)["f"])
             if dict(fixed)["f"] == 0.7 and start == 0:
                 held.set()
                 assert go_on.wait(30)
         return real(plane, n, start, stop, fixed)
 
-    monkeypatch.setattr(sm, "compute_chunk", held_first)
+    monkeypatch.setattr(compute, "compute_chunk", held_first)
     scene = StabilityMapScene()
     _computed(scene)
     started = []
@@ -849,7 +852,7 @@ def test_each_move_cancels_the_previous_preview_and_the_last_value_wins(sixteen,
     scene.wait_preview()
     assert first.wait(30).status == second.wait(30).status == jobs.CANCELLED
     assert third.state().status == jobs.DONE
-    assert computed.count(0.7) == 1 and 0.6 not in computed and computed.count(0.5) == len(sm.chunk_rows(12))
+    assert computed.count(0.7) == 1 and 0.6 not in computed and computed.count(0.5) == len(grids.chunk_rows(12))
     assert dict(scene.preview.key[2])["f"] == 0.5
     np.testing.assert_array_equal(scene.preview.growth, _growth("η-γ", 12, scene.params))
     assert calls["compute_map"] == 1
@@ -939,16 +942,16 @@ def test_a_stale_preview_never_replaces_a_newer_full_map(sixteen, monkeypatch) -
     of 0.7 is dropped at once, the full map of 0.6 is drawn, and the preview job of 0.6 ending afterwards (even
     completed) is never shown."""
     held, go_on = threading.Event(), threading.Event()
-    real = sm.compute_chunk
-    last = sm.chunk_rows(12)[-1][0]
+    real = compute.compute_chunk
+    last = grids.chunk_rows(12)[-1][0]
 
     def held_last(plane, n, start, stop, fixed):
-        if n == sm.PREVIEW_POINTS and dict(fixed)["f"] == 0.6 and start == last:
+        if n == preview.PREVIEW_POINTS and dict(fixed)["f"] == 0.6 and start == last:
             held.set()
             assert go_on.wait(30)
         return real(plane, n, start, stop, fixed)
 
-    monkeypatch.setattr(sm, "compute_chunk", held_last)
+    monkeypatch.setattr(compute, "compute_chunk", held_last)
     scene = StabilityMapScene()
     _computed(scene)
     _hold(scene, f=0.7)
@@ -976,13 +979,13 @@ def test_a_held_slider_previews_the_sliding_verdict_chunk_by_chunk(monkeypatch) 
     """Coloured by the sliding verdict (f-γ plane, η = ∞): a held β shows the sliding verdict of the held β at 6 x 6
     points (model.sliding_analysis), published after each chunk (the first one already draws), labelled as a preview;
     at the release the full sliding map replaces it."""
-    monkeypatch.setitem(sm.RESOLUTIONS, DEFAULT_RESOLUTION, 8)
-    monkeypatch.setitem(sm.LEVELS, DEFAULT_RESOLUTION, 0)
-    published: list[sm.MapPreview] = []
+    monkeypatch.setitem(grids.RESOLUTIONS, DEFAULT_RESOLUTION, 8)
+    monkeypatch.setitem(grids.LEVELS, DEFAULT_RESOLUTION, 0)
+    published: list[preview.MapPreview] = []
     real_publish = jobs.Job.publish
 
     def publish(self, partial):
-        if isinstance(partial, sm.MapPreview):
+        if isinstance(partial, preview.MapPreview):
             published.append(partial)
         real_publish(self, partial)
 
@@ -996,11 +999,11 @@ def test_a_held_slider_previews_the_sliding_verdict_chunk_by_chunk(monkeypatch) 
     _hold(scene, beta=0.45)
     scene.wait_preview(120)
     pv = scene.preview
-    assert pv.complete and pv.sliding.x.size == sm.PREVIEW_SLIDING_POINTS == 6
-    chunk = sm.PREVIEW_SLIDING_CHUNK
+    assert pv.complete and pv.sliding.x.size == preview.PREVIEW_SLIDING_POINTS == 6
+    chunk = preview.PREVIEW_SLIDING_CHUNK
     assert [p.sliding.computed for p in published] == list(range(chunk, 36, chunk))  # every chunk but the last
     assert int((published[0].sliding.shown()["verdict"] >= 0).sum()) == 12  # the first chunk draws two rows
-    x, y = sm.plane_axes("f-γ", 6)
+    x, y = grids.plane_axes("f-γ", 6)
     want = model.sliding_analysis(f=x[None, :], gamma=y[:, None], beta=0.45, eta=math.inf, Delta=1.0, xi=0.0,
                                   floor=model.DEFAULT_FLOOR)
     for name, field in (("verdict", "verdict"), ("reason", "verdict_reason"), ("growth", "growth"),
@@ -1021,7 +1024,7 @@ def test_a_held_slider_previews_the_sliding_verdict_chunk_by_chunk(monkeypatch) 
     scene.sliding_computation.wait(120)
     assert scene.preview is None
     classes, heat = [el for el in scene.view()[()] if isinstance(el, hv.QuadMesh)]
-    x8, y8 = sm.plane_axes("f-γ", 8)
+    x8, y8 = grids.plane_axes("f-γ", 8)
     full = model.sliding_analysis(f=x8[None, :], gamma=y8[:, None], beta=0.45, eta=math.inf, Delta=1.0, xi=0.0,
                                   floor=model.DEFAULT_FLOOR)
     np.testing.assert_array_equal(classes.dimension_values(2, flat=False), full.verdict.astype(float))

@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 from asymslide import model
-from asymslide.app import stability_map as sm
 from asymslide.app.params import SpectrumParams
-from asymslide.app.stability_map import KH, PLANES
+from asymslide.app.stability_map import grids, map_plot, preview
+from asymslide.app.stability_map.grids import KH, PLANES
 from tests.conftest import download, open_app, save_screenshot
 
 pytestmark = [pytest.mark.ui, pytest.mark.usefixtures("fresh_caches")]
@@ -92,7 +92,7 @@ def _heat_grid(d: dict, plane: str, n: int) -> np.ndarray:
 def _growth(plane: str, n: int, f: float) -> np.ndarray:
     """model.growth_analysis over the plane at n x n points, the other parameters the defaults but f."""
     ax, ay = PLANES[plane]
-    x, y = sm.plane_axes(plane, n)
+    x, y = grids.plane_axes(plane, n)
     args = dict(zip(SpectrumParams.MODEL_ARGS, SpectrumParams(f=f).model_args(), strict=True))
     args[ax.name], args[ay.name] = x[None, :], y[:, None]
     return np.asarray(model.growth_analysis(KH, **args).growth, float)
@@ -133,14 +133,14 @@ def test_a_held_f_slider_previews_the_rayleigh_map_and_the_release_draws_the_ful
     page = browser_page
     page.set_viewport_size({"width": 1280, "height": 1400})
     open_app(page, served_app + "?tab=map&map_res=coarse&map_verdict=rayleigh")
-    n, plane = sm.RESOLUTIONS["coarse"], "η-γ"
+    n, plane = grids.RESOLUTIONS["coarse"], "η-γ"
     page.get_by_text(f"The {plane} map ({n} × {n} points)", exact=True).first.wait_for(timeout=WAIT)
     page.wait_for_function(f"() => {{ const d = ({_HEAT_JS})(); return d !== null && d.cells === {n * n}; }}",
                            timeout=WAIT)
 
     _press_and_move(page, 0.3)  # f from 0.9 towards 0.6, held
     try:
-        p = sm.PREVIEW_POINTS
+        p = preview.PREVIEW_POINTS
         page.get_by_text(f"Preview while the slider is held: {p} × {p} points; the full map is computed at the "
                          "release").first.wait_for(timeout=WAIT)
         f = _wait_for_preview_of_the_held_value(page)
@@ -168,13 +168,13 @@ def test_a_held_f_slider_previews_the_sliding_verdict_and_the_release_draws_the_
     page = browser_page
     page.set_viewport_size({"width": 1280, "height": 1400})
     open_app(page, served_app + "?tab=map&map=beta-gamma&map_res=coarse")
-    n, plane = sm.RESOLUTIONS["coarse"], "β-γ"
+    n, plane = grids.RESOLUTIONS["coarse"], "β-γ"
     page.get_by_text(f"The sliding verdict over the {plane} map ({n} × {n} points)", exact=True).first.wait_for(
         timeout=WAIT)
 
     _press_and_move(page, 0.3)
     try:
-        p = sm.PREVIEW_SLIDING_POINTS
+        p = preview.PREVIEW_SLIDING_POINTS
         _wait_for_preview_of_the_held_value(page)
         page.wait_for_function(f"() => {{ const d = ({_HEAT_JS})(); return d !== null && d.cells === {p * p} && "
                                "d.shown.every(s => s.startsWith('preview, ')); }", timeout=WAIT)
@@ -200,7 +200,7 @@ _BOUNDARY_JS = """() => (""" + _ON_MAP_JS + """)((m, r) => {
   const colour = c && c.value !== undefined ? c.value : c;  // a value spec: {value: '#762a83'}
   if (colour !== 'COLOUR' || !r.data_source || r.data_source.data.ys === undefined) return undefined;
   return Array.from(r.data_source.data.ys).map(a => Array.from(a));
-})""".replace("COLOUR", sm.SLIDING_BOUNDARY_COLOR)
+})""".replace("COLOUR", map_plot.SLIDING_BOUNDARY_COLOR)
 
 
 @pytest.mark.slow
@@ -212,10 +212,10 @@ def test_the_sliding_boundary_is_drawn_and_stays_when_the_colouring_is_switched_
     page = browser_page
     page.set_viewport_size({"width": 1280, "height": 1400})
     open_app(page, served_app + "?tab=map&map=beta-gamma&map_res=coarse")
-    n = sm.RESOLUTIONS["coarse"]
+    n = grids.RESOLUTIONS["coarse"]
     done = f"at {n} of {n} x values"
     page.get_by_text(re.compile(re.escape(done))).first.wait_for(timeout=WAIT)
-    x, _ = sm.plane_axes("β-γ", n)
+    x, _ = grids.plane_axes("β-γ", n)
     edges = PLANES["β-γ"][1].edges(n)
     p = SpectrumParams()
     want = model.critical_gammas(f=p.f, beta=x, gamma_range=(float(edges[0]), float(edges[-1])), branches="all",
