@@ -21,6 +21,7 @@ from asymslide.app import lab as lb
 from asymslide.app import spectrum as sp
 from asymslide.app.lab import E_FOLDING_AXIS, KH, LabScene, slider_values
 from asymslide.app.params import CUSTOM, LabParams, SpectrumParams
+from asymslide.app.stability_map import map_plot
 from asymslide.app.urlstate import parse_query, query_string
 from tests.conftest import open_app, save_screenshot
 from tests.support.headless import build_app
@@ -333,7 +334,7 @@ def test_the_sliders_point_in_lab_units() -> None:
     scene = app.lab
     scene.params.link = True
     assert scene.point_readout() == ""  # matched: the lab readout is the current point's
-    app.map._on_tap("Δ-ξ", 0.5, 2.0)  # a click on the stability map moves Δ and ξ
+    map_plot.on_tap(app.map, "Δ-ξ", 0.5, 2.0)  # a click on the stability map moves Δ and ξ
     args = app.spectrum_params.model_args()
     assert args[4:] == (0.5, 2.0)
     gamma, f, beta, eta, Delta, xi = args
