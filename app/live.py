@@ -115,9 +115,8 @@ def push(pane: pn.pane.HoloViews, layers: Mapping[LayerKey, Layer], *, empty_oth
 
 #: the follows of a held slider, over every session of a server process, run at most this often (each costs ~25 ms
 #: of the process' one GIL): one session's drag of 20 moves a second is followed at every move; ten sessions dragging
-#: at once share the rate, so the process keeps time for the releases, which are never delayed. Ten sessions
-#: unbounded asked for ~5 s of follows a second: p95 after release 701-2257 ms; at 16 a second 207 ms (2 redraws a
-#: drag), at 24 267 ms (4 redraws) (benchmarks/results.md "Live while dragging")
+#: at once share the rate, so the process keeps time for the releases, which are never delayed (docs/design-notes.md,
+#: "Ten sessions dragging at once")
 FOLLOWS_PER_SECOND = 24.0
 
 

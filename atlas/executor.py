@@ -137,8 +137,8 @@ def execute(todo: Sequence[Any], on_result: Callable[[Any, dict[str, np.ndarray]
     """Run `todo` (tasks with a `kind` and an `index`, unique together), calling `on_result` in one thread as each
     task finishes (in any order); `run`: the function of a task (:func:`asymslide.atlas.tasks.run_task`,
     :func:`~asymslide.atlas.tasks.run_points`). Without a client: Dask's
-    threaded scheduler, and for the tasks that hold the GIL (the sliding verdict: two threads 0.93x one thread's
-    speed, two processes 1.76x; ``bench_sliding.threads_vs_processes``) `workers` processes."""
+    threaded scheduler, and for the tasks that hold the GIL (the sliding verdict: threads would run them one at a
+    time; docs/design-notes.md) `workers` processes."""
     if not todo:
         return
     if client is not None:

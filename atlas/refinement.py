@@ -12,10 +12,8 @@ level follows the boundary out of the flagged cells: every level-l cell (side s)
 differ in class has its other corners evaluated, in rounds, until no such cell is left (:func:`follow_targets`).
 A boundary that leaves a flagged cell through a face whose coarse corners agree (it crosses an edge of the coarse
 grid twice) is so followed as far as it goes, at the level's resolution, where a margin only looks one ring of cells
-further and evaluates that ring all around every flagged cell. On 33^4 points at eta = 10 following with margin 0
-reproduced the dense verdict field at every point, where margin 0 alone missed 26 points and margin 1 needed 1.6
-times the points (``benchmarks/bench_adaptive.py``). Neither finds a single point of another class inside a cell
-whose corners agree (on 65^4 at eta = inf: 14 isolated undetermined points of 17.9 M); the guard below does.
+further and evaluates that ring all around every flagged cell (docs/design-notes.md, "Following the boundary").
+Neither finds a single point of another class inside a cell whose corners agree; the guard below does.
 The rounds reach the smallest set closed under that rule whatever order points come in (adding points only adds
 cells with differing corners), so a resumed sweep ends where an uninterrupted one does. A cell whose corners agree
 is not refined, and its points that are never evaluated take its corners' class. With the optional **guard** a
