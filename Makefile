@@ -10,7 +10,7 @@ STAMP    := $(VENV)/.installed-stamp
 # every dependency pinned (all extras; CPython 3.11 on Linux): the .venv and the Docker image install from it
 LOCK     := requirements.lock
 # what make venv installs: the model, the atlas engine, the web app, and the test, bench and lock tools
-EXTRAS   := atlas,app,test,bench,dev
+EXTRAS   := atlas,app,test,bench,dev,docs
 CHROMIUM := /usr/bin/chromium
 PORT     ?= 5006
 # the interface the server listens on: this machine only unless asked (make serve ADDRESS=0.0.0.0: every interface)
@@ -21,14 +21,14 @@ ALLOWED_ORIGIN ?= localhost:$(PORT)
 NUM_PROCS ?= 1
 # where the Atlas tab reads atlases (default: ~/.cache/asymslide/atlases)
 ATLAS_DIR ?=
-LINT_DIRS ?= $(wildcard model atlas app asymslide tests benchmarks .ci)
+LINT_DIRS ?= $(wildcard model atlas app asymslide tests benchmarks .ci docs/conf.py)
 SHELL_SCRIPTS := .ci/run .ci/docker-smoke docker/entrypoint.sh
 PYTEST_ARGS ?=
 
 # numba compiles once and keeps its machine code here (ignored by git)
 export NUMBA_CACHE_DIR := $(CURDIR)/.numba_cache
 
-.PHONY: help venv lock serve test test-fast screenshots bench lint docker-smoke check clean
+.PHONY: help venv lock serve test test-fast docs screenshots bench lint docker-smoke check clean
 
 help:  ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/' | expand -t 10
@@ -65,6 +65,9 @@ test: venv  ## ruff, then every test (browser tests need /usr/bin/chromium)
 test-fast: venv  ## ruff, then the model's and the atlas engine's tests not marked slow (a minute with numba's cache warm)
 	$(VENV)/bin/ruff check $(LINT_DIRS)
 	$(PY) -m pytest tests/model tests/engine -m "not slow" $(PYTEST_ARGS)
+
+docs: venv  ## build the documentation site into build/docs/html (warnings are errors; notebooks executed)
+	$(VENV)/bin/sphinx-build -W --keep-going -b html docs build/docs/html
 
 screenshots: venv  ## refresh the README's screenshots in docs/ (make test writes them to build/screenshots/)
 	ASYMSLIDE_UPDATE_SCREENSHOTS=1 $(PY) -m pytest -m ui tests/browser/test_ui_smoke.py tests/app/test_app_atlas.py \

@@ -369,7 +369,7 @@ def build_parser() -> argparse.ArgumentParser:
                          "branch's: a cell is refined where either changes; implies --sliding) or rayleigh (the "
                          "Rayleigh branch's alone); default: sliding with --sliding, else rayleigh")
     sw.add_argument("--guard", type=float, nargs="?", const=1.0, default=0.0, metavar="FACTOR",
-                    help="adaptive: also refine nearly neutral cells, where min |growth| over the corners is below "
+                    help="adaptive: also refine nearly neutral cells, where min abs(growth) over the corners is below "
                          "FACTOR (default 1) times the curvature estimate (finds islands inside a cell; costs more "
                          "points)")
     sw.add_argument("--quiet", action="store_true", help="no progress bars")

@@ -101,6 +101,8 @@ class Crossings:
 
     The last axis (length max_crossings) lists crossings in increasing order of the parameter, NaN-padded.
 
+    Attributes
+    ----------
     value : the threshold where certified (reason 0 or 1), else NaN
     location : where the sign change is: the threshold, the jump's location (to NARROW), or the bracket's centre
     lo, hi : the bracket (values of the parameter) the crossing was solved in (the certificate's ends if certified)

@@ -1000,6 +1000,8 @@ def family_codes(row: np.ndarray) -> np.ndarray:
 class SlidingResult:
     """The stability of steady sliding over every branch and a kH range (:func:`sliding_analysis`).
 
+    Attributes
+    ----------
     growth : the maximum over the kH range of the fastest root's Im z (as the paper's c(k) plots; NaN unless the
         verdict is unstable with a certified maximum), kH_at_max, z_at_max and family (:data:`FAMILIES`) there
     rate : the maximum of the temporal growth rate kH Im z (in units of c_s/H), kH_at_max_rate, z_at_max_rate

@@ -27,6 +27,8 @@ CHUNK = 256  # parameter sets per chunk of a stability map
 class GrowthResult:
     """Max growth rate over kH on the Rayleigh branch, per parameter set (docs/physics.md §9).
 
+    Attributes
+    ----------
     growth : the continuous max of Im z (c/c_s units) over the kH range [kH[0], kH[-1]] where the branch is followed,
         between grid points too, at an exact root (NaN if the branch is masked on the whole range)
     kH_at_max : where the maximum is reached
@@ -243,6 +245,8 @@ def criterion_chi(beta):
 class StabilityVerdict:
     """Global verdict on linear stability of steady sliding in a stated window.
 
+    Attributes
+    ----------
     stable : True when the Rayleigh branch has max growth <= 0 on the kH grid (NaN: not stable) and no root of the
         dispersion relation (any branch) lies in the window im_min <= Im z <= im_max, |Re z| <= re_max
         at any kH of the grid.

@@ -367,7 +367,7 @@ def crossings_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: t
 
     name : "gamma" or "eta"; s_grid : the ln kH grid (its ends are the kH range of the max growth);
     params : (6, n) in growth_chunk's layout (rows gamma, f, beta, eta, Delta, xi) with the row of `name` ignored,
-    or (5, n) with that row left out; bounds : the search range (default :data:`THRESHOLD_RANGES`[name]);
+    or (5, n) with that row left out; bounds : the search range (default ``THRESHOLD_RANGES[name]``);
     rtol : validated as everywhere (None or [1e-15, 1e-3]), but the growth is always evaluated and the neutral
     mode always solved at full accuracy: the certificate needs the threshold to ~1e-12, and a neutral mode
     converges quadratically, so a looser target would save nothing; max_crossings : the length of the last axis.

@@ -99,15 +99,15 @@ def test_dockerignore_admits_exactly_what_the_build_uses() -> None:
         assert (ROOT / path).exists(), path
 
 
-def test_ci_script_runs_make_test_then_the_docker_smoke_test() -> None:
+def test_ci_script_runs_make_test_make_docs_then_the_docker_smoke_test() -> None:
     text = (ROOT / ".ci" / "run").read_text()
     assert text.startswith("#!/usr/bin/env bash")
     assert "set -euo pipefail" in text
     assert "apt-get install -y" in text and "chromium" in text
     assert "playwright install" not in text
     lines = [line.strip() for line in text.splitlines()]
-    assert "make test" in lines and "bash .ci/docker-smoke" in lines
-    assert lines.index("make test") < lines.index("bash .ci/docker-smoke")
+    assert "make test" in lines and "make docs" in lines and "bash .ci/docker-smoke" in lines
+    assert lines.index("make test") < lines.index("make docs") < lines.index("bash .ci/docker-smoke")
 
 
 def test_the_docker_smoke_test_runs_its_own_daemon_and_cleans_up() -> None:
@@ -330,3 +330,9 @@ def test_no_issue_numbers_in_code_or_tests() -> None:
              for path in sorted((ROOT / folder).rglob("*.py")) if path.name != "test_infra.py"
              for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1) if pattern.search(line)]
     assert found == []
+
+
+@pytest.mark.skipif(shutil.which("make") is None, reason="GNU make not installed")
+def test_make_docs_builds_the_site_with_warnings_as_errors() -> None:
+    recipe = subprocess.run(["make", "-n", "docs"], cwd=ROOT, capture_output=True, text=True, check=True).stdout
+    assert "sphinx-build -W --keep-going -b html docs build/docs/html" in recipe
