@@ -83,7 +83,7 @@ _SCOPES: list[None] = []
 
 @contextlib.contextmanager
 def sweep_processes() -> Iterator[None]:
-    """Keep the process pools started inside (by :func:`_process_pool`) until the block ends, then shut them down
+    """Keep the process pools started inside (by ``_process_pool``) until the block ends, then shut them down
     (a pool kept for the life of the process hung pytest's exit)."""
     outer = set(_POOLS)
     _SCOPES.append(None)
@@ -108,7 +108,7 @@ def _process_pool(workers: int):
 
 def _execute_in_processes(todo: Sequence[Any], on_result: Callable[[Any, dict[str, np.ndarray]], None],
                           workers: int, run: Callable[[Any], dict[str, np.ndarray]]) -> None:
-    """Run `todo` in :func:`_process_pool`, calling `on_result` in this thread as each task finishes; the tasks
+    """Run `todo` in ``_process_pool``, calling `on_result` in this thread as each task finishes; the tasks
     not started are cancelled if this is interrupted (a task running finishes in its process)."""
     with contextlib.ExitStack() as stack:
         if not _SCOPES:  # outside a sweep (a direct call): a pool for this call only

@@ -67,6 +67,7 @@ class SlidingSpec:
     thresholds: bool = False
 
     def identity(self) -> dict[str, Any]:
+        """What identifies these settings in a store's plan (a resumed sweep must ask for the same)."""
         out = {"kH": list(self.kH), "floor": self.floor}
         return {**out, "thresholds": True} if self.thresholds else out  # older plans keep their identity
 
@@ -95,14 +96,17 @@ class Plan:
 
     @property
     def names(self) -> tuple[str, ...]:
+        """The axes' names, in order (the dataset's dimensions)."""
         return tuple(self.axes)
 
     @property
     def shape(self) -> tuple[int, ...]:
+        """The number of values on each axis."""
         return tuple(len(v) for v in self.axes.values())
 
     @property
     def size(self) -> int:
+        """The number of grid points."""
         return math.prod(self.shape)
 
     @property
@@ -135,16 +139,20 @@ class Plan:
         return _blocks([(len(self.axes[n]), self.chunks[n]) for n in self.names])
 
     def gamma_c_blocks(self) -> list[tuple[tuple[int, int], ...]]:
+        """The index blocks (start, stop per axis) of the γ_c chunks (over every axis but γ)."""
         return _blocks([(len(self.axes[n]), self.chunks[f"gamma_c:{n}"]) for n in self.gamma_c_names])
 
     def count_blocks(self) -> list[tuple[tuple[int, int], ...]]:
+        """The index blocks (start, stop per axis) of the all-branch count's chunks."""
         return _blocks([(len(self.axes[n]), self.chunks[f"count:{n}"]) for n in self.names])
 
     def sliding_blocks(self) -> list[tuple[tuple[int, int], ...]]:
+        """The index blocks (start, stop per axis) of the sliding verdict's chunks."""
         return _blocks([(len(self.axes[n]), self.chunks[f"sliding:{n}"]) for n in self.names])
 
 
 def json_float(x: float) -> float | str:
+    """A float for JSON: "inf" for ∞ (JSON has no infinity), else the value."""
     return "inf" if x == math.inf else float(x)
 
 
@@ -227,7 +235,7 @@ def make_plan(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mappin
     growth is bracketed (increasing, > 0; default :data:`DEFAULT_KH`); gamma_range: where γ_c is searched
     (default: the γ axis' range if γ is an axis of more than one value, else (1e-2, 1e3)); chunk_points: grid
     points per growth chunk (default :data:`CHUNK_POINTS`, adaptive :data:`asymslide.atlas.refinement.CHUNK_POINTS`);
-    adaptive: None or False (the dense sweep), True or an :class:`~asymslide.atlas.adaptive.AdaptiveSpec` (levels,
+    adaptive: None or False (the dense sweep), True or an :class:`~asymslide.atlas.refinement.AdaptiveSpec` (levels,
     margin, guard, follow, verdict; every axis must have m·2^levels + 1 points); sliding: None or False (the
     Rayleigh branch only), True or a :class:`SlidingSpec` (also the sliding verdict over every branch). An adaptive
     sweep with the sliding verdict refines it (and the Rayleigh branch's verdict): its spec's verdict is "sliding"

@@ -74,6 +74,7 @@ NOT_COMPUTED = -1
 #: over every branch (docs/physics.md §14; the ``*_all`` variables, every evaluated point getting both verdicts and
 #: a cell refined where either changes class, so that both filled verdicts hold)
 RAYLEIGH, SLIDING = "rayleigh", "sliding"
+#: the verdicts an adaptive sweep can refine
 VERDICTS = (RAYLEIGH, SLIDING)
 
 
@@ -95,6 +96,7 @@ class AdaptiveSpec:
     verdict: str | None = None
 
     def identity(self) -> dict[str, Any]:
+        """What identifies these settings in a store's plan (a resumed sweep must ask for the same)."""
         out = {"levels": self.levels, "margin": self.margin, "guard": self.guard, "follow": self.follow}
         # only where the sliding verdict is refined: the plans of Rayleigh-branch atlases keep their identity
         return {**out, "verdict": self.verdict} if self.verdict == SLIDING else out

@@ -172,6 +172,7 @@ class Atlas:
 
     @property
     def names(self) -> list[str]:
+        """The atlas's axes, in order."""
         return list(self.axes)
 
     def display(self, name: str) -> np.ndarray:

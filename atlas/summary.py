@@ -112,6 +112,7 @@ class Coverage(NamedTuple):
 
     @property
     def certified(self) -> int:
+        """The points with a certified verdict (stable or unstable)."""
         return self.stable + self.unstable
 
 

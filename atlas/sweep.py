@@ -36,18 +36,18 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
     """Sweep the Rayleigh branch's growth analysis over the grid `axes` (x the fixed values); an xarray.Dataset.
 
     axes: parameter name (gamma, f, beta, eta, Delta, xi) -> increasing values; fixed: other parameters (default:
-    :data:`DEFAULT_FIXED`, η = ∞ allowed); kH: the grid the growth is bracketed on (default :data:`DEFAULT_KH`);
-    rtol: the model's accuracy setting (None: full certified accuracy); store: a Zarr directory, written chunk by
-    chunk and resumed if it exists with the same plan and model (else SweepError, nothing written); client: a
-    ``distributed.Client`` (None: Dask's threaded scheduler here, `workers` threads); growth: the growth variables;
-    gamma_c: the threshold γ_c over the other axes (searched in `gamma_range`); count: the optional all-branch
-    count; progress: called with (kind, points) as chunks finish; command: recorded in the attributes; adaptive:
-    None (every point) or True / an :class:`~asymslide.atlas.adaptive.AdaptiveSpec` (the growth computed only where the
-    verdict can change: :mod:`asymslide.atlas.adaptive`; every axis must have m·2^levels + 1 points); start: called with
-    (kind, points) when an adaptive level's batch of that many points starts (kind ``level L``, as in `progress`; again
-    as each of its follow rounds starts, with the points the round adds); sliding: None (the Rayleigh branch only) or
-    True / a :class:`SlidingSpec` (also the sliding verdict over every branch, the ``*_all`` variables; an adaptive
-    sweep refines it too).
+    :data:`~plan.DEFAULT_FIXED`, η = ∞ allowed); kH: the grid the growth is bracketed on (default
+    :data:`~plan.DEFAULT_KH`); rtol: the model's accuracy setting (None: full certified accuracy); store: a Zarr
+    directory, written chunk by chunk and resumed if it exists with the same plan and model (else SweepError,
+    nothing written); client: a ``distributed.Client`` (None: Dask's threaded scheduler here, `workers` threads);
+    growth: the growth variables; gamma_c: the threshold γ_c over the other axes (searched in `gamma_range`); count:
+    the optional all-branch count; progress: called with (kind, points) as chunks finish; command: recorded in the
+    attributes; adaptive: None (every point) or True / an :class:`~refinement.AdaptiveSpec` (the growth computed
+    only where the verdict can change: :mod:`asymslide.atlas.adaptive`; every axis must have m·2^levels + 1 points);
+    start: called with (kind, points) when an adaptive level's batch of that many points starts (kind ``level L``,
+    as in `progress`; again as each of its follow rounds starts, with the points the round adds); sliding: None (the
+    Rayleigh branch only) or True / a :class:`~plan.SlidingSpec` (also the sliding verdict over every branch, the
+    ``*_all`` variables; an adaptive sweep refines it too).
 
     Returns the dataset: in memory without a store, else opened lazily from the store. Variables and attributes:
     see the module docstring. Bad input raises SweepError (a ValueError) naming the problem.
@@ -59,7 +59,7 @@ def sweep(axes: Mapping[str, Sequence[float] | np.ndarray], *, fixed: Mapping[st
 
 def run(plan: Plan, *, store: str | os.PathLike | None = None, client=None, workers: int | None = None,
         progress: Progress | None = None, start: Progress | None = None, command: str | None = None):
-    """Compute a validated plan (:func:`make_plan`): the dense sweep, or the adaptive one if the plan has
+    """Compute a validated plan (:func:`~plan.make_plan`): the dense sweep, or the adaptive one if the plan has
     ``adaptive``; the other arguments and the result as :func:`sweep`. The command line parses and plans, then
     calls this."""
     with sweep_processes():  # processes started for the sliding verdict serve every round of the sweep

@@ -45,6 +45,7 @@ class Task:
 
     @property
     def points(self) -> int:
+        """The number of grid points in the task."""
         return math.prod(len(v) for v in self.values)
 
     @property
@@ -182,6 +183,7 @@ class PointTask:
 
     @property
     def points(self) -> int:
+        """The number of grid points in the task."""
         return int(self.flat.size)
 
     @property

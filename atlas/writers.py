@@ -150,7 +150,7 @@ class Writer(Protocol):
         """The results of one finished task (called in one thread, as tasks finish)."""
 
 
-class MemoryWriter:
+class MemoryWriter(Writer):
     """A sweep without a store: the plan's template in memory, filled chunk by chunk."""
 
     def __init__(self, plan: Plan, command: str | None = None) -> None:
@@ -175,7 +175,7 @@ class MemoryWriter:
         return self.ds
 
 
-class ZarrWriter:
+class ZarrWriter(Writer):
     """A sweep into a Zarr store: opened (checked: SweepError if it cannot be resumed) or created, each chunk a
     region write and then its done flag."""
 
@@ -210,19 +210,21 @@ def open_writer(plan: Plan, store: str | os.PathLike | None, command: str | None
     return MemoryWriter(plan, command) if store is None else ZarrWriter(plan, Path(store), command)
 
 
-class MemoryJournal:
+class MemoryJournal(Writer):
     """An adaptive sweep without a store: its grid variables are the dataset's arrays (nothing to journal)."""
 
     def __init__(self, ds) -> None:
         self.ds = ds
 
     def load(self, names: tuple[str, ...], shape: tuple[int, ...]) -> dict[str, np.ndarray]:  # noqa: ARG002
+        """The dataset's own arrays of `names` (written in place by the adaptive rounds)."""
         return {name: self.ds[name].values for name in names}
 
     def begin(self, level: int, tasks: list[PointTask]) -> None:
         """Nothing to prepare."""
 
     def done(self, task: PointTask) -> bool:  # noqa: ARG002
+        """False: nothing is journaled, so no task is done before it runs."""
         return False
 
     def write(self, task: PointTask, result: dict[str, np.ndarray]) -> None:
@@ -264,7 +266,7 @@ def filled_names(plan: Plan) -> dict[str, str]:
     return {"verdict_filled": "verdict", **({"verdict_filled_all": "verdict_all"} if plan.sliding is not None else {})}
 
 
-class JournalWriter:
+class JournalWriter(Writer):
     """An adaptive store: the grid variables, and a journal of the points evaluated since they were written.
 
     Writing the grid variables as points finish would rewrite a Zarr chunk at every level that touches it (the

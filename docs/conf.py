@@ -2,7 +2,13 @@
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 from asymslide import __version__
+
+# the site's own extension (docs/_ext/asymslide_docs.py): constants, the equation index, docstring check, links
+sys.path.insert(0, str(Path(__file__).parent / "_ext"))
 
 project = "asymslide"
 author = "the asymslide authors"
@@ -14,7 +20,10 @@ extensions = [
     "numpydoc",
     "myst_nb",
     "sphinxarg.ext",
+    "asymslide_docs",
 ]
+# a reference to an object the API does not document is a warning (an error with -W)
+nitpicky = True
 # the site's pages: this folder's Markdown (physics.md, design-notes.md, ...) and notebooks
 exclude_patterns = ["_build", "**.ipynb_checkpoints"]
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]

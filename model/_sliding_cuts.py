@@ -4,7 +4,7 @@ At eta = inf, F has branch points at z = +-1 (alpha_s) and +-1/beta (alpha_d), w
 them. A root of the physical sheet can leave through a cut, and a root of the other sheet can come out of one: for a
 short kH span it then grows, possibly faster than anything at the grid points, and no count on the physical sheet
 at a grid point sees it. Near a branch point the local uniformizing variable w (alpha_d near +-1/beta, alpha_s near
-+-1) makes F analytic on both sides of the cut (:func:`model._kernels.response.chart_point`), so the roots there are
++-1) makes F analytic on both sides of the cut (``_kernels.response.chart_point``), so the roots there are
 continuous in kH across it. At each grid point, every root in a box of half-width CHART_BOX x (the distance to the
 chart's other singularities) around w = 0 is counted, located and followed in kH to the neighbouring grid points;
 where it lies on the physical sheet (Re w > 0) with Im z > 0, its growth is watched, and its highest point is handed
@@ -61,7 +61,7 @@ class CutCharts:
         (v, dv/d ln kH), None if the count failed, a location failed or there are more than `most`).
 
         known: roots at this kH found otherwise (followed from a neighbouring kH). The box is counted with the sums
-        of its roots and of their squares (:func:`model._kernels.contour.count_rectangle`); the roots not known (at
+        of its roots and of their squares (``_kernels.contour.count_rectangle``); the roots not known (at
         most two) are estimated from them and polished by Newton; if that does not give as many distinct roots in
         the box as it holds, the box is subdivided (model.modes' locate)."""
         r = self.half_width(chart)
@@ -108,7 +108,7 @@ class CutCharts:
 
     def highest(self, v: complex, dv: complex, s: float, end: float, chart: int, best: float
                 ) -> tuple[tuple[float, complex] | None, complex | None]:
-        """Follow the chart root v (slope dv) from ln kH = s to `end` (:func:`model._kernels.cuts.follow_chart`).
+        """Follow the chart root v (slope dv) from ln kH = s to `end` (``_kernels.cuts.follow_chart``).
         Returns (the (ln kH, z) of its highest point on the physical sheet with Im z > 0, or None if it never grows
         there; v at `end`, or None if the root left the chart's domain or was lost). Where the highest sample is
         above best/2, the peak between samples is estimated by a parabola through the three around it and

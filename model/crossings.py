@@ -62,7 +62,7 @@ class ThresholdReason(IntEnum):
 
 
 T_FOUND, T_STABLE, T_UNSTABLE, T_UNDEFINED, T_NOT_CERTIFIED, T_JUMP, T_POLE_DENSE = ThresholdReason
-#: reason codes of :func:`threshold_chunk` / :func:`critical_gamma_chunk` (int8), like :data:`model.spectrum.STATUS`
+#: reason codes of :func:`threshold_chunk` / :func:`critical_gamma_chunk` (int8), like :data:`STATUS`
 THRESHOLD_STATUS = {
     T_FOUND: "found: the first certified crossing (a neutral mode where the max growth changes sign)",
     T_STABLE: "stable throughout: max growth < 0 at every scan value of the range where it is defined",

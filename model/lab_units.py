@@ -11,7 +11,7 @@ Notation of the paper (Sect. IV B, Eq. rsf_phi and the equation defining Delta a
 
 All functions take keyword-only arguments that broadcast (NumPy in, NumPy out) and raise ValueError naming the
 parameter and its valid range for bad input. :func:`dimensionless_parameters` turns a whole lab setting into the
-keyword arguments of :func:`model.spectrum`; :func:`rate_state_parameters` goes the other way.
+keyword arguments of :func:`spectrum`; :func:`rate_state_parameters` goes the other way.
 """
 
 from __future__ import annotations
@@ -102,7 +102,7 @@ def dilatational_wave_speed(*, c_s, nu, plane: str = "strain") -> np.ndarray:
 
 
 def shear_wave_speed(*, mu, rho) -> np.ndarray:
-    """Shear wave speed c_s = sqrt(mu / rho) [m/s] (inverse of :func:`model.shear_modulus`)."""
+    """Shear wave speed c_s = sqrt(mu / rho) [m/s] (inverse of :func:`shear_modulus`)."""
     return np.sqrt(check("mu", mu) / check("rho", rho))
 
 
@@ -265,7 +265,7 @@ def kH_from_wavelength(*, wavelength, H1) -> np.ndarray:
 def growth_rate(*, kH, z, H1, c_s) -> np.ndarray:
     """Growth rate k Im(c) = kH Im(c/c_s) c_s / H [1/s] of a mode exp(i k (x - c t)) (Eq. implicit_spectrum).
 
-    z = c/c_s as returned by :func:`model.spectrum` (NaN where masked: NaN out); negative = decaying mode.
+    z = c/c_s as returned by :func:`spectrum` (NaN where masked: NaN out); negative = decaying mode.
     """
     zz = _numeric_allow_nan("z", z)
     return check("kH", kH) * zz.imag * check("c_s", c_s) / check("H1", H1)
@@ -321,12 +321,12 @@ def fastest_growing_mode(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0)
 
     The growth rate of a mode is k Im c = (kH Im z) c_s / H (:func:`growth_rate`), so for every H and c_s it
     peaks where kH Im z does: this is that maximum, which lies at a larger kH than the maximum of Im z alone
-    (:func:`model.growth_analysis`). kH is an increasing grid of at least 3 points (> 0); the largest
+    (:func:`growth_analysis`). kH is an increasing grid of at least 3 points (> 0); the largest
     kH Im z on it is refined between its two neighbours (bounded Brent in ln kH, single-kH
-    :func:`model.spectrum` calls, to ~1e-10 in ln kH). Where the maximum is at an end of the grid, or a
+    :func:`spectrum` calls, to ~1e-10 in ln kH). Where the maximum is at an end of the grid, or a
     neighbour is masked, the grid point is returned unrefined (the true maximum may lie beyond the grid). A
     stable setting gives the least-damped point (kH* Im z* <= 0); (nan, nan) if the branch is masked on the
-    whole grid. The physical parameters are scalars, with the domains of :func:`model.spectrum`.
+    whole grid. The physical parameters are scalars, with the domains of :func:`spectrum`.
     """
     q = check("kH", kH)
     if q.ndim != 1 or q.size < 3 or np.any(np.diff(q) <= 0.0):

@@ -457,7 +457,7 @@ def unstable_count(
     Parameters
     ----------
     kH : float > 0 (a scalar; ValueError otherwise)
-    gamma, f, beta, eta, Delta, xi : physical parameters as in :func:`model.dispersion`
+    gamma, f, beta, eta, Delta, xi : physical parameters as in :func:`dispersion`
     re_max : > 0, half-width of the window in Re z
     im_min, im_max : 0 <= im_min < im_max, the window in Im z (im_min = 0 means Im z >= 1e-10)
 
@@ -494,7 +494,7 @@ def unstable_modes(
     Parameters
     ----------
     kH : float > 0 (a scalar; ValueError otherwise)
-    gamma, f, beta, eta, Delta, xi : physical parameters as in :func:`model.dispersion`
+    gamma, f, beta, eta, Delta, xi : physical parameters as in :func:`dispersion`
     re_max : > 0, half-width of the window in Re z
     im_min, im_max : 0 <= im_min < im_max, the window in Im z (im_min = 0 means Im z >= 1e-10)
 

@@ -12,7 +12,7 @@ def rayleigh_speed(beta):
     """Rayleigh wave speed z_R = c_R/c_s for beta = c_s/c_d (docs/physics.md §5).
 
     z_R^2 is the root in (0, 1) of the Rayleigh cubic x^3 - 8x^2 + 8(3 - 2 beta^2)x - 16(1 - beta^2) = 0,
-    found by the model's Newton loop (:func:`model._kernels.rayleigh.rayleigh_z`: from x = 0.85; the cubic is increasing
+    found by the model's Newton loop (``_kernels.rayleigh.rayleigh_z``: from x = 0.85; the cubic is increasing
     and concave on (0, 1), so the iterates converge monotonically after the first step). The same value starts
     the Rayleigh branch. Accurate to 1e-15 relative for beta in (0, 1/sqrt(2)].
 

@@ -128,6 +128,7 @@ class RuptureParameters:
         return dict(Gamma=self.Gamma, X_c0=self.X_c0, mu=self.mu, c_s=self.c_s, nu=self.nu, plane=self.plane)
 
 
+#: the paper's PMMA front (docs/physics.md §13.7): the defaults of :class:`RuptureParameters`
 PAPER_DEFAULTS = RuptureParameters()
 
 

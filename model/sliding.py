@@ -12,7 +12,7 @@ over all of them:
   number of roots above the floor.
 - :func:`sliding_analysis`: over a kH range, the maximum of that growth (and of the temporal rate kH Im z),
   the verdict of sliding (stable: no root with Im z >= floor anywhere in the range; unstable; undetermined,
-  with a reason), side by side with the Rayleigh branch's (:func:`model.growth_analysis`).
+  with a reason), side by side with the Rayleigh branch's (:func:`growth_analysis`).
 - :func:`sliding_chunk`: one chunk of parameter sets for sweeps (rows :data:`SLIDING_ROWS`).
 
 The floor is stated: roots with 0 < Im z < floor are not searched (at finite eta they are dense: §14).
@@ -53,8 +53,10 @@ __all__ = [
     "family_codes",
 ]
 
-DEFAULT_FLOOR = 1e-6  # roots with Im z below this are not searched (their e-folding time is > 1e6 H/(c_s kH))
-SLIDING_KH = np.logspace(-2, 2, 17)  # the default kH grid of sliding_analysis (its ends are the range)
+#: the default growth floor: roots with Im z below it are not searched (their e-folding time is > 1e6 H/(c_s kH))
+DEFAULT_FLOOR = 1e-6
+#: the default kH grid of :func:`sliding_analysis` (its ends are the range)
+SLIDING_KH = np.logspace(-2, 2, 17)
 SAMPLE_LIMIT = 2e5  # a window whose bottom edge needs more samples than this (estimated) is refused ("too wide")
 POLE_SAMPLES = 25.0  # samples per real-axis pole per level of its graded seeds (the estimate of _Search.affordable)
 DESCENT = 2.0  # ratio of the levels of the cold search (a band [y/2, y] at a time) ...
@@ -857,7 +859,7 @@ def fastest_mode(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, floor=D
     The roots with Im z >= floor lie in the window of :func:`root_window`. The root is located by the argument
     principle (model.modes' contour sampling: cells with the highest top first, Newton in a cell) and certified
     by a count: no other root of F lies above Im z (1 - 1e-6) in the window. Its family (:data:`FAMILIES`)
-    compares it with the Rayleigh branch at the same kH (:func:`model.rayleigh_branch`) and else says how fast
+    compares it with the Rayleigh branch at the same kH (:func:`rayleigh_branch`) and else says how fast
     it travels. With count=True, also the number of roots with Im z >= floor (refused, -1, where the window at the
     floor is too wide to search: finite eta with a small floor). Arguments broadcast.
     """
@@ -967,7 +969,7 @@ def sliding_chunk(s_grid: np.ndarray, params: np.ndarray, floor: float = DEFAULT
     its ln kH, Re z and family; the maximum of the temporal rate kH Im z, its ln kH, root and family; the verdict
     reason (:data:`SLIDING_STATUS`); 1.0 where a maximum lies at an end of the range (it may go on beyond). The
     maxima are NaN unless the verdict reason is 1 (unstable, maximum certified). rayleigh: the result of
-    :func:`model.growth_chunk` for the same grid and parameters, if already computed (else it is). No shared
+    :func:`growth_chunk` for the same grid and parameters, if already computed (else it is). No shared
     state: a distributed backend can run chunks anywhere.
     """
     from .stability import growth_chunk
@@ -982,7 +984,7 @@ def sliding_chunk(s_grid: np.ndarray, params: np.ndarray, floor: float = DEFAULT
 
 
 def sliding_verdict(reason: np.ndarray) -> np.ndarray:
-    """The sliding verdict class (int8: 0 stable, 1 unstable, 2 undetermined; :data:`model.VERDICTS`) of reason codes
+    """The sliding verdict class (int8: 0 stable, 1 unstable, 2 undetermined; :data:`VERDICTS`) of reason codes
     (:data:`SLIDING_STATUS`, e.g. :func:`sliding_chunk`'s ``verdict_reason_all`` row)."""
     reason = np.asarray(reason)
     unstable = np.isin(reason, (S_UNSTABLE, S_UNSTABLE_UNCERTIFIED_MAX))
@@ -1012,10 +1014,10 @@ class SlidingResult:
         §14.7), so growth is a lower bound of the maximum over the continuous range and a stable verdict holds at
         the kH searched; a denser kH grid narrows the gap. False at eta = inf, where the roots beside the branch
         points are followed across the cuts too (§14.7 states what remains unexcluded)
-    verdict : int8, 0 stable, 1 unstable, 2 undetermined (:data:`model.VERDICTS`); verdict_reason :
+    verdict : int8, 0 stable, 1 unstable, 2 undetermined (:data:`VERDICTS`); verdict_reason :
         :data:`SLIDING_STATUS`
     floor : the growth floor; kH_range : the range searched
-    rayleigh : the Rayleigh branch alone on the same grid (:func:`model.growth_analysis`), side by side
+    rayleigh : the Rayleigh branch alone on the same grid (:func:`growth_analysis`), side by side
     """
 
     growth: np.ndarray
@@ -1041,14 +1043,14 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     """Is steady sliding stable? The fastest root of every branch over a kH range (docs/physics.md §14).
 
     kH : 1-D increasing grid (default :data:`SLIDING_KH`, 17 points over [1e-2, 1e2]) whose ends are the range.
-    The Rayleigh branch's maximum (:func:`model.growth_analysis`, returned as ``.rayleigh``) is searched first;
+    The Rayleigh branch's maximum (:func:`growth_analysis`, returned as ``.rayleigh``) is searched first;
     then every grid point, once a growth M is known only above a fraction of it (every root there located in one
     contour, which serves the maximum and the tracking below; branch and bound: a root lower cannot raise the
     maximum, and the contour stays away from the real axis), at the floor until a root above it is found. The
     best point is refined on the root that carries it (followed in kH to where its Im z is stationary,
     Newton, and certified there); then every root above max(floor, M/4) (M/2 at finite eta) at a grid point is
     followed to its peak in the neighbouring intervals, and at eta = inf every root beside a branch point is
-    followed across the cuts (:mod:`model._sliding_cuts`); a peak above the maximum M is certified and taken. What
+    followed across the cuts (``_sliding_cuts``); a peak above the maximum M is certified and taken. What
     is not excluded between the grid points, and how often it matters, is in docs/physics.md §14.7: at finite eta
     the maximum is a lower bound of the continuous one (``lower_bound``; a denser kH narrows the gap). Verdict:
     stable if no root has Im z >= floor at any kH searched, unstable if one does (:data:`SLIDING_STATUS`).

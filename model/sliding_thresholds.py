@@ -1,14 +1,14 @@
 """Thresholds of sliding over every branch: where the sliding verdict changes in gamma or eta (docs/physics.md §14.10).
 
 The Rayleigh thresholds of :mod:`model.thresholds` are the sign changes of that branch's max growth. Over every
-branch, the max growth G(t) (t = ln gamma or ln eta) is :func:`model.sliding_analysis`'s: the largest Im z of the
+branch, the max growth G(t) (t = ln gamma or ln eta) is :func:`sliding_analysis`'s: the largest Im z of the
 fastest root over the kH range, known where it is at least the floor and otherwise only as "below the floor". A
 threshold is where G crosses zero: a neutral mode (real z, Im z stationary in ln kH, or at an end of the range) of
 whichever root crosses. The solver
 
 1. scans the sliding verdict at SCAN_POINTS log-spaced values of the range (+1 unstable, -1 stable, undetermined);
 2. for each pair of neighbouring values with opposite verdicts, solves the neutral mode of the unstable side's
-   fastest root (:func:`model._kernels.neutral.neutral_mode` from that root, evaluated on the upper lip of the cut,
+   fastest root (``_kernels.neutral.neutral_mode`` from that root, evaluated on the upper lip of the cut,
    where a root beyond the shear speed meets the real axis at eta = inf; free in kH, or at the end of the kH range
    where its maximum goes), bisecting the bracket on the verdict until it converges where the verdict can change:
    in the bracket or beyond its stable end by up to EXTEND x floor / |dG/dt| (the verdict at the floor changes
@@ -20,7 +20,7 @@ whichever root crosses. The solver
    of any branch above the local floor). The sliding verdict at the floor changes where G = floor, about
    floor / |dG/dt| from the neutral mode.
 
-Crossings are returned as :class:`model.crossings.Crossings` with the codes of :data:`model.CROSSING_STATUS`
+Crossings are returned as :class:`crossings.Crossings` with the codes of :data:`CROSSING_STATUS`
 (0 certified, 1 certified at an end of the kH range; 3 a jump: the verdict changes with no neutral mode; 5
 undefined: an undetermined verdict in the bracket; 6 not certified).
 """

@@ -12,7 +12,7 @@ from ._validate import check, check_rtol
 from .elastodynamics import response_derivatives, response_functions
 from .rayleigh import rayleigh_speed
 
-#: Reasons for masked (NaN) points in :class:`SpectrumResult.status`.
+#: Reasons for masked (NaN) points, the codes of ``status`` of a :class:`SpectrumResult`.
 STATUS = {
     K.OK: "ok",
     K.LOST: "branch lost: the Rayleigh branch could not be followed down to this kH "

@@ -270,7 +270,7 @@ VERDICT_KH = np.logspace(-2, 2, 41)
 
 def stability_verdict(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, re_max=5.0, im_min=1e-4,
                       im_max=2.0) -> StabilityVerdict:
-    """Combine the Rayleigh branch (:func:`growth_analysis`) with :func:`model.unstable_count` over kH.
+    """Combine the Rayleigh branch (:func:`growth_analysis`) with :func:`unstable_count` over kH.
 
     The count only covers its window (docs/physics.md §3: for large eta many roots sit just above the
     real axis and the count depends on im_min), so the verdict states it.
@@ -295,7 +295,7 @@ def stable(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, re_max=5
 def criterion_gy_level(*, gamma, f, beta):
     """The level -z_R/(gamma f) of the approximate criterion gamma f G_y(z_R, kH) = -z_R (Eq. criterion).
 
-    Steady sliding is approximately unstable at the kH where G_y(z_R, kH) (:func:`model.response_functions` at
+    Steady sliding is approximately unstable at the kH where G_y(z_R, kH) (:func:`response_functions` at
     the Rayleigh speed) lies below this level (docs/physics.md §4). Broadcasts; -inf where gamma f = 0 (the
     criterion is never met without friction).
     """

@@ -140,7 +140,7 @@ def thin_on_thick_response(z, kW, *, nu):
     lower: a half-space with mu_eff(kW), nu_eff(kW) (Eq. effective_constants) and the same density,
     so its shear speed is c_s sqrt(mu_eff/mu). z = c/c_s of the thin block. With M of Eq. S-m2s for
     each half-space (lower: diagonal negated), G = (M_upper - M_lower)^-1, G_x = G_xx/(mu k),
-    G_y = G_yx/(i mu k). Written with the determinant identity of :func:`_half_space_m`:
+    G_y = G_yx/(i mu k). Written with the determinant identity of ``_half_space_m``:
 
         G_x = (a_d1 Dt2 + r a_d2 Dt1) / N,   G_y = (p1 Dt2 - r p2 Dt1) / N,
         N = kappa1 Dt2 + r (a_s1 a_d2 + a_s2 a_d1 + 2 p1 p2) + r^2 kappa2 Dt1,   r = mu/mu_eff,

@@ -1,7 +1,7 @@
 """Stability thresholds: every crossing of the max growth in gamma or eta, solved as a neutral mode and certified.
 
 docs/physics.md §9. The max growth G(t) (t = ln gamma or ln eta, the other parameters fixed) is the continuous
-maximum of Im z over the kH range on the Rayleigh branch (:func:`model.growth_analysis`). A threshold is a value of
+maximum of Im z over the kH range on the Rayleigh branch (:func:`growth_analysis`). A threshold is a value of
 t where G changes sign. There the maximising mode is neutral: z = x is real and Im z is stationary in s = ln kH
 (or, if the maximum sits at an end of the kH range, Im z = 0 there). The solver
 
@@ -10,7 +10,7 @@ t where G changes sign. There the maximising mode is neutral: z = x is real and 
    between two scan values of one sign (two close crossings);
 2. for every pair of neighbouring scan values with opposite signs, solves the neutral mode by Newton's method on
    the three real equations Re F = Im F = 0, Im(F_s/F_z) = 0 in (Re z, ln kH, t) from the end of the bracket
-   nearer to zero (:func:`model._kernels.neutral.neutral_mode`), narrowing the bracket by Illinois steps on G until the
+   nearer to zero (``_kernels.neutral.neutral_mode``), narrowing the bracket by Illinois steps on G until the
    neutral mode converges inside it;
 3. certifies each crossing twice: G evaluated at value (1 - 1e-9) and value (1 + 1e-9) has opposite signs and a
    size consistent with the neutral mode's slope dG/dt (so it is no jump), and the maximising root there is the
@@ -130,7 +130,7 @@ class _Point:
         return self.from_row(t, K.growth_point(self.s_grid, *q, self.rtol))
 
     def from_row(self, t: float, row) -> _Eval:
-        """The _Eval of one growth evaluation `row` (growth_one's NOUT values: :class:`model.stability.GrowthRows`)
+        """The _Eval of one growth evaluation `row` (growth_one's NOUT values: :class:`stability.GrowthRows`)
         at t (counted)."""
         self.evaluations += 1
         r = growth_rows(row)
@@ -593,7 +593,7 @@ def critical_gammas(*, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, gamma_
     range of the max growth (default DEFAULT_KH, [1e-4, 1e4]); the work is split into chunks run on `workers`
     threads. Never raises for a parameter set without crossings: count 0 and status say why.
     branches="all": the crossings of the max growth over every branch instead (the sliding verdict of
-    :func:`model.sliding_analysis` with its `floor`; default kH :data:`model.SLIDING_KH`; docs/physics.md §14.10).
+    :func:`sliding_analysis` with its `floor`; default kH :data:`SLIDING_KH`; docs/physics.md §14.10).
     """
     return _all_crossings("gamma", gamma_range, kH, dict(f=f, beta=beta, eta=eta, Delta=Delta, xi=xi), rtol,
                           workers, max_crossings, branches, floor)

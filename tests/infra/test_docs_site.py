@@ -1,0 +1,67 @@
+"""The documentation site's own checks (docs/_ext/asymslide_docs.py): the internal link check, the equation labels,
+the docstring check and the documented constants. The site itself is built by ``make docs`` (CI runs it after
+``make test``, warnings as errors)."""
+
+from __future__ import annotations
+
+import importlib
+import re
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+pytest.importorskip("sphinx", reason="the docs extra (make venv installs it)")
+sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+site = importlib.import_module("asymslide_docs")
+
+
+def test_the_link_check_finds_a_missing_page_and_a_missing_anchor_and_passes_good_links(tmp_path: Path) -> None:
+    (tmp_path / "api").mkdir()
+    (tmp_path / "_static").mkdir()
+    (tmp_path / "_static" / "theme.css").write_text("")
+    (tmp_path / "_static" / "macros.html").write_text('<a href="{{ pathto(x) }}">template</a>')
+    (tmp_path / "api" / "model.html").write_text('<dt id="asymslide.model.spectrum">spectrum</dt>')
+    (tmp_path / "index.html").write_text(
+        '<link href="_static/theme.css"><h1 id="top">t</h1><a href="#top">self</a>'
+        '<a href="api/model.html#asymslide.model.spectrum">ok</a><a href="https://example.org/x#y">external</a>'
+        '<a href="api/model.html#asymslide.model.nothing">bad anchor</a><a href="guide/missing.html">bad page</a>'
+        '<img src="missing.png">')
+    broken = site.broken_links(tmp_path)
+    assert broken == ["index.html: api/model.html#asymslide.model.nothing (no such anchor)",
+                      "index.html: guide/missing.html (no such file)",
+                      "index.html: missing.png (no such file)"]
+
+
+def test_every_equation_label_the_physics_page_cites_is_parsed_with_its_sections() -> None:
+    where = site._physics_labels(ROOT / "docs")
+    text = (ROOT / "docs" / "physics.md").read_text(encoding="utf-8")
+    cited = set(re.findall(r"\bEqs?\. ((?:S-)?[A-Za-z0-9_]+(?:[-_][A-Za-z0-9]+)*)", text))
+    # "Eq. X" and "Eq. S-X" in the page's preamble explain the notation: they are not labels
+    assert cited and set(where) == cited - {"X", "S-X"}
+    assert "§4" in where["S-dz"] and "§4" in where["criterion"]
+
+
+def test_the_labels_docstrings_cite_name_their_implementing_functions() -> None:
+    implemented = site._implementers()
+    assert "linear_expansion" in implemented["S-dz"]
+    assert {"criterion_chi", "min_gy_at_rayleigh_speed"} <= set(implemented["criterion"])
+    assert "response_functions" in implemented["Gs_general"]
+
+
+def test_every_public_function_class_and_method_of_the_model_and_atlas_has_a_docstring() -> None:
+    names = dict(site._public_callables())
+    assert "asymslide.model.spectrum" in names and "asymslide.atlas.sweep.sweep" in names
+    assert "asymslide.atlas.plan.Plan.size" in names  # methods and properties are included
+    missing = [n for n, obj in names.items() if not (site.inspect.getdoc(obj) or "").strip()]
+    assert missing == []
+
+
+def test_every_public_constant_of_the_model_has_a_doc_comment_where_it_is_defined() -> None:
+    from asymslide import model
+
+    constants = [n for n in model.__all__ if site._is_constant(getattr(model, n))]
+    docs = site._constant_docs()
+    assert {"STATUS", "VERDICT_STATUS", "SLIDING_STATUS", "DEFAULT_FLOOR", "PAPER_DEFAULTS"} <= set(constants)
+    assert [n for n in constants if n not in docs] == []
