@@ -1,4 +1,4 @@
-# asymslide: the web app in a container (README, "Docker"). Needs BuildKit (Docker >= 23: the default;
+# asymslide: the web app in a container (docs/getting-started.md, "Docker"). Needs BuildKit (Docker >= 23: the default;
 # Docker 20.10: DOCKER_BUILDKIT=1).
 #   docker build -t asymslide .
 #   docker run -d --name asymslide -p 5006:5006 -v "$PWD/atlases:/atlases" asymslide

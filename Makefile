@@ -17,7 +17,7 @@ PORT     ?= 5006
 ADDRESS  ?= 127.0.0.1
 # hosts whose pages may open the app's websocket (never '*')
 ALLOWED_ORIGIN ?= localhost:$(PORT)
-# server processes (at most one per core; see README "Docker")
+# server processes (at most one per core; see docs/getting-started.md, "Docker")
 NUM_PROCS ?= 1
 # where the Atlas tab reads atlases (default: ~/.cache/asymslide/atlases)
 ATLAS_DIR ?=
@@ -69,7 +69,7 @@ test-fast: venv  ## ruff, then the model's and the atlas engine's tests not mark
 docs: venv  ## build the documentation site into build/docs/html (warnings are errors; notebooks executed)
 	$(VENV)/bin/sphinx-build -W --keep-going -b html docs build/docs/html
 
-screenshots: venv  ## refresh the README's screenshots in docs/ (make test writes them to build/screenshots/)
+screenshots: venv  ## refresh the screenshots of the README and the docs site in docs/ (make test writes them to build/screenshots/)
 	ASYMSLIDE_UPDATE_SCREENSHOTS=1 $(PY) -m pytest -m ui tests/browser/test_ui_smoke.py tests/app/test_app_atlas.py \
 	  tests/app/test_app_lab.py tests/app/test_app_rupture.py tests/browser/test_journeys.py::test_phone_layout_reflows_at_390_px \
 	  tests/browser/test_journeys.py::test_the_spectrum_names_both_verdicts_where_only_another_branch_is_unstable \

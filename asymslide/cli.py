@@ -353,7 +353,7 @@ def build_parser() -> argparse.ArgumentParser:
     sw.add_argument("--adaptive", action="store_true",
                     help="compute the growth only where the verdict can change: a coarse grid, then the cells whose "
                          "corners differ in verdict refined level by level, following the boundary out of them; "
-                         "axes of lo:hi:n points are rounded up to m*2^levels + 1 (see the README)")
+                         "axes of lo:hi:n points are rounded up to m*2^levels + 1 (see docs/guide/atlases.md)")
     sw.add_argument("--levels", type=int, default=None, metavar="L",
                     help="adaptive: refinement levels, the coarse grid has stride 2^L (default: about 9 points on "
                          "the longest axis)")

@@ -39,7 +39,7 @@ CHROMIUM_ARGS = [
 ]
 REPO_ROOT = Path(__file__).resolve().parent.parent
 MISSING_BROWSER = f"{CHROMIUM} not found (apt-get install -y chromium)"
-#: set to 1 (``make screenshots``) to refresh the README's screenshots in docs/; otherwise the browser tests write
+#: set to 1 (``make screenshots``) to refresh the screenshots of the README and the docs site in docs/; otherwise the browser tests write
 #: theirs under build/screenshots/ (ignored by git), so that ``make test`` leaves the working tree unchanged
 UPDATE_SCREENSHOTS = os.environ.get("ASYMSLIDE_UPDATE_SCREENSHOTS", "") == "1"
 
@@ -95,7 +95,7 @@ def _worktree_state() -> dict[str, str] | None:
 
 
 #: the working tree when the session started: the tests must leave it as they found it (their output goes to
-#: build/, tmp_path or ignored caches; the README's screenshots change only with ASYMSLIDE_UPDATE_SCREENSHOTS=1)
+#: build/, tmp_path or ignored caches; the screenshots in docs/ change only with ASYMSLIDE_UPDATE_SCREENSHOTS=1)
 _WORKTREE_AT_START = _worktree_state()
 
 

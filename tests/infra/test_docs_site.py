@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import importlib
 import re
+import subprocess
 import sys
 from pathlib import Path
 
@@ -65,3 +66,38 @@ def test_every_public_constant_of_the_model_has_a_doc_comment_where_it_is_define
     docs = site._constant_docs()
     assert {"STATUS", "VERDICT_STATUS", "SLIDING_STATUS", "DEFAULT_FLOOR", "PAPER_DEFAULTS"} <= set(constants)
     assert [n for n in constants if n not in docs] == []
+
+
+def _screenshot_names() -> set[str]:
+    """The images `make screenshots` writes into docs/: the names its tests pass to save_screenshot."""
+    recipe = subprocess.run(["make", "-n", "screenshots"], cwd=ROOT, capture_output=True, text=True, check=True).stdout
+    files = {ROOT / m.split("::")[0] for m in re.findall(r"tests/\S+\.py(?:::\S+)?", recipe)}
+    assert files, recipe
+    names: set[str] = set()
+    for path in files:
+        names.update(re.findall(r'save_screenshot\(\s*\w+,\s*"([^"]+\.png)"', path.read_text(encoding="utf-8")))
+    return names
+
+
+def test_every_picture_of_the_site_and_the_readme_is_a_screenshot_make_screenshots_refreshes_or_a_scripts_figure(
+) -> None:
+    """A picture comes from `make screenshots` (the browser tests that walk through the app), or is a figure whose
+    page names the script that makes it (and the script writes that file)."""
+    screenshots = _screenshot_names()
+    assert {"screenshot.png", "screenshot_atlas.png", "screenshot_lab.png"} <= screenshots
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+    checked = 0
+    for page in pages:
+        text = page.read_text(encoding="utf-8")
+        for target in re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", text):
+            image = (page.parent / target).resolve()
+            assert image.is_file(), f"{page.relative_to(ROOT)}: {target} does not exist"
+            assert image.parent == ROOT / "docs", f"{page.relative_to(ROOT)}: {target} is not in docs/"
+            checked += 1
+            if image.name in screenshots:
+                continue
+            scripts = re.findall(r"python (benchmarks/\w+\.py)", text)
+            assert any(image.name in (ROOT / s).read_text(encoding="utf-8") for s in scripts), (
+                f"{page.relative_to(ROOT)}: {image.name} is neither refreshed by make screenshots nor made by a "
+                "script the page names")
+    assert checked >= 6
