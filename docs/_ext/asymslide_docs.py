@@ -6,8 +6,8 @@
   where docs/physics.md uses each and which public functions implement it.
 - A check at start-up that every public function, class and method of the model and the atlas layer has a
   docstring (a missing one is a warning: the build fails).
-- Links made when a page is written: "§12.3" on the physics page and "docs/physics.md §12.3" anywhere go to that
-  section; "Eq. S-dz" on the physics page goes to its entry of the equation index; a literal ``model.spectrum``
+- Links made when a page is written: "§12.3" on the physics page and the equation index, and
+  "docs/physics.md §12.3" anywhere, go to that section; "Eq. S-dz" on the physics page goes to its entry of the equation index; a literal ``model.spectrum``
   goes to the function's API entry.
 """
 
@@ -155,10 +155,10 @@ class EquationIndex(SphinxDirective):
         implemented = _implementers()
         labels = sorted(set(where) | set(implemented), key=lambda s: (s.startswith("S-"), s.lower()))
         rows = [".. list-table::", "   :header-rows: 1", "   :widths: 20 30 50", "",
-                "   * - Label", "     - docs/physics.md", "     - Implemented by"]
+                "   * - Label", "     - Used in the physics reference", "     - Implemented by"]
         for label in labels:
-            functions = ", ".join(f":func:`~asymslide.model.{n}`" for n in implemented.get(label, [])) or "—"
-            sections = ", ".join(f"physics.md {s}" for s in where.get(label, [])) or "—"
+            functions = ", ".join(f":py:obj:`~asymslide.model.{n}`" for n in implemented.get(label, [])) or "—"
+            sections = ", ".join(where.get(label, [])) or "—"
             rows += [f"   * - .. _{label_id(label)}:", "", f"       Eq. {label}", f"     - {sections}",
                      f"     - {functions}"]
         container = nodes.container()
@@ -202,6 +202,8 @@ def _link_text(app: Sphinx, docname: str, doctree: nodes.document) -> None:
     patterns: list[tuple[re.Pattern[str], object]] = [(PHYSICS_SECTION, "section")]
     if docname == PHYSICS:
         patterns = [(SECTION, "section"), (EQ_LABEL, "equation")]
+    elif docname == EQUATIONS:
+        patterns = [(SECTION, "section")]
     for text in list(doctree.findall(nodes.Text)):
         if _skip(text):
             continue
