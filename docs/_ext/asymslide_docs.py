@@ -37,7 +37,7 @@ EQUATIONS = "equations"  # the equation index's docname
 EQ_LABEL = re.compile(r"\bEqs?\. ((?:S-)?[A-Za-z0-9_]+(?:[-_][A-Za-z0-9]+)*)")
 #: "§12", "§12.3", "§14.7" (on the physics page); elsewhere only after "physics.md "
 SECTION = re.compile(r"§(\d+(?:\.\d+)?)")
-PHYSICS_SECTION = re.compile(r"physics\.md §(\d+(?:\.\d+)?)")
+PHYSICS_SECTION = re.compile(r"(?:docs/)?physics\.md §(\d+(?:\.\d+)?)")
 MODEL_NAME = re.compile(r"^(?:asymslide\.)?model\.([A-Za-z_][A-Za-z0-9_]*)(?:\(\))?$")
 
 
