@@ -31,7 +31,7 @@ def _bessel_k0_integrals(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     directly and the other one from it, so neither suffers cancellation.
     """
     x = np.asarray(x, dtype=float)
-    scale = 1.0 / np.sqrt(np.maximum(x, 1.0))
+    scale = 1.0 / np.sqrt(np.maximum(x.ravel(), 1.0))  # flat, as the quadrature's results
     u = _T[None, :] * scale.reshape(-1, 1)
     xx = x.reshape(-1, 1)
     with np.errstate(under="ignore", over="ignore"):  # the far nodes underflow to 0 by design

@@ -180,3 +180,20 @@ def test_stress_extremes_are_finite_or_masked():
     # gamma huge: the root is z_R to O(1/gamma) at large kH
     z = model.spectrum(np.array([1e4]), gamma=1e3, f=0.9, beta=0.3)
     assert abs(z[0] - model.rayleigh_speed(0.3)) < 1e-2
+
+
+def test_the_thick_block_functions_broadcast_over_two_dimensional_input():
+    """B(q), the effective moduli and the normal-stress change at the peak slip take arrays of any shape (a 2-D kW
+    once raised: the quadrature's scale kept the input's shape while its results were flat)."""
+    kW = np.array([[0.5, 3.0], [5.0, 40.0]])
+    flat = [float(model.bessel_integral_B(k)) for k in kW.ravel()]
+    np.testing.assert_allclose(model.bessel_integral_B(kW), np.reshape(flat, kW.shape), rtol=2e-15)  # BLAS order
+    mu_eff, nu_eff = model.effective_moduli(kW, 0.33)
+    assert mu_eff.shape == nu_eff.shape == kW.shape
+    p = model.PAPER_DEFAULTS
+    c = np.array([0.9, 0.95, 0.99]) * 1236.0
+    kws = dict(sigma0=p.sigma0, **{k: v for k, v in p.model_kwargs().items() if k != "plane"})
+    grid = model.relative_normal_stress_change_at_peak_slip(c[:, None], kW=np.array([[3.0, 4.0, 5.0]]), **kws)
+    column = [model.relative_normal_stress_change_at_peak_slip(c, kW=k, **kws) for k in (3.0, 4.0, 5.0)]
+    assert grid.shape == (3, 3)
+    np.testing.assert_allclose(grid, np.stack(column, axis=1), rtol=2e-15)
