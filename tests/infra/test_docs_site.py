@@ -89,7 +89,9 @@ def test_every_picture_of_the_site_and_the_readme_is_a_screenshot_make_screensho
     checked = 0
     for page in pages:
         text = page.read_text(encoding="utf-8")
-        for target in re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", text):
+        images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", text)
+        images += re.findall(r"^```\{(?:image|figure)\} (\S+)", text, re.M)
+        for target in images:
             image = (page.parent / target).resolve()
             assert image.is_file(), f"{page.relative_to(ROOT)}: {target} does not exist"
             assert image.parent == ROOT / "docs", f"{page.relative_to(ROOT)}: {target} is not in docs/"
