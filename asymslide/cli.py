@@ -266,10 +266,20 @@ def _info(args: argparse.Namespace) -> int:
 
     try:
         for line in iter_summary(args.store):
-            print(line)
+            print(line, flush=True)
+    except BrokenPipeError:  # the reader stopped (asymslide info STORE | head): not the atlas's fault
+        _quiet_stdout()
+        return 1
     except (OSError, ValueError, KeyError) as exc:
         return _fail(f"{args.store} is not a readable atlas ({type(exc).__name__}: {exc})")
     return 0
+
+
+def _quiet_stdout() -> None:
+    """Point stdout at /dev/null so that Python's flush at exit does not fail again on the closed pipe (the recipe of
+    the signal module's documentation, "Note on SIGPIPE")."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
 
 
 def _export(args: argparse.Namespace) -> int:

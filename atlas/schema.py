@@ -296,7 +296,7 @@ def _count_vars(plan: Plan) -> dict[str, Any]:
                                da.full((*plan.shape, len(plan.count.kH)), INT_FILL["unstable_count"], dtype=np.int16,
                                        chunks=cchunks),
                                {"long_name": "roots of F (any branch) with |Re z| <= re_max and im_min <= Im z <= "
-                                             "im_max (argument principle; -1: the count failed)",
+                                             "im_max (argument principle; -1: the count failed; -2: not computed)",
                                 "re_max": re_max, "im_min": im_min, "im_max": im_max, "units": "1"})}
 
 

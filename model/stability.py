@@ -38,7 +38,7 @@ class GrowthResult:
     verdict : int8, 0 stable, 1 unstable, 2 undetermined (:data:`VERDICTS`)
     verdict_reason : int8, why (a key of :data:`VERDICT_STATUS`)
     error : estimated absolute error of the growth
-    z_at_max : Re z at the maximum (the mode's phase velocity; its Im part is the growth)
+    re_z_at_max : Re z at the maximum (the mode's phase velocity; its Im part is the growth)
     """
 
     growth: np.ndarray

@@ -39,8 +39,9 @@ CHROMIUM_ARGS = [
 ]
 REPO_ROOT = Path(__file__).resolve().parent.parent
 MISSING_BROWSER = f"{CHROMIUM} not found (apt-get install -y chromium)"
-#: set to 1 (``make screenshots``) to refresh the screenshots of the README and the docs site in docs/; otherwise the browser tests write
-#: theirs under build/screenshots/ (ignored by git), so that ``make test`` leaves the working tree unchanged
+#: set to 1 (``make screenshots``) to refresh the screenshots of the README and the docs site in docs/; otherwise the
+#: browser tests write theirs under build/screenshots/ (ignored by git), so that ``make test`` leaves the working tree
+#: unchanged
 UPDATE_SCREENSHOTS = os.environ.get("ASYMSLIDE_UPDATE_SCREENSHOTS", "") == "1"
 
 _ui_skipped: list[str] = []

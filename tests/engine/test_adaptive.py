@@ -235,8 +235,8 @@ def test_eta_10_with_the_guard_equals_the_dense_verdict_field_where_the_islands_
     """η = 10, ξ = 0 over γ × f × β down to small γ: stable, unstable and undetermined (pole-dense) cells. Stable
     islands of 1-42 points were once found in a nearly neutral region at small γ there; with the certified verdicts
     (docs/physics.md §9) that region is pole-dense (undetermined) or certified stable, with no islands on the grids
-    checked (docs/guide/atlases.md, adaptive atlases). The guard must still reproduce the dense field, refining more than
-    without."""
+    checked (docs/guide/atlases.md, adaptive atlases). The guard must still reproduce the dense field, refining more
+    than without."""
     axes = {"gamma": np.geomspace(0.05, 5, 33), "f": np.linspace(0.2, 1.2, 9), "beta": np.linspace(0.08, 0.68, 9)}
     fixed = {"eta": 10.0, "xi": 0.0}
     dense = S.sweep(axes, fixed=fixed, kH=KH, gamma_c=False)

@@ -404,6 +404,14 @@ def test_cli_sweep_info_and_netcdf_export(tmp_path: Path) -> None:
     one.close()
     bad = _cli("info", str(tmp_path / "missing.zarr"))
     assert bad.returncode == 2 and "not a readable atlas" in bad.stderr
+    # a reader that stops early (asymslide info STORE | head -1): the atlas is not called unreadable
+    reader = subprocess.Popen([sys.executable, "-m", "asymslide", "info", str(store)], cwd=ROOT,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert reader.stdout.readline().strip()
+    reader.stdout.close()
+    stderr = reader.stderr.read()
+    assert reader.wait(timeout=60) in (0, 1), stderr  # 0 if every line fitted in the pipe before it was closed
+    assert "not a readable atlas" not in stderr and "Traceback" not in stderr, stderr
 
 
 def test_model_imports_and_runs_without_dask_xarray_or_zarr() -> None:
