@@ -21,7 +21,7 @@ ALLOWED_ORIGIN ?= localhost:$(PORT)
 NUM_PROCS ?= 1
 # where the Atlas tab reads atlases (default: ~/.cache/asymslide/atlases)
 ATLAS_DIR ?=
-LINT_DIRS ?= $(wildcard model atlas app asymslide tests benchmarks .ci docs/conf.py)
+LINT_DIRS ?= $(wildcard model atlas app asymslide tests benchmarks .ci docs/conf.py docs/_ext)
 SHELL_SCRIPTS := .ci/run .ci/docker-smoke docker/entrypoint.sh
 PYTEST_ARGS ?=
 

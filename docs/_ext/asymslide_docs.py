@@ -7,8 +7,8 @@
 - A check at start-up that every public function, class and method of the model and the atlas layer has a
   docstring (a missing one is a warning: the build fails).
 - Links made when a page is written: "§12.3" on the physics page and the equation index, and
-  "docs/physics.md §12.3" anywhere, go to that section; "Eq. S-dz" on the physics page goes to its entry of the equation index; a literal ``model.spectrum``
-  goes to the function's API entry.
+  "docs/physics.md §12.3" anywhere, go to that section; "Eq. S-dz" on the physics page goes to its entry of the
+  equation index; a literal ``model.spectrum`` goes to the function's API entry.
 """
 
 from __future__ import annotations
@@ -195,33 +195,30 @@ def _uri(app: Sphinx, fromdoc: str, todoc: str, anchor: str) -> str:
     return f"{page}#{anchor}"
 
 
+def _target_uri(app: Sphinx, docname: str, match: re.Match[str], labels: set[str],
+                sections: dict[str, str]) -> str | None:
+    """Where a matched "§12.3" or "Eq. S-dz" links to (None: nowhere, it stays text)."""
+    key = match.group(1)
+    if match.re is EQ_LABEL:
+        return _uri(app, docname, EQUATIONS, label_id(key)) if key in labels else None
+    return _uri(app, docname, PHYSICS, sections[key]) if key in sections else None
+
+
 def _link_text(app: Sphinx, docname: str, doctree: nodes.document) -> None:
     """§ numbers and equation labels become links (see the module's docstring)."""
     sections: dict[str, str] = getattr(app.env, "asymslide_physics_sections", {})
     labels = set(_physics_labels(Path(app.srcdir))) | set(_implementers())
-    patterns: list[tuple[re.Pattern[str], object]] = [(PHYSICS_SECTION, "section")]
-    if docname == PHYSICS:
-        patterns = [(SECTION, "section"), (EQ_LABEL, "equation")]
-    elif docname == EQUATIONS:
-        patterns = [(SECTION, "section")]
+    patterns = {PHYSICS: [SECTION, EQ_LABEL], EQUATIONS: [SECTION]}.get(docname, [PHYSICS_SECTION])
     for text in list(doctree.findall(nodes.Text)):
         if _skip(text):
             continue
         source = str(text)
         pieces: list[nodes.Node] = []
         position = 0
-        matches = sorted((m for pattern, _ in patterns for m in pattern.finditer(source)), key=lambda m: m.start())
+        matches = sorted((m for pattern in patterns for m in pattern.finditer(source)), key=lambda m: m.start())
         for match in matches:
-            if match.start() < position:
-                continue
-            key = match.group(1)
-            if match.re is EQ_LABEL:
-                if key not in labels:
-                    continue
-                uri = _uri(app, docname, EQUATIONS, label_id(key))
-            elif key in sections:
-                uri = _uri(app, docname, PHYSICS, sections[key])
-            else:
+            uri = _target_uri(app, docname, match, labels, sections)
+            if match.start() < position or uri is None:
                 continue
             pieces.append(nodes.Text(source[position:match.start()]))
             pieces.append(nodes.reference("", match.group(0), refuri=uri, internal=True))
