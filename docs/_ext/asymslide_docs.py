@@ -8,7 +8,7 @@
   docstring (a missing one is a warning: the build fails).
 - Links made when a page is written: "§12.3" on the physics page and the equation index, and
   "docs/physics.md §12.3" anywhere, go to that section; "Eq. S-dz" on the physics page goes to its entry of the
-  equation index; a literal ``model.spectrum`` goes to the function's API entry.
+  equation index; a literal ``model.spectrum`` (on the guide's pages also ``VERDICT_STATUS``) goes to its API entry.
 """
 
 from __future__ import annotations
@@ -39,6 +39,8 @@ EQ_LABEL = re.compile(r"\bEqs?\. ((?:S-)?[A-Za-z0-9_]+(?:[-_][A-Za-z0-9]+)*)")
 SECTION = re.compile(r"§(\d+(?:\.\d+)?)")
 PHYSICS_SECTION = re.compile(r"(?:docs/)?physics\.md §(\d+(?:\.\d+)?)")
 MODEL_NAME = re.compile(r"^(?:asymslide\.)?model\.([A-Za-z_][A-Za-z0-9_]*)(?:\(\))?$")
+#: a constant's or a class's bare name (``VERDICT_STATUS``, ``SlidingReason``), linked on the guide's pages
+BARE_NAME = re.compile(r"^([A-Z][A-Z0-9_]+|[A-Z][a-z]+[A-Za-z]*)$")
 
 
 def _is_constant(obj: object) -> bool:
@@ -229,12 +231,15 @@ def _link_text(app: Sphinx, docname: str, doctree: nodes.document) -> None:
 
 
 def _link_model_names(app: Sphinx, docname: str, doctree: nodes.document) -> None:
-    """A literal ``model.spectrum`` in a page (not in a code block) links to the function's API entry."""
+    """A literal ``model.spectrum`` in a page (not in a code block) links to the function's API entry; on the guide's
+    pages also a bare constant or class of the model (``VERDICT_STATUS``, ``SlidingReason``)."""
     objects = app.env.get_domain("py").objects
     for literal in list(doctree.findall(nodes.literal)):
         if isinstance(literal.parent, nodes.reference) or _skip(literal.parent):
             continue
         match = MODEL_NAME.match(literal.astext())
+        if match is None and docname.startswith("guide/"):
+            match = BARE_NAME.match(literal.astext())
         target = objects.get(f"asymslide.model.{match.group(1)}") if match else None
         if target is None:
             continue
