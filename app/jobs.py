@@ -17,8 +17,11 @@ Two pieces, one for each side of the thread boundary:
   values) and a burst of progress is one update. A job the follower has left (new inputs) is never shown again, so
   its result cannot replace the current one.
 
-Served (``panel serve``, one or several processes) that is all. Without a server session (tests, scripts, a
-scene built headless) nothing is scheduled: :meth:`Follower.update` shows the job's current state, and
+Served (``panel serve``, one or several processes) that is all. In a Jupyter notebook (no server session, but the
+kernel's asyncio event loop runs in the thread that follows the job: :func:`kernel_loop`) the updates are scheduled
+the same way on that loop (``call_soon_threadsafe``): they run between cells, and Panel sends what they change to
+the notebook's output through its comm, as it does for a widget's change. Without either (tests, scripts, a scene
+built headless) nothing is scheduled: :meth:`Follower.update` shows the job's current state, and
 :meth:`Follower.wait` waits for its end and shows it.
 
 A job's work may hand its heaviest pieces to a worker process (:meth:`Job.call`, served only): the server's own
@@ -34,6 +37,7 @@ session of a process.
 
 from __future__ import annotations
 
+import asyncio
 import atexit
 import concurrent.futures
 import logging
@@ -281,12 +285,24 @@ def served_document():
     return doc if doc is not None and doc.session_context is not None else None
 
 
+def kernel_loop() -> asyncio.AbstractEventLoop | None:
+    """The asyncio event loop running in this thread outside a server session: a Jupyter kernel's (its cells run as
+    tasks on it), or None (a server session, a script, a test)."""
+    if served_document() is not None:
+        return None
+    try:
+        return asyncio.get_running_loop()
+    except RuntimeError:  # no loop runs in this thread
+        return None
+
+
 class Follower:
     """Shows the job it follows in one session: ``show(job, state)`` on the session's event loop after the job
     changed (see the module's docstring), and once more at its end; never again once it follows another job.
 
     Create it where the session is current (a scene's constructor or a render): the session is taken from
-    :func:`served_document` when a job is followed. When the session ends, a job started by :meth:`run` is cancelled.
+    :func:`served_document` when a job is followed (in a notebook: the kernel's event loop, :func:`kernel_loop`).
+    When the session ends, a job started by :meth:`run` is cancelled.
     """
 
     def __init__(self, show: Callable[[Job, JobState], None], *, interval: float = UPDATE_INTERVAL) -> None:
@@ -297,6 +313,7 @@ class Follower:
         self._owned = False
         self._ended_shown: Job | None = None  # the job whose end has been shown
         self._doc = None
+        self._loop: asyncio.AbstractEventLoop | None = None  # a notebook's kernel loop (no served document)
         self._docs: set[int] = set()  # documents whose end is watched
         self._pending = False
         self._last = 0.0
@@ -319,13 +336,14 @@ class Follower:
         is followed, and when the session ends (a job shared by sessions is not)."""
         self._leave()
         doc = served_document()
+        loop = None if doc is not None else kernel_loop()
         with self._lock:
-            self._job, self._owned, self._doc = job, owned, doc
+            self._job, self._owned, self._doc, self._loop = job, owned, doc, loop
         if doc is not None and id(doc) not in self._docs:
             self._docs.add(id(doc))
             doc.on_session_destroyed(lambda _context: self.cancel())
         job.subscribe(self._changed)
-        if doc is None:
+        if doc is None:  # headless or in a notebook: its state now (a notebook's next ones on the kernel's loop)
             self.update()
         else:
             self._changed()  # the first update on the next tick: a tab being built is in the document by then
@@ -354,8 +372,8 @@ class Follower:
         return state
 
     def update(self) -> None:
-        """Show the followed job's state now (served: called on the session's event loop; headless: by the caller).
-        A job's end is shown once."""
+        """Show the followed job's state now (served: called on the session's event loop; in a notebook on the
+        kernel's; headless: by the caller). A job's end is shown once."""
         job = self._job
         if job is None or self._ended_shown is job:
             return
@@ -365,11 +383,18 @@ class Follower:
             job.unsubscribe(self._changed)
         self._show(job, state)
 
-    # -- served: carry the worker's changes to the session ----------------------------------------
+    # -- served (or in a notebook): carry the worker's changes to the session -----------------------
 
     def _changed(self) -> None:
         """A change of the followed job (any thread): schedule one update of the session unless one is pending."""
-        doc = self._doc
+        doc, loop = self._doc, self._loop
+        if doc is None and loop is not None:  # a notebook: on the kernel's event loop
+            with self._lock:
+                if self._pending:
+                    return
+                self._pending = True
+            self._schedule_on_loop(loop, self._tick_on_loop)
+            return
         if doc is None or doc.session_context is None:  # headless, or the session has ended (see _schedule)
             return
         with self._lock:
@@ -377,6 +402,34 @@ class Follower:
                 return
             self._pending = True
         self._schedule(doc)
+
+    def _schedule_on_loop(self, loop: asyncio.AbstractEventLoop, callback: Callable[[], None],
+                          delay: float = 0.0) -> None:
+        """Run `callback` on a notebook kernel's event loop (from any thread), after `delay` seconds; dropped when the
+        loop has been closed (the kernel is shutting down)."""
+        def call() -> None:
+            if delay > 0:
+                loop.call_later(delay, callback)
+            else:
+                callback()
+
+        try:
+            loop.call_soon_threadsafe(call)
+        except RuntimeError:  # the loop is closed
+            log.debug("%s: the kernel's event loop is closed; its update is dropped",
+                      self._job.name if self._job else "job")
+
+    def _tick_on_loop(self) -> None:
+        """On a notebook kernel's event loop: as :meth:`_tick` (the same :attr:`interval` between updates)."""
+        loop = self._loop
+        early = self._last + self.interval - time.monotonic()
+        if early > 0 and loop is not None:
+            self._schedule_on_loop(loop, self._tick_on_loop, early)
+            return
+        with self._lock:
+            self._pending = False
+        self._last = time.monotonic()
+        self.update()
 
     def _schedule(self, doc) -> None:
         """Ask the session's event loop for a :meth:`_tick`. Bokeh destroys an ended session's document (its callback

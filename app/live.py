@@ -12,6 +12,10 @@ written are the released ones (app.spectrum.SpectrumScene._redraw).
 This reads ``pn.pane.HoloViews._plots`` (the rendered plot of each root), which is not public Panel API: the tests
 of the live path (tests/app/test_app_spectrum.py) fail if that changes, and :func:`push` then returns False and the
 scene falls back to the full redraw (correct, only slower).
+
+Served, Bokeh sends every change of a model to the browser by itself; in a Jupyter notebook nothing does (Panel
+sends the changes it makes itself through its comm): :func:`flush` sends what was written there
+(``pn.io.push_notebook``; nothing to do outside a notebook).
 """
 
 from __future__ import annotations
@@ -110,7 +114,15 @@ def push(pane: pn.pane.HoloViews, layers: Mapping[LayerKey, Layer], *, empty_oth
             plot.state.title.text = title
         for hook in plot.hooks:
             hook(plot, None)
+    flush(pane)
     return True
+
+
+def flush(pane: pn.viewable.Viewable) -> None:
+    """Send the Bokeh models of `pane` written outside Panel (:func:`push`, a Bokeh pane's figure updated in place)
+    to the notebook outputs that show it: a notebook has no server session to send them (Panel's
+    ``push_notebook``); served or headless there is nothing to send."""
+    pn.io.push_notebook(pane)
 
 
 #: the follows of a held slider, over every session of a server process, run at most this often (each costs ~25 ms

@@ -28,7 +28,7 @@ from asymslide.app.rupture import RuptureScene
 from asymslide.app.server_gc import configure_gc, track_session
 from asymslide.app.spectrum import SpectrumScene
 from asymslide.app.stability_map.scene import StabilityMapScene
-from asymslide.app.tabs import TABS_REGISTRY
+from asymslide.app.tabs import TABS_REGISTRY, Shared
 from asymslide.app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
 from asymslide.app.urlstate import TABS, Updates, parse_query, query_string, url_attributes
 from asymslide.app.workarounds import guard_detached_updates, guard_stream_registry, use_server_stylesheets
@@ -112,7 +112,7 @@ class App:
         updates, tab, messages = parse_query(request_args() if args is None else args)
         # set before the scenes watch them: a shared link shows the sliders it holds, also when its lab values
         # differ from them (the Lab-units panel then says so), and a material named alone brings its values
-        self._apply(updates)
+        apply_updates(self, updates)
         self.lab = LabScene(params=self.lab_params, spectrum=self.spectrum_params)  # in Spectrum and Stability map
         # every tab's scene, in tab order (app/tabs.py: what each is built from)
         self._scenes = {t.key: t.build(self, updates) for t in TABS_REGISTRY}
@@ -186,17 +186,6 @@ class App:
         if len(content.objects) == 1 and getattr(content.objects[0], "name", "") == PLACEHOLDER:
             content.objects = [self._scenes[TABS[index]].__panel__()]
 
-    def _apply(self, updates: Updates) -> None:
-        self.spectrum_params.param.update(**updates["spectrum"])
-        set_with_material(self.lab_params, updates["lab"])
-        thin, rupture = dict(updates["thin"]), dict(updates["rupture"])
-        material = updates["lab"].get("material")
-        for scene in (thin, rupture):  # a material named alone brings its ν to both scenes that use one
-            if material not in (None, CUSTOM) and "nu" not in scene:
-                scene["nu"] = RuptureParams.material_nu(material)
-        self.thin_params.param.update(**thin)
-        self.rupture_params.param.update(**rupture)
-
     def _refused(self, updates: Updates) -> list[str]:
         """Messages for URL values that parse but that the model refuses (a negative height, c ≥ c_R, …): the
         scenes say so too, but the lab panel is folded and the tabs may not be shown."""
@@ -224,9 +213,10 @@ class App:
         self.messages.visible = bool(messages)
 
     def write_url(self, *_events) -> None:
-        """Current parameters -> the browser's URL (replaces the query; the page is not reloaded)."""
+        """Current parameters -> the browser's URL (replaces the query; the page is not reloaded). Served only: in a
+        Jupyter notebook (app.notebook) Panel's location is the notebook page's own address, not the app's."""
         location = pn.state.location
-        if location is not None:
+        if location is not None and jobs.served_document() is not None:
             tab = TABS[self.tabs.active]
             search = query_string(self.param_objects(), tab, self.atlas.url_state() if tab == "atlas" else None)
             if location.search != search:
@@ -283,18 +273,38 @@ class App:
                                     flex_wrap="wrap", align_items="center", sizing_mode="stretch_width"),
                          self.preset_info, sizing_mode="stretch_width")
 
-    def template(self) -> pn.template.BootstrapTemplate:
+    def content(self) -> list[pn.viewable.Viewable]:
+        """The page below its header: the introduction, the messages, the paper-figure presets and the tabs (what
+        :meth:`template` shows, and a notebook cell: app.notebook)."""
         intro = pn.pane.Markdown(INTRO, stylesheets=[CSS.read_text(encoding="utf-8")], sizing_mode="stretch_width")
+        return [intro, self.messages, self.preset_bar(), self.tabs, FitPlots()]  # FitPlots: titles, legends
+
+    def template(self) -> pn.template.BootstrapTemplate:
         template = pn.template.BootstrapTemplate(
             title=TITLE,
             logo=str(LOGO),
             favicon=str(FAVICON),
-            main=[intro, self.messages, self.preset_bar(), self.tabs, FitPlots()],  # FitPlots: titles, legends
+            main=self.content(),
             header_background="#1f4e79",
             meta_viewport="width=device-width, initial-scale=1",  # phones lay the page out at their own width
         )
         template.config.raw_css = [*template.config.raw_css, PAGE_CSS]
         return template
+
+
+def apply_updates(shared: Shared, updates: Updates) -> None:
+    """Set the shared parameters of a session (:class:`~asymslide.app.tabs.Shared`) to a URL's validated values
+    (app.urlstate.parse_query): a material named alone brings its preset's values, and its ν to both scenes that use
+    one."""
+    shared.spectrum_params.param.update(**updates["spectrum"])
+    set_with_material(shared.lab_params, updates["lab"])
+    thin, rupture = dict(updates["thin"]), dict(updates["rupture"])
+    material = updates["lab"].get("material")
+    for scene in (thin, rupture):  # a material named alone brings its ν to both scenes that use one
+        if material not in (None, CUSTOM) and "nu" not in scene:
+            scene["nu"] = RuptureParams.material_nu(material)
+    shared.thin_params.param.update(**thin)
+    shared.rupture_params.param.update(**rupture)
 
 
 def create_app(args: dict[str, list[bytes]] | None = None) -> pn.template.BootstrapTemplate:

@@ -21,7 +21,10 @@ SESSION_CONFIG: dict[str, Any] = {
     "disconnect_notification": "Connection to the asymslide server lost: the plots no longer follow the controls. "
                                "Reload the page once the server is back.",
 }
-pn.extension("plotly", "katex", **SESSION_CONFIG)  # katex: the equations of the Spectrum and All-branches tabs
+#: the Panel extensions the scenes use: Plotly (the Atlas tab's 3-D view) and KaTeX (the equations of the Spectrum and
+#: All-branches tabs); a notebook loads them with ``pn.extension(*EXTENSIONS)`` (app/notebook.py)
+EXTENSIONS = ("plotly", "katex")
+pn.extension(*EXTENSIONS, **SESSION_CONFIG)
 
 
 def configure_session() -> None:

@@ -32,6 +32,10 @@ myst_heading_anchors = 3
 nb_execution_mode = "cache"
 nb_execution_raise_on_error = True
 nb_execution_timeout = 600
+# Panel's notebook outputs (examples/jupyter.md) carry two mime types of Jupyter's HoloViews/Panel extension beside the
+# HTML and JavaScript the site shows: myst-nb renders every mime type of an output before it keeps the builder's, and
+# warned about those two. An output with no mime type the builder can show still fails the build (mystnb.mime_priority).
+suppress_warnings = ["mystnb.unknown_mime_type"]
 autodoc_member_order = "bysource"
 autodoc_typehints = "none"  # the numpydoc docstrings say the types
 numpydoc_show_class_members = False

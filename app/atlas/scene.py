@@ -19,7 +19,7 @@ import math
 import panel as pn
 import param
 
-from .. import jobs
+from .. import jobs, live
 from .. import sliding_map as slm
 from ..exports import csv_table
 from ..layout import heading, scene_layout
@@ -240,6 +240,8 @@ class AtlasScene(pn.viewable.Viewer):
         self._draw(heat)
         if self.image_pane.object is not heat.figure:
             self.image_pane.object = heat.figure
+        else:
+            live.flush(self.image_pane)  # in a notebook: the figure drawn in place (served, Bokeh sends it)
 
     def colours_sliding(self) -> bool:
         """Whether the heat map shows the sliding verdict over every branch (the atlas has it, and it is chosen)."""
@@ -254,6 +256,7 @@ class AtlasScene(pn.viewable.Viewer):
         if heat is not None and self.image_pane.object is heat.figure:
             with frozen_document():
                 self._draw(heat)
+            live.flush(self.image_pane)  # in a notebook: the figure drawn in place (served, Bokeh sends it)
 
     # -- a click sets the shared parameters ----------------------------------------------------
 

@@ -94,6 +94,30 @@ def test_wait_times_out() -> None:
     job.wait(30)
 
 
+def test_in_a_notebook_the_follower_shows_the_job_on_the_kernels_event_loop() -> None:
+    """Without a server session but with an asyncio loop running where the job is followed (a Jupyter kernel's: cells
+    run on it), every change is shown on that loop, in order and at the end, never from the worker's thread."""
+    import asyncio
+
+    shown: list[tuple[str, int, bool]] = []
+
+    async def cell() -> None:
+        loop_thread = threading.get_ident()
+        follower = jobs.Follower(lambda _job, state: shown.append(
+            (state.status, state.done.get("chunks", 0), threading.get_ident() == loop_thread)), interval=0.0)
+        release = threading.Event()
+        job = follower.run(_held(release), name="t", key="k", totals={"chunks": 3})
+        release.set()
+        while not (shown and shown[-1][0] == jobs.DONE):  # the cell awaits: the loop runs the updates
+            await asyncio.sleep(0.01)
+        assert job.state().finished
+
+    asyncio.run(asyncio.wait_for(cell(), 30))
+    assert shown[0][0] == jobs.RUNNING and shown[-1] == (jobs.DONE, 3, True)
+    assert all(on_loop for *_, on_loop in shown)
+    assert [done for _, done, _ in shown] == sorted(done for _, done, _ in shown)
+
+
 def test_a_job_outlives_the_destroyed_document_of_its_session() -> None:
     """Bokeh destroys an ended session's document before its destroy hooks cancel the session's job; the worker's
     notifications meanwhile must not raise (the load test's server log showed an AttributeError from
