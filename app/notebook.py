@@ -7,7 +7,7 @@ and stays live while the kernel runs (docs/examples/jupyter.md)::
     notebook.scene("spectrum")              # the Spectrum tab, inline
     notebook.app()                          # the whole page: every tab
 
-A scene is built as the page builds it (:data:`~asymslide.app.tabs.TABS_REGISTRY`), from the state the tabs of one
+A scene is built as the page builds it (``asymslide.app.tabs.TABS_REGISTRY``), from the state the tabs of one
 page share: a :class:`Session`. Scenes built from one session share their parameters, as the tabs of one page do. A
 query string, as in the page's URL (``"gamma=2&eta=inf"``, ``"atlas=small"``), sets the values to start from, read
 and validated as the page reads its URL (app/urlstate.py).
@@ -40,7 +40,7 @@ KEYS: tuple[str, ...] = tuple(t.key for t in TABS_REGISTRY)
 
 
 class Session:
-    """The state the scenes of one page share (the :class:`~asymslide.app.tabs.Shared` protocol): the parameter
+    """The state the scenes of one page share (the ``asymslide.app.tabs.Shared`` protocol): the parameter
     objects and the Lab-units panel of the Spectrum and Stability-map scenes.
 
     Parameters
@@ -74,7 +74,7 @@ class Session:
 
 
 def _tab(key: str) -> Tab:
-    """The tab `key` of :data:`~asymslide.app.tabs.TABS_REGISTRY`."""
+    """The tab `key` of ``asymslide.app.tabs.TABS_REGISTRY``."""
     for tab in TABS_REGISTRY:
         if tab.key == key:
             return tab
@@ -105,7 +105,7 @@ def _caller_level() -> int:
 
 def scene(key: str, query: str = "", *, session: Session | None = None) -> pn.viewable.Viewer:
     """The scene of the tab `key`, built as the page builds it. Displayed as a notebook cell's value, it shows
-    inline (Panel's extensions loaded: :data:`EXTENSIONS`), its widgets driving its plots through the running kernel.
+    inline (Panel's extensions loaded: ``EXTENSIONS``), its widgets driving its plots through the running kernel.
 
     Parameters
     ----------
@@ -123,7 +123,7 @@ def scene(key: str, query: str = "", *, session: Session | None = None) -> pn.vi
     Returns
     -------
     panel.viewable.Viewer
-        The scene (e.g. :class:`~asymslide.app.spectrum.SpectrumScene`); the shared parameters it shows are its
+        The scene (e.g. ``asymslide.app.spectrum.SpectrumScene``); the shared parameters it shows are its
         ``params`` (for the Thin-on-thick and Rupture-fronts scenes: ``params`` and ``material``).
 
     Raises
