@@ -7,8 +7,8 @@
 - A check at start-up that every public function, class and method of the model and the atlas layer has a
   docstring (a missing one is a warning: the build fails).
 - Links made when a page is written: "§12.3" on the physics page and the equation index, and
-  "docs/physics.md §12.3" anywhere, go to that section; "Eq. S-dz" on the physics page goes to its entry of the
-  equation index; a literal ``model.spectrum`` (on the guide's pages also ``VERDICT_STATUS``) goes to its API entry.
+  "docs/physics.md §12.3" anywhere, go to that section; "Eq. S-dz" anywhere but the equation index goes to its entry
+  there; a literal ``model.spectrum`` (on the guide's pages also ``VERDICT_STATUS``) goes to its API entry.
 """
 
 from __future__ import annotations
@@ -210,7 +210,7 @@ def _link_text(app: Sphinx, docname: str, doctree: nodes.document) -> None:
     """§ numbers and equation labels become links (see the module's docstring)."""
     sections: dict[str, str] = getattr(app.env, "asymslide_physics_sections", {})
     labels = set(_physics_labels(Path(app.srcdir))) | set(_implementers())
-    patterns = {PHYSICS: [SECTION, EQ_LABEL], EQUATIONS: [SECTION]}.get(docname, [PHYSICS_SECTION])
+    patterns = {PHYSICS: [SECTION, EQ_LABEL], EQUATIONS: [SECTION]}.get(docname, [PHYSICS_SECTION, EQ_LABEL])
     for text in list(doctree.findall(nodes.Text)):
         if _skip(text):
             continue
