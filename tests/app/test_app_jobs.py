@@ -112,7 +112,21 @@ def test_in_a_notebook_the_follower_shows_the_job_on_the_kernels_event_loop() ->
             await asyncio.sleep(0.01)
         assert job.state().finished
 
-    asyncio.run(asyncio.wait_for(cell(), 30))
+    # the kernel's loop in a thread of its own: this thread may hold another test's running loop (the whole suite)
+    errors: list[BaseException] = []
+
+    def kernel() -> None:
+        try:
+            asyncio.run(asyncio.wait_for(cell(), 30))
+        except BaseException as exc:  # noqa: BLE001 (re-raised below, in the test's thread)
+            errors.append(exc)
+
+    thread = threading.Thread(target=kernel, name="kernel")
+    thread.start()
+    thread.join(60)
+    assert not thread.is_alive(), "the kernel's loop did not end"
+    if errors:
+        raise errors[0]
     assert shown[0][0] == jobs.RUNNING and shown[-1] == (jobs.DONE, 3, True)
     assert all(on_loop for *_, on_loop in shown)
     assert [done for _, done, _ in shown] == sorted(done for _, done, _ in shown)
