@@ -34,7 +34,8 @@ LOG = logging.getLogger(__name__)
 PHYSICS = "physics"  # the physics page's docname
 EQUATIONS = "equations"  # the equation index's docname
 #: "Eq. S-dz", "Eqs. Gx_LSA": the paper's LaTeX labels as the project cites them
-EQ_LABEL = re.compile(r"\bEqs?\. ((?:S-)?[A-Za-z0-9_]+(?:[-_][A-Za-z0-9]+)*)")
+#: (two labels of the paper hold a space or parentheses: "delta f RSF" (+ "_SM"), "B(q)C(q)")
+EQ_LABEL = re.compile(r"\bEqs?\. ((?:S-)?(?:delta f RSF(?:_SM)?|B\(q\)C\(q\)|[A-Za-z0-9_]+(?:[-_][A-Za-z0-9]+)*))")
 #: "§12", "§12.3", "§14.7" (on the physics page); elsewhere only after "physics.md "
 SECTION = re.compile(r"§(\d+(?:\.\d+)?)")
 PHYSICS_SECTION = re.compile(r"(?:docs/)?physics\.md §(\d+(?:\.\d+)?)")
@@ -94,10 +95,13 @@ class ModelConstants(SphinxDirective):
 
 
 def _public_callables() -> Iterator[tuple[str, object]]:
-    """The model's ``__all__`` and every public name an atlas module defines, with their public methods."""
+    """The model's ``__all__``, every public name an atlas module or the notebook helper defines, with their public
+    methods."""
     model = importlib.import_module("asymslide.model")
     named = [(f"asymslide.model.{n}", getattr(model, n)) for n in model.__all__]
-    for module in _submodules(importlib.import_module("asymslide.atlas")):
+    notebook = importlib.import_module("asymslide.app.notebook")
+    modules = [*_submodules(importlib.import_module("asymslide.atlas")), notebook]
+    for module in modules:
         named += [(f"{module.__name__}.{n}", obj) for n, obj in vars(module).items()
                   if not n.startswith("_") and getattr(obj, "__module__", None) == module.__name__]
     for qualname, obj in named:
@@ -111,7 +115,8 @@ def _public_callables() -> Iterator[tuple[str, object]]:
 
 
 def check_docstrings(app: Sphinx) -> None:  # noqa: ARG001 (Sphinx's signature)
-    """Warn (the build fails) for each public function, class or method of the model and atlas without a docstring."""
+    """Warn (the build fails) for each public function, class or method of the model, the atlas layer and the notebook
+    helper without a docstring."""
     for qualname, obj in _public_callables():
         if not (inspect.getdoc(obj) or "").strip():  # a method may inherit its base class's docstring
             LOG.warning("%s has no docstring (every public function of the model and the atlas layer needs one)",

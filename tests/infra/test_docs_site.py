@@ -38,10 +38,12 @@ def test_the_link_check_finds_a_missing_page_and_a_missing_anchor_and_passes_goo
 def test_every_equation_label_the_physics_page_cites_is_parsed_with_its_sections() -> None:
     where = site._physics_labels(ROOT / "docs")
     text = (ROOT / "docs" / "physics.md").read_text(encoding="utf-8")
-    cited = set(re.findall(r"\bEqs?\. ((?:S-)?[A-Za-z0-9_]+(?:[-_][A-Za-z0-9]+)*)", text))
+    cited = set(site.EQ_LABEL.findall(text))
     # "Eq. X" and "Eq. S-X" in the page's preamble explain the notation: they are not labels
     assert cited and set(where) == cited - {"X", "S-X"}
     assert "§4" in where["S-dz"] and "§4" in where["criterion"]
+    assert {"delta f RSF", "S-delta f RSF_SM", "B(q)C(q)"} <= set(where)  # the labels with a space or parentheses
+    assert "delta" not in where and "B" not in where
 
 
 def test_the_labels_docstrings_cite_name_their_implementing_functions() -> None:
@@ -49,12 +51,14 @@ def test_the_labels_docstrings_cite_name_their_implementing_functions() -> None:
     assert "linear_expansion" in implemented["S-dz"]
     assert {"criterion_chi", "min_gy_at_rayleigh_speed"} <= set(implemented["criterion"])
     assert "response_functions" in implemented["Gs_general"]
+    assert "dispersion" in implemented["delta f RSF"] and "bessel_integral_B" in implemented["B(q)C(q)"]
 
 
-def test_every_public_function_class_and_method_of_the_model_and_atlas_has_a_docstring() -> None:
+def test_every_public_function_class_and_method_of_the_model_atlas_and_notebook_helper_has_a_docstring() -> None:
     names = dict(site._public_callables())
     assert "asymslide.model.spectrum" in names and "asymslide.atlas.sweep.sweep" in names
     assert "asymslide.atlas.plan.Plan.size" in names  # methods and properties are included
+    assert "asymslide.app.notebook.scene" in names  # and the notebook helper
     missing = [n for n, obj in names.items() if not (site.inspect.getdoc(obj) or "").strip()]
     assert missing == []
 
