@@ -112,7 +112,8 @@ def test_in_a_notebook_the_follower_shows_the_job_on_the_kernels_event_loop() ->
             await asyncio.sleep(0.01)
         assert job.state().finished
 
-    # the kernel's loop in a thread of its own: this thread may hold another test's running loop (the whole suite)
+    # the kernel's loop in a thread of its own: in the whole suite this thread runs the session's Playwright, whose
+    # sync API keeps an asyncio loop running here (asyncio.run refuses to start another)
     errors: list[BaseException] = []
 
     def kernel() -> None:
