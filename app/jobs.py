@@ -43,6 +43,7 @@ import concurrent.futures
 import logging
 import multiprocessing
 import signal
+import sys
 import threading
 import time
 from collections.abc import Callable, Hashable, Mapping
@@ -285,10 +286,18 @@ def served_document():
     return doc if doc is not None and doc.session_context is not None else None
 
 
+def in_kernel() -> bool:
+    """Whether this process is a Jupyter kernel (IPython's shell with a kernel): only there is a running asyncio loop
+    the notebook's (a script's own loop, or Playwright's sync API in the tests, is not)."""
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None
+    return shell is not None and getattr(shell, "kernel", None) is not None
+
+
 def kernel_loop() -> asyncio.AbstractEventLoop | None:
-    """The asyncio event loop running in this thread outside a server session: a Jupyter kernel's (its cells run as
+    """The asyncio event loop running in this thread outside a server session in a Jupyter kernel (its cells run as
     tasks on it), or None (a server session, a script, a test)."""
-    if served_document() is not None:
+    if served_document() is not None or not in_kernel():
         return None
     try:
         return asyncio.get_running_loop()

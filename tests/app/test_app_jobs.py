@@ -94,10 +94,12 @@ def test_wait_times_out() -> None:
     job.wait(30)
 
 
-def test_in_a_notebook_the_follower_shows_the_job_on_the_kernels_event_loop() -> None:
+def test_in_a_notebook_the_follower_shows_the_job_on_the_kernels_event_loop(monkeypatch: pytest.MonkeyPatch) -> None:
     """Without a server session but with an asyncio loop running where the job is followed (a Jupyter kernel's: cells
     run on it), every change is shown on that loop, in order and at the end, never from the worker's thread."""
     import asyncio
+
+    monkeypatch.setattr(jobs, "in_kernel", lambda: True)  # tests/app/test_notebook_scenes.py: in a real kernel
 
     shown: list[tuple[str, int, bool]] = []
 
@@ -113,7 +115,8 @@ def test_in_a_notebook_the_follower_shows_the_job_on_the_kernels_event_loop() ->
         assert job.state().finished
 
     # the kernel's loop in a thread of its own: in the whole suite this thread runs the session's Playwright, whose
-    # sync API keeps an asyncio loop running here (asyncio.run refuses to start another)
+    # sync API keeps an asyncio loop running here (asyncio.run refuses to start another; and kernel_loop() ignores
+    # that loop outside a kernel: test_outside_a_kernel_a_running_loop_is_not_a_notebooks)
     errors: list[BaseException] = []
 
     def kernel() -> None:
@@ -131,6 +134,23 @@ def test_in_a_notebook_the_follower_shows_the_job_on_the_kernels_event_loop() ->
     assert shown[0][0] == jobs.RUNNING and shown[-1] == (jobs.DONE, 3, True)
     assert all(on_loop for *_, on_loop in shown)
     assert [done for _, done, _ in shown] == sorted(done for _, done, _ in shown)
+
+
+def test_outside_a_kernel_a_running_loop_is_not_a_notebooks() -> None:
+    """A script's own asyncio loop (or Playwright's sync API in these tests) is not a notebook's: there the follower
+    stays headless (the job's state shown when asked), nothing is scheduled on that loop."""
+    import asyncio
+
+    assert not jobs.in_kernel()
+
+    async def script() -> asyncio.AbstractEventLoop | None:
+        return jobs.kernel_loop()
+
+    found: list[object] = []
+    thread = threading.Thread(target=lambda: found.append(asyncio.run(script())))
+    thread.start()
+    thread.join(30)
+    assert found == [None]
 
 
 def test_a_job_outlives_the_destroyed_document_of_its_session() -> None:
