@@ -397,23 +397,19 @@ class Follower:
     def _changed(self) -> None:
         """A change of the followed job (any thread): schedule one update of the session unless one is pending."""
         doc, loop = self._doc, self._loop
-        if doc is None and loop is not None:  # a notebook: on the kernel's event loop
-            with self._lock:
-                if self._pending:
-                    return
-                self._pending = True
-            self._schedule_on_loop(loop, self._tick_on_loop)
-            return
-        if doc is None or doc.session_context is None:  # headless, or the session has ended (see _schedule)
+        if loop is None and (doc is None or doc.session_context is None):  # headless, or the session has ended
             return
         with self._lock:
             if self._pending:
                 return
             self._pending = True
-        self._schedule(doc)
+        if loop is not None:  # a notebook: on the kernel's event loop
+            self._call_on_loop(loop, self._tick)
+        else:
+            self._schedule(doc)
 
-    def _schedule_on_loop(self, loop: asyncio.AbstractEventLoop, callback: Callable[[], None],
-                          delay: float = 0.0) -> None:
+    def _call_on_loop(self, loop: asyncio.AbstractEventLoop, callback: Callable[[], None],
+                      delay: float = 0.0) -> None:
         """Run `callback` on a notebook kernel's event loop (from any thread), after `delay` seconds; dropped when the
         loop has been closed (the kernel is shutting down)."""
         def call() -> None:
@@ -428,18 +424,6 @@ class Follower:
             log.debug("%s: the kernel's event loop is closed; its update is dropped",
                       self._job.name if self._job else "job")
 
-    def _tick_on_loop(self) -> None:
-        """On a notebook kernel's event loop: as :meth:`_tick` (the same :attr:`interval` between updates)."""
-        loop = self._loop
-        early = self._last + self.interval - time.monotonic()
-        if early > 0 and loop is not None:
-            self._schedule_on_loop(loop, self._tick_on_loop, early)
-            return
-        with self._lock:
-            self._pending = False
-        self._last = time.monotonic()
-        self.update()
-
     def _schedule(self, doc) -> None:
         """Ask the session's event loop for a :meth:`_tick`. Bokeh destroys an ended session's document (its callback
         registry is deleted, the session context cleared) before it runs the session-destroyed hooks that cancel the
@@ -453,14 +437,21 @@ class Follower:
             log.debug("%s: the session ended; its update is dropped", self._job.name if self._job else "job")
 
     def _tick(self) -> None:
-        """On the session's event loop: update, or wait until :attr:`interval` has passed since the last update."""
-        doc = self._doc
+        """On the session's event loop (in a notebook the kernel's): update, or wait until :attr:`interval` has passed
+        since the last update."""
+        doc, loop = self._doc, self._loop
         early = self._last + self.interval - time.monotonic()
+        if early > 0 and loop is not None:
+            self._call_on_loop(loop, self._tick, early)
+            return
         if early > 0 and doc is not None:
             doc.add_timeout_callback(self._tick, int(early * 1000) + 1)
             return
         with self._lock:
             self._pending = False
         self._last = time.monotonic()
+        if doc is None:  # a notebook: no session document to make current
+            self.update()
+            return
         with set_curdoc(doc):
             self.update()

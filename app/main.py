@@ -100,20 +100,28 @@ def request_args() -> dict[str, list[bytes]]:
 Scene = TypeVar("Scene", bound=pn.viewable.Viewer)
 
 
-class App:
-    """One browser session: shared parameters, scenes, presets, URL state and messages."""
+class SharedState:
+    """The state the tabs of one page share (app.tabs.Shared): the parameter objects, set to a URL's validated values
+    (`updates`, app.urlstate.parse_query) before the Lab-units panel and the scenes watch them, and that panel."""
 
-    def __init__(self, args: dict[str, list[bytes]] | None = None) -> None:
-        self.spectrum_params = SpectrumParams()  # shared by Spectrum, Stability map and All branches
+    def __init__(self, updates: Updates) -> None:
+        self.spectrum_params = SpectrumParams()  # shared by Spectrum, Stability map, All branches and Atlas
         self.thin_params = ThinOnThickParams()
         self.lab_params = LabParams()
         self.rupture_params = RuptureParams()
-        self.messages = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
-        updates, tab, messages = parse_query(request_args() if args is None else args)
         # set before the scenes watch them: a shared link shows the sliders it holds, also when its lab values
         # differ from them (the Lab-units panel then says so), and a material named alone brings its values
         apply_updates(self, updates)
         self.lab = LabScene(params=self.lab_params, spectrum=self.spectrum_params)  # in Spectrum and Stability map
+
+
+class App(SharedState):
+    """One browser session: shared parameters, scenes, presets, URL state and messages."""
+
+    def __init__(self, args: dict[str, list[bytes]] | None = None) -> None:
+        self.messages = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
+        updates, tab, messages = parse_query(request_args() if args is None else args)
+        super().__init__(updates)
         # every tab's scene, in tab order (app/tabs.py: what each is built from)
         self._scenes = {t.key: t.build(self, updates) for t in TABS_REGISTRY}
         # the scenes the page wires by name (URL, presets, messages)

@@ -26,9 +26,7 @@ import warnings
 
 import panel as pn
 
-from .lab import LabScene
-from .main import App, apply_updates
-from .params import LabParams, RuptureParams, SpectrumParams, ThinOnThickParams
+from .main import App, SharedState, apply_updates
 from .plotting import EXTENSIONS
 from .tabs import TABS_REGISTRY, Tab
 from .urlstate import Updates, parse_query
@@ -39,7 +37,7 @@ __all__ = ["EXTENSIONS", "KEYS", "Session", "app", "scene"]
 KEYS: tuple[str, ...] = tuple(t.key for t in TABS_REGISTRY)
 
 
-class Session:
+class Session(SharedState):
     """The state the scenes of one page share (the ``asymslide.app.tabs.Shared`` protocol): the parameter
     objects and the Lab-units panel of the Spectrum and Stability-map scenes.
 
@@ -61,16 +59,13 @@ class Session:
         The inputs of the Rupture-fronts scene.
     lab : LabScene
         The Lab-units panel.
+    updates : dict
+        The validated values of `query` (the scenes' own settings among them: the map's plane, the atlas).
     """
 
     def __init__(self, query: str = "") -> None:
-        self.spectrum_params = SpectrumParams()
-        self.thin_params = ThinOnThickParams()
-        self.lab_params = LabParams()
-        self.rupture_params = RuptureParams()
-        # set before the Lab-units panel watches them, as the page sets its URL's values
-        apply_updates(self, _parse(query))
-        self.lab = LabScene(params=self.lab_params, spectrum=self.spectrum_params)
+        self.updates = _parse(query)
+        super().__init__(self.updates)
 
 
 def _tab(key: str) -> Tab:
@@ -86,11 +81,11 @@ def _args(query: str) -> dict[str, list[str]]:
     return urllib.parse.parse_qs(query.lstrip("?"), keep_blank_values=True)
 
 
-def _parse(query: str, warn: bool = True) -> Updates:
-    """The validated updates of `query` (app.urlstate.parse_query); `warn`: each value it clamps or ignores is a
+def _parse(query: str) -> Updates:
+    """The validated updates of `query` (app.urlstate.parse_query); each value it clamps or ignores is a
     ``UserWarning``, as the page says it in a banner."""
     updates, _tab_key, messages = parse_query(_args(query))
-    for message in messages if warn else ():
+    for message in messages:
         warnings.warn(f"query {query!r}: {html.unescape(message)}", UserWarning, stacklevel=_caller_level())
     return updates
 
@@ -134,7 +129,7 @@ def scene(key: str, query: str = "", *, session: Session | None = None) -> pn.vi
     tab = _tab(key)
     if session is None:
         session = Session(query)
-        updates = _parse(query, warn=False)  # said by the session
+        updates = session.updates
     else:
         updates = _parse(query)
         apply_updates(session, updates)

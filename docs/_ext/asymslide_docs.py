@@ -13,6 +13,7 @@
 
 from __future__ import annotations
 
+import functools
 import importlib
 import inspect
 import pkgutil
@@ -123,6 +124,7 @@ def check_docstrings(app: Sphinx) -> None:  # noqa: ARG001 (Sphinx's signature)
                         qualname)
 
 
+@functools.cache  # read once per build, for the equation index and every page's links
 def _physics_labels(srcdir: Path) -> dict[str, list[str]]:
     """Each equation label cited by docs/physics.md -> the sections ("§3", "§12.3") that cite it, in order."""
     where: dict[str, list[str]] = {}
@@ -137,6 +139,7 @@ def _physics_labels(srcdir: Path) -> dict[str, list[str]]:
     return where
 
 
+@functools.cache  # read once per build, for the equation index and every page's links
 def _implementers() -> dict[str, list[str]]:
     """Each equation label -> the public model functions and classes whose docstring cites it."""
     model = importlib.import_module("asymslide.model")
@@ -147,6 +150,12 @@ def _implementers() -> dict[str, list[str]]:
             for label in dict.fromkeys(EQ_LABEL.findall(inspect.getdoc(obj) or "")):
                 found.setdefault(label, []).append(name)
     return found
+
+
+@functools.cache
+def _known_labels(srcdir: Path) -> frozenset[str]:
+    """Every label the equation index lists: cited by docs/physics.md or by a docstring."""
+    return frozenset(_physics_labels(srcdir)) | frozenset(_implementers())
 
 
 def label_id(label: str) -> str:
@@ -214,7 +223,7 @@ def _target_uri(app: Sphinx, docname: str, match: re.Match[str], labels: set[str
 def _link_text(app: Sphinx, docname: str, doctree: nodes.document) -> None:
     """§ numbers and equation labels become links (see the module's docstring)."""
     sections: dict[str, str] = getattr(app.env, "asymslide_physics_sections", {})
-    labels = set(_physics_labels(Path(app.srcdir))) | set(_implementers())
+    labels = _known_labels(Path(app.srcdir))
     patterns = {PHYSICS: [SECTION, EQ_LABEL], EQUATIONS: [SECTION]}.get(docname, [PHYSICS_SECTION, EQ_LABEL])
     for text in list(doctree.findall(nodes.Text)):
         if _skip(text):

@@ -107,3 +107,24 @@ def test_every_picture_of_the_site_and_the_readme_is_a_screenshot_make_screensho
                 f"{page.relative_to(ROOT)}: {image.name} is neither refreshed by make screenshots nor made by a "
                 "script the page names")
     assert checked >= 6
+
+
+def test_the_site_refuses_broken_references_and_runs_its_own_checks() -> None:
+    """docs/conf.py: nitpicky (a reference to an undocumented object is a warning, an error under make docs' -W),
+    the notebooks' errors raised, and this extension loaded with its checks connected."""
+    conf: dict[str, object] = {"__file__": str(ROOT / "docs" / "conf.py")}
+    exec(compile((ROOT / "docs" / "conf.py").read_text(encoding="utf-8"), "conf.py", "exec"), conf)  # noqa: S102
+    assert conf["nitpicky"] is True and conf["nb_execution_raise_on_error"] is True
+    assert "asymslide_docs" in conf["extensions"]
+    connected: list[str] = []
+
+    class App:
+        def add_directive(self, name: str, _cls: type) -> None:
+            connected.append(name)
+
+        def connect(self, event: str, _handler: object) -> None:
+            connected.append(event)
+
+    site.setup(App())
+    assert {"model-constants", "equation-index", "builder-inited", "build-finished", "missing-reference"} <= set(
+        connected)
