@@ -12,7 +12,9 @@ Cases (fixed grids): model.rayleigh_branch on 512 kH in [1e-4, 1e4] for eta = in
 rtol = 1e-6 (every field of SpectrumResult); model.growth_analysis on eta-gamma and f-gamma maps and a
 (Delta, xi) map; model.growth_chunk on the atlases' kH grid for three atlas planes at two accuracies;
 model.critical_gammas, model.critical_etas and model.threshold_chunk (every field); model.unstable_modes for four
-parameter sets. Exit status 1 if any array differs (or is missing on one side).
+parameter sets; model.unstable_count, model.fastest_mode, model.sliding_analysis (eta = inf and 10, rate on and off),
+model.sliding_chunk and model.critical_gammas(branches="all").
+Exit status 1 if any array differs (or is missing on one side).
 """
 
 from __future__ import annotations
@@ -83,6 +85,20 @@ CASES["threshold_chunk gamma 8 sets"] = lambda: model.threshold_chunk(
 for k, eta in ((0.77, 10.0), (0.45, INF), (1.0, INF), (0.2, 3.0)):
     CASES[f"unstable_modes kH={k} eta={eta:g}"] = (
         lambda k=k, eta=eta: model.unstable_modes(k, **PAPER, eta=eta))
+for k, eta, im_min in ((1.0, 10.0, 1e-3), (0.45, INF, 1e-4), (3.0, 3.0, 1e-3)):
+    CASES[f"unstable_count kH={k} eta={eta:g}"] = (
+        lambda k=k, eta=eta, im_min=im_min: model.unstable_count(k, **PAPER, eta=eta, re_max=40.0, im_min=im_min))
+CASES["fastest_mode 5 kH eta=inf"] = lambda: model.fastest_mode(np.geomspace(0.05, 20.0, 5), **PAPER)
+CASES["fastest_mode 3 kH eta=10"] = lambda: model.fastest_mode(np.array([0.1, 1.0, 5.0]), **PAPER, eta=10.0)
+for eta in (INF, 10.0):
+    for rate in (False, True):
+        CASES[f"sliding_analysis eta={eta:g} rate={rate}"] = (
+            lambda eta=eta, rate=rate: model.sliding_analysis(
+                gamma=np.array([1.0, 2.5125, 3.0]), f=0.9, beta=0.3, eta=eta, rate=rate))
+CASES["sliding_chunk 6 sets"] = lambda: model.sliding_chunk(
+    np.log(np.geomspace(1e-2, 1e2, 9)), rows(gamma=np.array([1.0, 3.0]), eta=np.array([INF, 3.0, 30.0])))
+CASES["critical_gammas branches=all 2 sets"] = lambda: model.critical_gammas(
+    f=np.array([0.9, 0.5]), beta=0.3, eta=INF, branches="all", workers=1)
 
 
 def leaves(prefix, x, out):
