@@ -159,7 +159,7 @@ def track_fraction(results: dict[float, list[dict]], dense: dict[float, list[tup
     """Run time against error of the level of the between-grid tracking at finite eta (model.sliding's
     TRACK_FRACTION_FINITE: roots above that fraction of the maximum at a grid point are followed): the median cost
     and the sets differing from the dense grid, on the sets compared with it."""
-    from asymslide.model import sliding
+    from asymslide.model._roots import track as sliding  # the tracking constants live in the root engine
 
     lines = ["\nThe between-grid tracking at finite eta (roots above a fraction of the maximum M at a grid point are "
              f"followed; the default is M x {sliding.TRACK_FRACTION_FINITE:g}): cost against the sets differing from "

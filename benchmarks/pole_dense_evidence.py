@@ -45,7 +45,7 @@ def _paths(p: Params):
     return coarse, fine
 
 
-def _root(path_code, s: float, p: Params) -> tuple[complex, int]:
+def real_root(path_code, s: float, p: Params) -> tuple[complex, int]:
     path, code = path_code
     if code != OK:
         return complex(math.nan, math.nan), code
@@ -62,7 +62,7 @@ def _first_parting(coarse, fine, p: Params) -> tuple[float, complex, str] | None
     """Where, from large kH down, the two continuations first part (1501 kH): (attenuation there, z, how)."""
     prev = None
     for s in DENSE:
-        a, b = _root(coarse, s, p), _root(fine, s, p)
+        a, b = real_root(coarse, s, p), real_root(fine, s, p)
         if not _same(a, b):
             zp, sp = prev if prev is not None else (b[0], s)
             att = p.eta * math.exp(sp) * cmath.sqrt(1 - zp * zp).real
@@ -85,7 +85,7 @@ def resolution(n_sets: int, seed: int) -> dict:
         coarse, fine = _paths(p)
         sup = dis_sup = dis_sub = False
         for s in S:
-            a, b = _root(coarse, s, p), _root(fine, s, p)
+            a, b = real_root(coarse, s, p), real_root(fine, s, p)
             ref = b[0] if b[1] == OK else a[0]
             region = "super" if (np.isfinite(ref) and abs(ref.real) > 1) else "sub"
             same = _same(a, b)

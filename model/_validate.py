@@ -150,3 +150,35 @@ def check_range(name: str, value, domain: str) -> tuple[float, float]:
     except ValueError:
         raise ValueError(f"{msg}; got {value!r}") from None
     return lo, hi
+
+
+def check_kh_grid(kH) -> np.ndarray:
+    """The kH grid, validated: a 1-D increasing array of at least 2 positive values."""
+    q = check("kH", kH)
+    if q.ndim != 1 or q.size < 2 or np.any(np.diff(q) <= 0):
+        raise ValueError("kH must be a 1-D increasing grid with at least 2 points")
+    return q
+
+
+def check_floor(floor) -> float:
+    """A growth floor, validated: a positive finite real number."""
+    if isinstance(floor, (str, bytes, complex)) or np.ndim(floor) != 0:
+        raise ValueError(f"floor must be a positive real number; got {floor!r}")
+    try:
+        v = float(floor)
+    except (TypeError, ValueError):
+        raise ValueError(f"floor must be a positive real number; got {floor!r}") from None
+    if not (math.isfinite(v) and v > 0.0):
+        raise ValueError(f"floor must be a positive real number; got {floor!r}")
+    return v
+
+
+#: the elastic states a Poisson ratio is converted under (model.elastic, model.lab_units, model.rupture)
+PLANES = ("strain", "stress")
+
+
+def check_plane(plane: str) -> str:
+    """The plane (``"strain"`` or ``"stress"``), validated."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}; got {plane!r}")
+    return plane

@@ -1,12 +1,11 @@
 """What a threshold search returns: the crossings of the max growth in gamma or eta (:class:`Crossings`) and what
 their reason codes mean (:class:`CrossingReason`, :class:`ThresholdReason`), shared by the Rayleigh branch's solver
-(:mod:`model.thresholds`) and the sliding one over every branch (:mod:`model.sliding_thresholds`). docs/physics.md
+(:mod:`model.thresholds`) and the sliding one over every branch (``model._sliding_thresholds``). docs/physics.md
 §9, §14.10.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from enum import IntEnum
 
@@ -74,25 +73,8 @@ THRESHOLD_STATUS = {
     "followed, its route or its pole-dense part changes), with no neutral mode",
     T_POLE_DENSE: "pole-dense: the sign change is at a neutral mode among the lower block's poles (finite eta)",
 }
-_POINT_REASON = {X_JUMP_MASKED: T_JUMP, X_JUMP: T_JUMP, X_POLE_DENSE: T_POLE_DENSE, X_UNDEFINED: T_UNDEFINED,
+POINT_REASON = {X_JUMP_MASKED: T_JUMP, X_JUMP: T_JUMP, X_POLE_DENSE: T_POLE_DENSE, X_UNDEFINED: T_UNDEFINED,
                  X_NOT_CERTIFIED: T_NOT_CERTIFIED}
-
-
-@dataclass
-class _Crossing:
-    """One sign change of G: the threshold (if certified) and what is known about it."""
-
-    reason: int
-    lo: float  # the bracket in t
-    hi: float
-    t: float = math.nan  # the threshold (certified) or where the sign change was located
-    s: float = math.nan
-    x: float = math.nan
-    direction: int = 0
-
-    @property
-    def certified(self) -> bool:
-        return self.reason in (X_CERTIFIED, X_EDGE)
 
 
 @dataclass(frozen=True)
@@ -147,12 +129,4 @@ class Crossings:
         return np.where(ok.any(axis=-1), v, np.nan)
 
 
-_PER_POINT = ("value", "location", "lo", "hi", "kH", "z", "direction", "reason")
-
-
-def _empty(n: int, k: int, name: str) -> Crossings:
-    nan = np.full((n, k), np.nan)
-    return Crossings(nan, nan.copy(), nan.copy(), nan.copy(), nan.copy(), nan.copy(), np.zeros((n, k), np.int8),
-                     np.full((n, k), -1, np.int8), np.zeros(n, np.int64), np.zeros(n, bool), np.zeros(n, bool),
-                     np.full(n, T_UNDEFINED, np.int8), np.full(n, np.nan), np.full(n, np.nan), np.zeros(n, np.int64),
-                     np.zeros(n, np.int64), name)
+PER_POINT = ("value", "location", "lo", "hi", "kH", "z", "direction", "reason")

@@ -10,15 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validate import check
-
-PLANES = ("strain", "stress")
-
-
-def _check_plane(plane: str) -> str:
-    if plane not in PLANES:
-        raise ValueError(f"plane must be one of {PLANES}; got {plane!r}")
-    return plane
+from ._validate import check, check_plane
 
 
 def wave_speed_ratio(nu, *, plane: str = "strain"):
@@ -28,7 +20,7 @@ def wave_speed_ratio(nu, *, plane: str = "strain"):
     The spectrum functions need beta <= 1/sqrt(2), i.e. nu >= 0 in plane strain (nu >= 0 also in plane stress).
     """
     n = check("nu", nu, domain="nu_any")
-    if _check_plane(plane) == "strain":
+    if check_plane(plane) == "strain":
         return np.sqrt((1.0 - 2.0 * n) / (2.0 * (1.0 - n)))
     return np.sqrt((1.0 - n) / 2.0)
 
@@ -41,7 +33,7 @@ def poisson_ratio(beta, *, plane: str = "strain"):
     """
     b = check("beta", beta, domain="beta_any")
     b2 = b * b
-    if _check_plane(plane) == "strain":
+    if check_plane(plane) == "strain":
         lo, hi, text = 0.0, 0.75, "(0, sqrt(3)/2)"
         nu = (1.0 - 2.0 * b2) / (2.0 * (1.0 - b2))
     else:

@@ -26,8 +26,8 @@ from types import MappingProxyType
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from ._validate import BETA_MAX, check
-from .elastic import PLANES, poisson_ratio, shear_modulus, wave_speed_ratio
+from ._validate import BETA_MAX, check, check_plane
+from .elastic import poisson_ratio, shear_modulus, wave_speed_ratio
 from .spectrum import spectrum
 
 MATERIALS_FILE = Path(__file__).resolve().parent / "materials.json"
@@ -35,12 +35,6 @@ MATERIALS_FILE = Path(__file__).resolve().parent / "materials.json"
 # c_d / c_s bounds for a Poisson ratio in (-1, 0.5) (plane strain, i.e. bulk speeds) and for nu >= 0
 _CD_OVER_CS_MIN_ANY = 2.0 / math.sqrt(3.0)
 _CD_OVER_CS_MIN_MODEL = math.sqrt(2.0)
-
-
-def _check_plane(plane: str) -> str:
-    if plane not in PLANES:
-        raise ValueError(f"plane must be one of {PLANES}; got {plane!r}")
-    return plane
 
 
 def _numeric_allow_nan(name: str, value) -> np.ndarray:
@@ -78,7 +72,7 @@ def poisson_ratio_from_speeds(*, c_s, c_d, plane: str = "strain") -> np.ndarray:
     """
     cs = check("c_s", c_s)
     cd = check("c_d", c_d)
-    if _check_plane(plane) == "strain":
+    if check_plane(plane) == "strain":
         bad, text = cd <= _CD_OVER_CS_MIN_ANY * cs, "c_d > (2/sqrt(3)) c_s"
     else:
         bad, text = (cd <= cs) | (cd >= 2.0 * cs), "c_s < c_d < 2 c_s"
@@ -123,7 +117,7 @@ def wave_speed_ratio_from_speeds(*, c_s, c_d, plane: str = "strain") -> np.ndarr
             "c_d must be >= sqrt(2) c_s (Poisson ratio nu >= 0, beta = c_s/c_d <= 1/sqrt(2), the model's range); "
             f"got c_d = {got_cd!r}, c_s = {got_cs!r}"
         )
-    if _check_plane(plane) == "strain":
+    if check_plane(plane) == "strain":
         return np.minimum(cs / cd, BETA_MAX)
     return wave_speed_ratio(poisson_ratio_from_speeds(c_s=cs, c_d=cd, plane="strain"), plane="stress")
 

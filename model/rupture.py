@@ -57,12 +57,39 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.special import dawsn, erfcx
 
-from ._validate import check
-from .elastic import _check_plane, wave_speed_ratio
-from .rayleigh import _rayleigh_x
+from ._validate import check, check_plane
+from .elastic import wave_speed_ratio
 from .thin_on_thick import normal_stress_change
 
 _SQRT_PI = math.sqrt(math.pi)
+
+
+def _rayleigh_x(b2) -> np.ndarray:
+    """x_R = z_R^2, the root in (0, 1) of the Rayleigh cubic x^3 - 8x^2 + 8(3 - 2 b2)x - 16(1 - b2), for
+    beta^2 = b2 in (0, 1): any Poisson ratio in (-1, 0.5) (model.rupture; the spectrum's beta <= 1/sqrt(2) uses
+    the kernel's Newton, whose start x = 0.85 is not safe near b2 = 1). Closed form (trigonometric Cardano for
+    three real roots, real cube roots for one), then two Newton corrections to the last bit; no domain check."""
+    b = np.atleast_1d(np.asarray(b2, dtype=float))
+    # depressed cubic for x = y + 8/3:  y^3 + p y + r = 0
+    p = 8.0 * (3.0 - 2.0 * b) - 64.0 / 3.0
+    r = -16.0 * (1.0 - b) + 8.0 * 8.0 * (3.0 - 2.0 * b) / 3.0 - 2.0 * 512.0 / 27.0
+    disc = (r / 2.0) ** 2 + (p / 3.0) ** 3
+    x = np.empty_like(b)
+    three = disc < 0.0
+    if np.any(three):
+        pp, rr = p[three], r[three]
+        m = 2.0 * np.sqrt(-pp / 3.0)
+        theta = np.arccos(np.clip(3.0 * rr / (pp * m), -1.0, 1.0)) / 3.0
+        roots = np.stack([m * np.cos(theta - 2.0 * np.pi * k / 3.0) for k in range(3)]) + 8.0 / 3.0
+        x[three] = np.where((roots > 0.0) & (roots < 1.0), roots, np.inf).min(axis=0)
+    one = ~three
+    if np.any(one):
+        rr, dd = r[one], np.sqrt(disc[one])
+        x[one] = np.cbrt(-rr / 2.0 + dd) + np.cbrt(-rr / 2.0 - dd) + 8.0 / 3.0
+    for _ in range(2):
+        fx = ((x - 8.0) * x + 8.0 * (3.0 - 2.0 * b)) * x - 16.0 * (1.0 - b)
+        x = x - fx / ((3.0 * x - 16.0) * x + 8.0 * (3.0 - 2.0 * b))
+    return x.reshape(np.shape(b2))
 
 
 def _peak_of_dawson() -> tuple[float, float]:
@@ -143,7 +170,7 @@ def _speed_terms(c, c_s, nu, plane: str):
 
     ValueError naming c unless 0 < c < c_R (tested as z^2 < x_R, the quantity f_II divides by).
     """
-    _check_plane(plane)
+    check_plane(plane)
     cc = check("c", c)
     cs = check("c_s", c_s)
     n = check("nu", nu, domain="nu_any")
@@ -200,7 +227,7 @@ def rayleigh_wave_speed(*, c_s, nu, plane: str = "stress"):
     (0, 1) of the Rayleigh cubic. nu in (-1, 0.5) (unlike :func:`rayleigh_speed`, negative nu allowed).
     PMMA, nu = 0.33, plane stress: c_R = 0.91909 c_s = 1236.2 m/s (paper: ~1237 m/s). ~1e-15 relative.
     """
-    _check_plane(plane)
+    check_plane(plane)
     cs = check("c_s", c_s)
     n = check("nu", nu, domain="nu_any")
     cs, n = np.broadcast_arrays(cs, n)
@@ -214,7 +241,7 @@ def plane_modulus(*, mu, nu, plane: str = "stress"):
 
     The modulus of the energy balance Gamma = K_II^2 f_II(c)/E' (docs/physics.md §13). mu > 0, nu in (-1, 0.5).
     """
-    _check_plane(plane)
+    check_plane(plane)
     m = check("mu", mu)
     n = check("nu", nu, domain="nu_any")
     return 2.0 * m / _one_minus_nu2d(n, plane)

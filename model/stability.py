@@ -16,7 +16,7 @@ import numpy as np
 from scipy import optimize
 
 from . import _kernels as K
-from ._validate import check, check_rtol
+from ._validate import check, check_kh_grid, check_rtol
 from .elastodynamics import response_functions
 from .rayleigh import rayleigh_speed
 
@@ -136,14 +136,6 @@ def growth_chunk(s_grid: np.ndarray, params: np.ndarray, rtol: float | None = No
     return out
 
 
-def _grid(kH) -> np.ndarray:
-    """The kH grid, validated: a 1-D increasing array of at least 2 positive values."""
-    q = check("kH", kH)
-    if q.ndim != 1 or q.size < 2 or np.any(np.diff(q) <= 0):
-        raise ValueError("kH must be a 1-D increasing grid with at least 2 points")
-    return q
-
-
 def growth_analysis(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, workers: int | None = None,
                     rtol: float | None = None) -> GrowthResult:
     """Continuous max over kH of Im z on the Rayleigh branch (the stability map), its verdict and the unstable band.
@@ -164,7 +156,7 @@ def growth_analysis(kH, *, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, work
     uses the path interpolant wherever its estimated error is below 0.1 rtol.
     """
     tol = check_rtol(rtol)
-    q = _grid(kH)
+    q = check_kh_grid(kH)
     arrays = [check("gamma", gamma), check("f", f), check("beta", beta), check("eta", eta), check("Delta", Delta),
               check("xi", xi)]
     shape = np.broadcast_shapes(*(a.shape for a in arrays))

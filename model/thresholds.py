@@ -36,11 +36,13 @@ from typing import NamedTuple
 import numpy as np
 
 from . import _kernels as K
-from ._validate import check, check_range, check_rtol
+from ._crossing import Crossing, empty_crossings
+from ._sliding_thresholds import all_crossings_chunk
+from ._validate import check, check_floor, check_kh_grid, check_range, check_rtol
 from .crossings import (
-    _PER_POINT,
-    _POINT_REASON,
     MAX_CROSSINGS,
+    PER_POINT,
+    POINT_REASON,
     SCAN_POINTS,
     T_FOUND,
     T_JUMP,
@@ -58,11 +60,8 @@ from .crossings import (
     X_POLE_DENSE,
     X_UNDEFINED,
     Crossings,
-    _Crossing,
-    _empty,
 )
-from .sliding import DEFAULT_FLOOR, SLIDING_KH, _floor
-from .sliding_thresholds import _all_crossings_chunk
+from .sliding import DEFAULT_FLOOR, SLIDING_KH
 from .stability import growth_rows
 
 #: default kH grid for thresholds: 20 points per decade over [1e-4, 1e4] (only its ends matter: the growth is the
@@ -205,7 +204,7 @@ def _inserted(pt: _Point, a: _Eval, b: _Eval, depth: int, budget: list[int]) -> 
     return [*_inserted(pt, a, c, depth - 1, budget), c, *_inserted(pt, c, b, depth - 1, budget)]
 
 
-def _certify(pt: _Point, x: float, s: float, t: float, slope: float, err: float, edge: bool) -> _Crossing | None:
+def _certify(pt: _Point, x: float, s: float, t: float, slope: float, err: float, edge: bool) -> Crossing | None:
     """The crossing at the neutral mode (x, s, t) if both certificates hold, else None (reason left to the caller).
 
     G at value (1 -/+ CERT_REL): opposite signs, each no larger than the neutral mode's slope allows (no jump),
@@ -222,10 +221,10 @@ def _certify(pt: _Point, x: float, s: float, t: float, slope: float, err: float,
             return None
     if (lo.g > 0) == (hi.g > 0) or (hi.g > 0) != (slope > 0) or lo.masked != hi.masked:
         return None
-    return _Crossing(X_EDGE if edge else X_CERTIFIED, lo.t, hi.t, t, s, x, 1 if hi.g > 0 else -1)
+    return Crossing(X_EDGE if edge else X_CERTIFIED, lo.t, hi.t, t, s, x, 1 if hi.g > 0 else -1)
 
 
-def _try_neutral(pt: _Point, a: _Eval, b: _Eval) -> _Crossing | None:
+def _try_neutral(pt: _Point, a: _Eval, b: _Eval) -> Crossing | None:
     """The neutral mode from the bracket [a, b] (opposite signs), certified; a pole-dense crossing; or None."""
     if a.lost_end and b.lost_end:
         return None  # no smooth maximum at either end to start from
@@ -244,7 +243,7 @@ def _try_neutral(pt: _Point, a: _Eval, b: _Eval) -> _Crossing | None:
         return None
     eta = math.exp(t) if pt.which == K.P_ETA else pt.p[3]
     if not math.isinf(eta) and abs(x) > K.SUBSONIC:
-        return _Crossing(X_POLE_DENSE, lo, hi, t, s, x)
+        return Crossing(X_POLE_DENSE, lo, hi, t, s, x)
     return _certify(pt, x, s, t, slope, max(a.err, b.err), edge)
 
 
@@ -258,7 +257,7 @@ def _is_jump(a: _Eval, b: _Eval) -> bool:
     return bool(slopes) and abs(b.g - a.g) > JUMP_FACTOR * max(max(slopes), MIN_JUMP_SLOPE) * width
 
 
-def _solve_bracket(pt: _Point, a: _Eval, b: _Eval) -> _Crossing:
+def _solve_bracket(pt: _Point, a: _Eval, b: _Eval) -> Crossing:
     """The crossing in the bracket [a, b] of scan values with opposite signs (docstring of the module, steps 2-4).
 
     Between neutral-mode attempts the bracket is narrowed by false position on G until a step fails to halve it
@@ -272,7 +271,7 @@ def _solve_bracket(pt: _Point, a: _Eval, b: _Eval) -> _Crossing:
                 return c
         if step >= NEUTRAL_TRIES and _is_jump(a, b):
             reason = X_JUMP_MASKED if a.masked != b.masked else X_JUMP
-            return _Crossing(reason, a.t, b.t, 0.5 * (a.t + b.t))
+            return Crossing(reason, a.t, b.t, 0.5 * (a.t + b.t))
         width = b.t - a.t
         if fp_failures >= 2:
             t = 0.5 * (a.t + b.t)
@@ -281,20 +280,20 @@ def _solve_bracket(pt: _Point, a: _Eval, b: _Eval) -> _Crossing:
             t = min(max(t, a.t + 0.01 * width), b.t - 0.01 * width)  # strictly inside
         e = pt.ev(t)
         if not math.isfinite(e.g):
-            return _Crossing(X_UNDEFINED, a.t, b.t, t)
+            return Crossing(X_UNDEFINED, a.t, b.t, t)
         if _sign(e.g) == _sign(a.g):
             a = e
         else:
             b = e
         if fp_failures < 2 and b.t - a.t > 0.5 * width:
             fp_failures += 1
-    return _Crossing(X_NOT_CERTIFIED, a.t, b.t, 0.5 * (a.t + b.t))
+    return Crossing(X_NOT_CERTIFIED, a.t, b.t, 0.5 * (a.t + b.t))
 
 
-def _point_crossings(pt: _Point, ts: np.ndarray, rows: np.ndarray) -> tuple[list[_Crossing], list[_Eval]]:
+def _point_crossings(pt: _Point, ts: np.ndarray, rows: np.ndarray) -> tuple[list[Crossing], list[_Eval]]:
     """Every sign change of G over the scan values ts (scan values with opposite signs, or with only NaN between)."""
     scan = _scan(pt, ts, rows)
-    out: list[_Crossing] = []
+    out: list[Crossing] = []
     prev: _Eval | None = None  # the last finite scan value
     gap = False  # NaN scan values since prev
     for e in scan:
@@ -302,7 +301,7 @@ def _point_crossings(pt: _Point, ts: np.ndarray, rows: np.ndarray) -> tuple[list
             gap = prev is not None or gap
             continue
         if prev is not None and _sign(prev.g) != _sign(e.g):
-            out.append(_Crossing(X_UNDEFINED, prev.t, e.t, math.nan) if gap else _solve_bracket(pt, prev, e))
+            out.append(Crossing(X_UNDEFINED, prev.t, e.t, math.nan) if gap else _solve_bracket(pt, prev, e))
         prev, gap = e, False
     return out, scan
 
@@ -313,12 +312,12 @@ def _point_crossings(pt: _Point, ts: np.ndarray, rows: np.ndarray) -> tuple[list
 
 
 
-def _status(crossings: list[_Crossing], scan: list[_Eval]) -> int:
+def _status(crossings: list[Crossing], scan: list[_Eval]) -> int:
     """The point's threshold code: found, or why not (the first crossing's reason; else the scan's signs)."""
     if any(c.certified for c in crossings):
         return T_FOUND
     if crossings:
-        return _POINT_REASON[crossings[0].reason]
+        return POINT_REASON[crossings[0].reason]
     g = np.array([e.g for e in scan])
     fin = g[np.isfinite(g)]
     if not fin.size:
@@ -326,7 +325,7 @@ def _status(crossings: list[_Crossing], scan: list[_Eval]) -> int:
     return T_STABLE if np.all(fin < 0) else (T_UNSTABLE if np.all(fin >= 0) else T_UNDEFINED)
 
 
-def _fill(res: Crossings, i: int, pt: _Point, crossings: list[_Crossing], scan: list[_Eval]) -> None:
+def _fill(res: Crossings, i: int, pt: _Point, crossings: list[Crossing], scan: list[_Eval]) -> None:
     """Write the crossings of parameter set i into res."""
     for k, c in enumerate(crossings[: res.value.shape[1]]):
         res.location[i, k] = math.exp(c.t) if math.isfinite(c.t) else math.exp(0.5 * (c.lo + c.hi))
@@ -382,10 +381,10 @@ def crossings_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: t
     p = _params6(name, params)
     s = np.ascontiguousarray(s_grid, dtype=float)
     if _branches(branches) == "all":
-        fl = _floor(DEFAULT_FLOOR if floor is None else floor)
-        return _all_crossings_chunk(THRESHOLD_ROWS[name], name, s, p, (lo, hi), fl, int(max_crossings))
+        fl = check_floor(DEFAULT_FLOOR if floor is None else floor)
+        return all_crossings_chunk(THRESHOLD_ROWS[name], name, s, p, (lo, hi), fl, int(max_crossings))
     n = p.shape[1]
-    res = _empty(n, int(max_crossings), name)
+    res = empty_crossings(n, int(max_crossings), name)
     which = THRESHOLD_ROWS[name]
     valid = np.flatnonzero(~np.isnan(np.delete(p, which, axis=0)).any(axis=0))  # NaN parameters: undefined
     ts = np.linspace(math.log(lo), math.log(hi), SCAN_POINTS)
@@ -468,7 +467,7 @@ def threshold_chunk(name: str, s_grid: np.ndarray, params: np.ndarray, bounds: t
     k = np.where(ok.any(axis=1), np.argmax(ok, axis=1), 0)
     rows = np.arange(n)
     has = r.count > 0
-    pick = {name_: getattr(r, name_)[rows, k] for name_ in _PER_POINT}
+    pick = {name_: getattr(r, name_)[rows, k] for name_ in PER_POINT}
     loc = np.where(has, pick["location"], np.nan)
     return ThresholdChunk(r.first, r.status, loc, np.where(has, pick["lo"], np.nan), np.where(has, pick["hi"], np.nan),
                           pick["kH"], pick["z"], pick["direction"], r.count, r.complete, r.growth_min, r.growth_max,
@@ -520,7 +519,7 @@ def _chunks(name: str, bounds, kH, fixed: dict, rtol, workers: int | None, fun, 
     cols, shape = _broadcast(fixed)
     if kH is None and _branches(branches) == "all":
         kH = SLIDING_KH
-    s = np.log(DEFAULT_KH if kH is None else _grid(kH))
+    s = np.log(DEFAULT_KH if kH is None else check_kh_grid(kH))
     n = int(np.prod(shape))
     cols[name] = np.full(n, np.nan)
     params = np.stack([cols[k] for k in ("gamma", "f", "beta", "eta", "Delta", "xi")])
@@ -532,14 +531,6 @@ def _chunks(name: str, bounds, kH, fixed: dict, rtol, workers: int | None, fun, 
     else:
         parts = [fun(name, s, c, bounds, rtol) for c in chunks]
     return parts, cols, shape, bounds
-
-
-def _grid(kH) -> np.ndarray:
-    """The kH grid, validated: a 1-D increasing array of at least 2 positive values."""
-    q = check("kH", kH)
-    if q.ndim != 1 or q.size < 2 or np.any(np.diff(q) <= 0):
-        raise ValueError("kH must be a 1-D increasing grid with at least 2 points")
-    return q
 
 
 def _thresholds(name: str, bounds, kH, fixed: dict, rtol: float | None, workers: int | None,
@@ -574,8 +565,8 @@ def _all_crossings(name: str, bounds, kH, fixed: dict, rtol, workers, max_crossi
     for f_ in Crossings.__dataclass_fields__:
         if f_ == "parameter":
             continue
-        arr = np.concatenate([getattr(p, f_) for p in parts]) if parts else getattr(_empty(0, k, name), f_)
-        out[f_] = arr.reshape((*shape, k) if f_ in _PER_POINT else shape)
+        arr = np.concatenate([getattr(p, f_) for p in parts]) if parts else getattr(empty_crossings(0, k, name), f_)
+        out[f_] = arr.reshape((*shape, k) if f_ in PER_POINT else shape)
     return Crossings(**out, parameter=name)
 
 

@@ -51,9 +51,9 @@ from .growth import (
     V_POLE_DENSE,
     V_STABLE,
     V_UNSTABLE,
-    _is_pole_dense,
     growth_many,
     growth_point,
+    is_pole_dense,
 )
 from .neutral import P_ETA, P_GAMMA, neutral_mode
 from .newton import FULL_TOL, KH
@@ -65,7 +65,7 @@ from .response import dispersion_dq, dispersion_eval, dispersion_many, response_
 __all__ = [
     "FULL_TOL", "INPUT", "KH", "LOST", "MAP_NODE_TOL", "NOCONV", "NOUT", "OK", "PRED_TOL", "P_ETA", "P_GAMMA", "START",
     "SUBSONIC", "V_MARGINAL", "V_MASKED", "V_NOBRANCH", "V_POLE_DENSE", "V_STABLE", "V_UNSTABLE", "Box", "Params",
-    "_is_pole_dense", "branch_many", "branch_one", "build_path", "dispersion_dq", "dispersion_eval", "dispersion_many",
+    "is_pole_dense", "branch_many", "branch_one", "build_path", "dispersion_dq", "dispersion_eval", "dispersion_many",
     "growth_many", "growth_point", "jitted", "neutral_mode", "rayleigh_many", "rayleigh_z", "response_many",
     "solve_at",
 ]

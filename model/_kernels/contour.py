@@ -2,9 +2,9 @@
 
 The compiled core of :mod:`model.modes` (docs/physics.md §10; the module docstring of model.modes states the
 acceptance tests of a sampled segment and the window semantics) and of the whole-spectrum search of
-:mod:`model.sliding`: :func:`_sample_line` samples F(z; kH) along a horizontal or vertical line until every
+:mod:`model.sliding`: :func:`sample_line` samples F(z; kH) along a horizontal or vertical line until every
 segment between neighbouring samples passes the acceptance tests, :func:`count_rectangle` sums the log-increments
-of F around a rectangle (the winding number, without keeping the samples), and :func:`_newton_cell` polishes the
+of F around a rectangle (the winding number, without keeping the samples), and :func:`newton_cell` polishes the
 root of a cell with the model's one Newton loop.
 """
 
@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from ._common import jitted
-from .newton import FULL_TOL, KH, _newton
+from .newton import FULL_TOL, KH, newton_root
 from .records import Box, Params
 from .response import dispersion_eval
 
@@ -53,7 +53,7 @@ def _seg_ok(za, fa, dfa, zb, fb, dfb, tol_phase, tol_trap, tol_lin):
 
 
 @jitted
-def _point(t: float, c: float, horizontal: bool) -> complex:
+def line_point(t: float, c: float, horizontal: bool) -> complex:
     return complex(t, c) if horizontal else complex(c, t)
 
 
@@ -105,9 +105,9 @@ def _seeds(t0, t1, h0, geo0, lad_y, poles, half):
 @jitted(inline="always")
 def _sample_at(t: float, c: float, horizontal: bool, q: float, gamma: float, f: float, beta: float, eta: float,
                delta: float, xi: float) -> tuple[complex, complex, int]:
-    """F and F' at the point t of a line (see _sample_line) and a status: 0, 1 (a root: |F| <= TINY x scale) or 3 (F
+    """F and F' at the point t of a line (see sample_line) and a status: 0, 1 (a root: |F| <= TINY x scale) or 3 (F
     or F' not finite)."""
-    fv, dfv, sc = dispersion_eval(_point(t, c, horizontal), q, gamma, f, beta, eta, delta, xi)
+    fv, dfv, sc = dispersion_eval(line_point(t, c, horizontal), q, gamma, f, beta, eta, delta, xi)
     if not (cmath.isfinite(fv) and cmath.isfinite(dfv)):
         return fv, dfv, 3
     if abs(fv) <= TINY * sc:
@@ -117,14 +117,14 @@ def _sample_at(t: float, c: float, horizontal: bool, q: float, gamma: float, f: 
 
 @jitted
 def _doubled(a: np.ndarray, n: int, size: int) -> np.ndarray:
-    """A buffer of `size` elements of a's dtype holding a[:n] (a full buffer of _sample_line grown)."""
+    """A buffer of `size` elements of a's dtype holding a[:n] (a full buffer of sample_line grown)."""
     new = np.empty(size, dtype=a.dtype)
     new[:n] = a[:n]
     return new
 
 
 @jitted
-def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta, eta, delta, xi, h_min,
+def sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta, eta, delta, xi, h_min,
                  tol_phase, tol_trap, tol_lin):
     """Adaptively sample F along the line z = t + i c (horizontal) or z = c + i t (vertical), t0 <= t <= t1.
 
@@ -157,7 +157,7 @@ def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, 
     ta = st_t[sp]
     fa = st_f[sp]
     da = st_d[sp]
-    za = _point(ta, c, horizontal)
+    za = line_point(ta, c, horizontal)
     n = 1
     out_t[0] = ta
     out_f[0] = fa
@@ -165,7 +165,7 @@ def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, 
         tb = st_t[sp - 1]
         fb = st_f[sp - 1]
         db = st_d[sp - 1]
-        zb = _point(tb, c, horizontal)
+        zb = line_point(tb, c, horizontal)
         ok, lg = _seg_ok(za, fa, da, zb, fb, db, tol_phase, tol_trap, tol_lin)
         if ok:
             if n >= out_t.shape[0]:
@@ -200,9 +200,9 @@ def _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, 
 
 
 @jitted
-def _newton_cell(z0: complex, x0: float, x1: float, y0: float, y1: float, mult: float, q: float, gamma: float,
+def newton_cell(z0: complex, x0: float, x1: float, y0: float, y1: float, mult: float, q: float, gamma: float,
                 f: float, beta: float, eta: float, delta: float, xi: float) -> tuple[complex, bool, float, int]:
-    """The root of F(z; kH = q) in the cell [x0, x1] x [y0, y1] by the model's one Newton loop (_newton, thin
+    """The root of F(z; kH = q) in the cell [x0, x1] x [y0, y1] by the model's one Newton loop (newton_root, thin
     wrapper): the step multiplied by `mult` for a multiple root; the iterates confined to the cell enlarged by
     its own size on every side and to Im z > 0; steps allowed to shrink slowly (SHRINK_CELL: the start is a
     contour-integral estimate or the cell's centre, not a certified predictor).
@@ -212,7 +212,7 @@ def _newton_cell(z0: complex, x0: float, x1: float, y0: float, y1: float, mult: 
     w = max(x1 - x0, y1 - y0)
     box = Box(x0 - w, x1 + w, max(y0 - w, IM_POSITIVE), y1 + w)
     p = Params(gamma, f, beta, eta, delta, xi)
-    r = _newton(z0, KH, 0.0, q, p, NEWTON_ITERS, FULL_TOL, 0.0, SHRINK_CELL, mult, box)
+    r = newton_root(z0, KH, 0.0, q, p, NEWTON_ITERS, FULL_TOL, 0.0, SHRINK_CELL, mult, box)
     if not r.ok:
         return r.z, False, math.inf, r.evals
     fv, _, sc = dispersion_eval(r.z, q, gamma, f, beta, eta, delta, xi)
@@ -226,9 +226,9 @@ def count_rectangle(x0: float, x1: float, y0: float, y1: float, h0: float, poles
                     tol_lin: float) -> tuple[int, int, int, float, int, complex, complex]:
     """The number of roots of F(z; kH = q) in [x0, x1] x [y0, y1] (0 < y0 < y1) by the argument principle.
 
-    The four edges are sampled by :func:`_sample_line` (bottom, right, top, left; the smallest segments h_bottom,
+    The four edges are sampled by :func:`sample_line` (bottom, right, top, left; the smallest segments h_bottom,
     h_side, h_top) and the log-increments of their accepted segments summed counterclockwise; the samples are not
-    kept (:class:`model.modes._Problem` keeps them where roots are to be located). Returns (status, count, edge,
+    kept (:class:`model._roots.contour.Problem` keeps them where roots are to be located). Returns (status, count, edge,
     t_bad, evaluations, s1, s2): status 0 = counted, 1 = a root on (or within the smallest segment of) edge `edge`
     near its coordinate t_bad, 2 = too many samples on a line, 3 = F not finite, 4 = the winding number is not
     within WINDING_TOL of an integer; s1, s2: estimates of the sum of the roots and of their squares, (1/2 pi i)
@@ -247,7 +247,7 @@ def count_rectangle(x0: float, x1: float, y0: float, y1: float, h0: float, poles
         geo0 = 0.0 if horizontal else y0
         lad_y = c if horizontal else 0.0
         h_min = h_bottom if edge == 0 else (h_top if edge == 2 else h_side)
-        ts, _, lg, st, tb, ne = _sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta,
+        ts, _, lg, st, tb, ne = sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f, beta,
                                              eta, delta, xi, h_min, tol_phase, tol_trap, tol_lin)
         nev += ne
         if st != 0:
@@ -255,7 +255,7 @@ def count_rectangle(x0: float, x1: float, y0: float, y1: float, h0: float, poles
         sg = 1.0 if edge < 2 else -1.0
         for k in range(lg.shape[0]):
             tm = 0.5 * (ts[k] + ts[k + 1])
-            zm = _point(tm, c, horizontal)
+            zm = line_point(tm, c, horizontal)
             total += sg * lg[k]
             m1 += sg * zm * lg[k]
             m2 += sg * zm * zm * lg[k]

@@ -1,6 +1,6 @@
 """A root followed in kH in a chart across the cuts beside a branch point (eta = inf; docs/physics.md §14.7).
 
-The compiled loop of :meth:`model._sliding_cuts.CutCharts.highest`: predictor-corrector steps in ln kH in the chart's
+The compiled loop of :meth:`model._roots.cuts.CutCharts.highest`: predictor-corrector steps in ln kH in the chart's
 variable v (:func:`model._kernels.response.chart_point`), each accepted where Newton from the linear predictor
 lands within a tenth of the step of it (the same root), else halved; at every accepted step, the growth Im z where the
 root lies on the physical sheet (Re w > 0, Im z > 0), else -inf.
@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ._common import jitted
-from .newton import FULL_TOL, KH, _newton
+from .newton import FULL_TOL, KH, newton_root
 from .records import NO_BOX, Params
 from .response import CHART_ORIGIN, chart_point
 
@@ -51,7 +51,7 @@ def follow_chart(v: complex, dv: complex, s: float, end: float, p: Params, chart
             break
         s_new = s + sign * min(cap, abs(end - s))
         pred = v + dv * (s_new - s)
-        r = _newton(pred, KH, 0.0, math.exp(s_new), p, WARM_ITERS, FULL_TOL, 0.0, 0.9, 1.0, NO_BOX)
+        r = newton_root(pred, KH, 0.0, math.exp(s_new), p, WARM_ITERS, FULL_TOL, 0.0, 0.9, 1.0, NO_BOX)
         evals += r.evals
         if not r.ok or not abs(r.z - pred) <= 0.1 * abs(pred - v) + 1e-12:
             cap *= 0.5

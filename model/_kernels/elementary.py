@@ -59,7 +59,7 @@ def _nterms(a: float) -> int:
 
 
 @jitted(inline="always")
-def _fix0(u: complex) -> complex:
+def fix0(u: complex) -> complex:
     """Turn a negative zero imaginary part into +0 (principal sqrt of a negative real -> +i)."""
     return complex(u.real, u.imag + 0.0)
 
@@ -77,7 +77,7 @@ def _tanh_sech(w: complex) -> tuple[complex, complex]:
 @jitted
 def _g(u: complex) -> tuple[complex, complex]:
     """g(u) = tanh(sqrt u)/sqrt u and g'(u)."""
-    a = _cabs(u)
+    a = cabs(u)
     if a < _SERIES_U:
         c = _GCOEF
         n = _nterms(a)
@@ -109,15 +109,15 @@ def _shc(d: complex) -> tuple[complex, complex]:
 
 
 @jitted
-def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, complex, complex, complex, complex]:
+def divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, complex, complex, complex, complex]:
     """g(u1), g'(u1), g(u2), g'(u2), g[u1,u2], d g[u1,u2]/du1, d g[u1,u2]/du2 without cancellation.
 
     Small arguments: Taylor series. Otherwise with w = sqrt(u) (the root of u2 nearest w1: g is even),
     D = g[u1, u2] = (w1 X/d - tanh w1) / (w1 w2 (w1 + w2)), d = w2 - w1, X = tanh w2 - tanh w1, where
     X/d = sinh(d)/d sech w1 sech w2 for |d| < SHC_MAX (no cancellation) and (tanh w2 - tanh w1)/d otherwise.
     """
-    a1 = _cabs(u1)
-    a2 = _cabs(u2)
+    a1 = cabs(u1)
+    a2 = cabs(u2)
     big = max(a1, a2)
     if big < _SERIES_U:
         g1, d1 = _g(u1)
@@ -145,14 +145,14 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
             dd2 += c[m + 1] * h2
         return g1, d1, g2, d2, dd, dd1, dd2
     du = u2 - u1
-    if _cabs(du) >= DIVDIFF_FAR * big:
+    if cabs(du) >= DIVDIFF_FAR * big:
         g1, d1 = _g(u1)
         g2, d2 = _g(u2)
         dd = (g2 - g1) / du
         return g1, d1, g2, d2, dd, (dd - d1) / du, (d2 - dd) / du
     w1 = cmath.sqrt(u1)
     w2 = cmath.sqrt(u2)
-    if _cabs(w2 + w1) < _cabs(w2 - w1):  # g is even: take the square root nearest w1
+    if cabs(w2 + w1) < cabs(w2 - w1):  # g is even: take the square root nearest w1
         w2 = -w2
     th1, s1 = _tanh_sech(w1)
     th2, s2 = _tanh_sech(w2)
@@ -161,7 +161,7 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
     d1 = (w1 * s1 * s1 - th1) / (2.0 * w1 * u1)
     d2 = (w2 * s2 * s2 - th2) / (2.0 * w2 * u2)
     d = w2 - w1
-    if _cabs(d) < SHC_MAX:
+    if cabs(d) < SHC_MAX:
         sh, dsh = _shc(d)
         xd = sh * s1 * s2
         dxd2 = dsh * s1 * s2 - xd * th2
@@ -179,7 +179,7 @@ def _divdiff(u1: complex, u2: complex) -> tuple[complex, complex, complex, compl
 
 
 @jitted
-def _psi(t: complex) -> tuple[complex, complex]:
+def psi_pair(t: complex) -> tuple[complex, complex]:
     """psi(t) = expm1(t)/t and psi'(t) for |t| < PSI_MAX (Taylor series to t^16: truncation < 1e-19)."""
     c = _PSICOEF
     n = c.shape[0]
@@ -199,7 +199,7 @@ def _squares_safe(w: complex) -> bool:
 
 
 @jitted(inline="always")
-def _cabs(w: complex) -> float:
+def cabs(w: complex) -> float:
     """|w| by sqrt(re^2 + im^2) (several times faster than hypot), hypot where squares could over/underflow."""
     if _squares_safe(w):
         return math.sqrt(w.real * w.real + w.imag * w.imag)
@@ -207,7 +207,7 @@ def _cabs(w: complex) -> float:
 
 
 @jitted(inline="always")
-def _cinv(w: complex) -> complex:
+def cinv(w: complex) -> complex:
     """1/w with one real division (conj(w)/|w|^2), the library's division where |w|^2 could over/underflow."""
     if _squares_safe(w):
         d = 1.0 / (w.real * w.real + w.imag * w.imag)
@@ -216,12 +216,12 @@ def _cinv(w: complex) -> complex:
 
 
 @jitted(inline="always")
-def _csqrt(u: complex) -> complex:
+def csqrt(u: complex) -> complex:
     """Principal sqrt(u) (+i sqrt|u| on the negative real axis with Im u = +0) with the modulus as
     sqrt(re^2 + im^2); the library's sqrt where the squares could over/underflow (and at u = 0)."""
     if not _squares_safe(u):
         return cmath.sqrt(u)
-    a = _cabs(u)
+    a = cabs(u)
     if u.real >= 0.0:
         t = math.sqrt(0.5 * (a + u.real))
         return complex(t, 0.5 * u.imag / t)
@@ -233,7 +233,7 @@ EXP_ZERO = -746.0  # exp(x) is exactly 0 in double precision below this
 
 
 @jitted(inline="always")
-def _cexp(w: complex) -> complex:
+def cexp(w: complex) -> complex:
     """exp(w), exactly 0 without the trigonometric functions where exp(Re w) underflows to 0."""
     if w.real < EXP_ZERO:
         return 0j
@@ -241,7 +241,7 @@ def _cexp(w: complex) -> complex:
 
 
 @jitted(inline="always")
-def _clog(w: complex) -> complex:
+def clog(w: complex) -> complex:
     """Principal ln w: ln|w| as ln(|w|^2)/2 (no hypot), the library's log where |w|^2 could over/underflow."""
     if _squares_safe(w):
         return complex(0.5 * math.log(w.real * w.real + w.imag * w.imag), math.atan2(w.imag, w.real))
@@ -249,13 +249,13 @@ def _clog(w: complex) -> complex:
 
 
 @jitted(inline="always")
-def _root(x: float, order: float) -> float:
+def real_root(x: float, order: float) -> float:
     """x ** (1/order) for the predictor orders 2 and 4 (square roots instead of pow)."""
     r = math.sqrt(x)
     return r if order == 2.0 else math.sqrt(r)
 
 
 @jitted(inline="always")
-def _abs1(w: complex) -> float:
+def abs1(w: complex) -> float:
     """|Re w| + |Im w|: a cheap magnitude (within sqrt 2 of |w|) for rounding scales."""
     return abs(w.real) + abs(w.imag)

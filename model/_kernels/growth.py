@@ -16,11 +16,11 @@ import numpy as np
 
 from ._common import jitted
 from .continuation import PRED_TOL
-from .elementary import EPS, _cinv, _csqrt, _fix0
-from .path import OK, _interp, _interp_value, _interval, _map_node_tol, _solve_at, build_path, solve_at
+from .elementary import EPS, cinv, csqrt, fix0
+from .path import OK, build_path, interp_node, interp_value, map_node_tol, node_interval, solve_at, solve_at_unpacked
 from .rayleigh import rayleigh_z
 from .records import Params, Path
-from .response import _weighted_dispersion
+from .response import weighted_dispersion
 
 NSUB = 4  # d Im z/ds of the path interpolant is sampled on NSUB sub-intervals of each path interval (local maxima)
 MAX_MARGIN = 1e-6  # local maxima estimated within this x |z| of the best refined one are refined too
@@ -51,7 +51,7 @@ NOUT = 12  # values growth_one returns per parameter set (rows of growth_many's 
 @jitted(inline="always")
 def _im_in(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray, use_log: bool) -> float:
     """Im z of the interpolant of path interval j at s (Im e^w = e^Re w sin Im w where it interpolates w = ln z)."""
-    w = _interp_value(s, j, cx, cf, cm)
+    w = interp_value(s, j, cx, cf, cm)
     return math.exp(w.real) * math.sin(w.imag) if use_log else w.imag
 
 
@@ -59,7 +59,7 @@ def _im_in(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray, use
 def _im_at(s: float, ns: np.ndarray, nz: np.ndarray, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray, nn: int,
            use_log: bool) -> float:
     """Im z of the path interpolant at s (NaN outside the path); the path's fields unpacked (see Path)."""
-    j = _interval(s, ns, nn)
+    j = node_interval(s, ns, nn)
     if j < 0:
         return nz[0].imag if (nn == 1 and s == ns[0]) else math.nan
     return _im_in(s, j, cx, cf, cm, use_log)
@@ -69,7 +69,7 @@ def _im_at(s: float, ns: np.ndarray, nz: np.ndarray, cx: np.ndarray, cf: np.ndar
 def _sample_at(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray,
                use_log: bool) -> tuple[complex, complex, complex]:
     """(z, dz/ds, d2z/ds2) of the path interpolant of interval j at s."""
-    w, dw, d2w, _ = _interp(s, j, cx, cf, cm)
+    w, dw, d2w, _ = interp_node(s, j, cx, cf, cm)
     if use_log:
         z = cmath.exp(w)
         return z, dw * z, (d2w + dw * dw) * z
@@ -108,18 +108,18 @@ def _pole_margin(z: complex, dz: complex, s: float, eta: float) -> tuple[float, 
         return -1.0, 0.0
     a = abs(z.real) - SUBSONIC
     da = math.copysign(1.0, z.real) * dz.real
-    alpha = _csqrt(_fix0((1.0 - z) * (1.0 + z)))
+    alpha = csqrt(fix0((1.0 - z) * (1.0 + z)))
     q = math.exp(s)
     att = eta * q * alpha.real
     b = 1.0 - att / POLE_ATTENUATION
     if alpha == 0:
         return min(a, b), da
-    datt = att + eta * q * (-z * _cinv(alpha) * dz).real
+    datt = att + eta * q * (-z * cinv(alpha) * dz).real
     return (a, da) if a <= b else (b, -datt / POLE_ATTENUATION)
 
 
 @jitted
-def _is_pole_dense(z: complex, s: float, eta: float) -> bool:
+def is_pole_dense(z: complex, s: float, eta: float) -> bool:
     """The root z at s = ln kH lies among the lower block's undamped real-axis poles (_pole_margin > 0)."""
     return _pole_margin(z, 0j, s, eta)[0] > 0.0
 
@@ -129,10 +129,10 @@ def _sample_path(lo: float, hi: float, ns: np.ndarray, cx: np.ndarray, cf: np.nd
                  use_log: bool, eta: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The path interpolant on [lo, hi] (inside the path) at NSUB + 1 points of every path interval (ends shared).
 
-    Returns (s, z, d Im z/ds, interval index, regular) of the samples; regular: not pole-dense (_is_pole_dense).
+    Returns (s, z, d Im z/ds, interval index, regular) of the samples; regular: not pole-dense (is_pole_dense).
     """
-    j0 = _interval(lo, ns, nn)
-    j1 = _interval(hi, ns, nn)
+    j0 = node_interval(lo, ns, nn)
+    j1 = node_interval(hi, ns, nn)
     if j1 > j0 and ns[j1] >= hi:
         j1 -= 1  # hi is a node: the interval ending there
     m = (j1 - j0 + 1) * NSUB + 1
@@ -153,7 +153,7 @@ def _sample_path(lo: float, hi: float, ns: np.ndarray, cx: np.ndarray, cf: np.nd
             zs[k] = z
             gs[k] = dz.imag
             js[k] = j
-            reg[k] = not _is_pole_dense(z, s, eta)
+            reg[k] = not is_pole_dense(z, s, eta)
             k += 1
     return xs, zs, gs, js, reg
 
@@ -236,14 +236,14 @@ def _refine_peak(a: float, b: float, j: int, lo: float, hi: float, path: Path, p
     """
     ns, nz, nc, ne, cx, cf, cm, nn, use_log = path
     s0 = _slope_root(a, b, j, cx, cf, cm, use_log)
-    z0, st, _, err0, dz0 = _solve_at(s0, ns, nz, nc, ne, cx, cf, cm, nn, use_log, p, rtol)
+    z0, st, _, err0, dz0 = solve_at_unpacked(s0, ns, nz, nc, ne, cx, cf, cm, nn, use_log, p, rtol)
     if st != OK:
         return math.nan, math.nan, complex(math.nan, math.nan), math.nan
     d2 = _sample_at(s0, j, cx, cf, cm, use_log)[2].imag
     if d2 < 0.0 and cmath.isfinite(dz0):
         ds = -dz0.imag / d2
         if S_TOL_MAX < abs(ds) <= MAX_SHIFT and lo <= s0 + ds <= hi:
-            z1, st1, _, err1, _ = _solve_at(s0 + ds, ns, nz, nc, ne, cx, cf, cm, nn, use_log, p, rtol)
+            z1, st1, _, err1, _ = solve_at_unpacked(s0 + ds, ns, nz, nc, ne, cx, cf, cm, nn, use_log, p, rtol)
             # the corrected location unless its value is lower beyond rounding (the maximum is flat)
             if st1 == OK and z1.imag >= z0.imag - FLAT_ULPS * EPS * abs(z0):
                 if z1.imag >= z0.imag:
@@ -317,7 +317,7 @@ def _on_path(s: float, which: int, ns: np.ndarray, nz: np.ndarray, cx: np.ndarra
     """Im z (which = Z_IM) or _pole_margin (Z_PD) of the path interpolant at s (NaN outside the path)."""
     if which == Z_IM:
         return _im_at(s, ns, nz, cx, cf, cm, nn, use_log)
-    j = _interval(s, ns, nn)
+    j = node_interval(s, ns, nn)
     if j < 0:
         return math.nan
     z, dz, _ = _sample_at(s, j, cx, cf, cm, use_log)
@@ -437,17 +437,17 @@ def _growth_slopes(z: complex, s: float, p: Params) -> tuple[float, float]:
     growth in that parameter (the maximum's location may move, its value changes only through F). dF/d ln gamma =
     gamma (G_x + i f G_y); dF/d ln eta by central difference (ETA_FD); 0 for eta = inf."""
     q = math.exp(s)
-    _, dfv, _, _ = _weighted_dispersion(z, q, p.gamma, 1.0, p)
-    fg = _weighted_dispersion(z, q, p.gamma, 0.0, p)[0]
+    _, dfv, _, _ = weighted_dispersion(z, q, p.gamma, 1.0, p)
+    fg = weighted_dispersion(z, q, p.gamma, 0.0, p)[0]
     if not (cmath.isfinite(dfv) and cmath.isfinite(fg)) or dfv == 0:
         return math.nan, math.nan
-    inv = _cinv(dfv)
+    inv = cinv(dfv)
     dg_gamma = (-fg * inv).imag
     if math.isinf(p.eta):
         return dg_gamma, 0.0
     up = Params(p.gamma, p.f, p.beta, p.eta * math.exp(ETA_FD), p.delta, p.xi)
     dn = Params(p.gamma, p.f, p.beta, p.eta * math.exp(-ETA_FD), p.delta, p.xi)
-    fe = (_weighted_dispersion(z, q, p.gamma, 1.0, up)[0] - _weighted_dispersion(z, q, p.gamma, 1.0, dn)[0]) / (
+    fe = (weighted_dispersion(z, q, p.gamma, 1.0, up)[0] - weighted_dispersion(z, q, p.gamma, 1.0, dn)[0]) / (
         2.0 * ETA_FD)
     return dg_gamma, (-fe * inv).imag
 
@@ -493,7 +493,7 @@ def growth_one(s_grid: np.ndarray, z_r: float, p: Params, rtol: float) -> tuple[
     """
     m = s_grid.shape[0]
     nan = math.nan
-    path, code = build_path(s_grid[0], s_grid[m - 1], z_r, p, PRED_TOL, _map_node_tol(rtol))
+    path, code = build_path(s_grid[0], s_grid[m - 1], z_r, p, PRED_TOL, map_node_tol(rtol))
     ns, nn = path.s, path.n
     below, above = (m, 0) if code != OK else _outside(s_grid, ns, nn)
     n_masked = below + above

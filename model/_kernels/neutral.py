@@ -13,10 +13,10 @@ import math
 import numpy as np
 
 from ._common import jitted
-from .elementary import _cinv
+from .elementary import cinv
 from .growth import ETA_FD
 from .records import Params
-from .response import _weighted_dispersion
+from .response import weighted_dispersion
 
 P_GAMMA = 0  # the threshold parameter of neutral_mode: t = ln gamma ...
 P_ETA = 3  # ... or t = ln eta (rows of growth_chunk's parameter layout)
@@ -49,12 +49,12 @@ def _neutral_terms(x: float, s: float, t: float, which: int, p: Params,
     pp = _with_param(p, which, t)
     q = math.exp(s)
     z = complex(x, lip)
-    fv, dfv, sc, fq = _weighted_dispersion(z, q, pp.gamma, 1.0, pp)
+    fv, dfv, sc, fq = weighted_dispersion(z, q, pp.gamma, 1.0, pp)
     if which == P_GAMMA:
-        ft = _weighted_dispersion(z, q, pp.gamma, 0.0, pp)[0]
+        ft = weighted_dispersion(z, q, pp.gamma, 0.0, pp)[0]
     else:
-        fp = _weighted_dispersion(z, q, pp.gamma, 1.0, _with_param(p, which, t + ETA_FD))[0]
-        fm = _weighted_dispersion(z, q, pp.gamma, 1.0, _with_param(p, which, t - ETA_FD))[0]
+        fp = weighted_dispersion(z, q, pp.gamma, 1.0, _with_param(p, which, t + ETA_FD))[0]
+        fm = weighted_dispersion(z, q, pp.gamma, 1.0, _with_param(p, which, t - ETA_FD))[0]
         ft = (fp - fm) / (2.0 * ETA_FD)
     return fv, dfv, q * fq, ft, sc
 
@@ -64,10 +64,10 @@ def _slope_eq(x: float, s: float, t: float, which: int, p: Params, lip: float) -
     """The third equation of a neutral mode: Im(dF/ds / dF/dz) = -Im dz/ds (zero where Im z is stationary in s)."""
     pp = _with_param(p, which, t)
     q = math.exp(s)
-    _, dfv, _, fq = _weighted_dispersion(complex(x, lip), q, pp.gamma, 1.0, pp)
+    _, dfv, _, fq = weighted_dispersion(complex(x, lip), q, pp.gamma, 1.0, pp)
     if dfv == 0:
         return math.nan
-    return (q * fq * _cinv(dfv)).imag
+    return (q * fq * cinv(dfv)).imag
 
 
 @jitted
@@ -115,7 +115,7 @@ def _neutral_system(x: float, s: float, t: float, which: int, edge: bool, p: Par
         a[0, 1], a[1, 1] = ft.real, ft.imag
         return 2, abs(fv) / sc
     a[0, 1], a[1, 1], a[0, 2], a[1, 2] = fs.real, fs.imag, ft.real, ft.imag
-    r[2] = -(fs * _cinv(fz)).imag
+    r[2] = -(fs * cinv(fz)).imag
     hx = NEUTRAL_FD * max(abs(x), 1e-3)
     h = NEUTRAL_FD
     a[2, 0] = (_slope_eq(x + hx, s, t, which, p, lip) - _slope_eq(x - hx, s, t, which, p, lip)) / (2.0 * hx)
@@ -160,6 +160,6 @@ def neutral_mode(x0: float, s0: float, t0: float, which: int, edge: bool, gamma:
             fv, fz, _, ft, sc = _neutral_terms(x, s, t, which, p, lip)
             if fz == 0 or not sc > 0.0:
                 break
-            dzdt = -ft * _cinv(fz)
+            dzdt = -ft * cinv(fz)
             return x, s, t, True, it + 1, abs(fv) / sc, dzdt.imag, dzdt.real
     return x, s, t, False, NEUTRAL_ITERS, math.nan, math.nan, math.nan

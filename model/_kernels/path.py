@@ -25,13 +25,13 @@ from .continuation import (
     PRED_TOL_FINE,
     S_TOP,
     THETA_MAX,
-    _continue,
-    _nodes,
-    _unwrap,
+    continue_root,
+    new_nodes,
     rayleigh_start,
+    unwrap_phase,
 )
-from .elementary import ABS_FLOOR, _cinv, _clog
-from .newton import FULL_TOL, LN_KH, SHRINK_PATH, _local_scale, _newton
+from .elementary import ABS_FLOOR, cinv, clog
+from .newton import FULL_TOL, LN_KH, SHRINK_PATH, local_scale, newton_root
 from .rayleigh import rayleigh_z
 from .records import NO_BOX, Nodes, Params, Path
 
@@ -58,7 +58,7 @@ def _path_tol(rtol: float) -> float:
 
 
 @jitted(inline="always")
-def _map_node_tol(rtol: float) -> float:
+def map_node_tol(rtol: float) -> float:
     """Node accuracy of a growth map's path: MAP_NODE_TOL (the grid only brackets; the reported values are
     re-solved from the nodes), tightened to MAP_NODE_RTOL rtol where a looser rtol lets the interpolant be
     reported."""
@@ -116,7 +116,7 @@ def _interp_table(ns: np.ndarray, nw: np.ndarray, nd: np.ndarray,
 
 
 @jitted(inline="always")
-def _interp_value(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray) -> complex:
+def interp_value(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray) -> complex:
     """Value of the Hermite interpolant of interval j at s (Horner on the Newton form of Path.cx, cf, cm)."""
     m = cm[j]
     p = cf[j, m - 1]
@@ -126,7 +126,7 @@ def _interp_value(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarr
 
 
 @jitted(inline="always")
-def _interp(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray) -> tuple[complex, complex, complex,
+def interp_node(s: float, j: int, cx: np.ndarray, cf: np.ndarray, cm: np.ndarray) -> tuple[complex, complex, complex,
                                                                                        float]:
     """(p, p', p'', truncation estimate) of the Hermite interpolant of interval j at s (Path.cx, cf, cm).
 
@@ -166,7 +166,7 @@ def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float,
     already (a growth map up to kH = 1e3): the interpolant of every interval up to s_hi is then the same without
     the upward nodes and without the downward ones above those EXTRA_NODES, which are dropped. The node sequence
     depends only on the physical parameters; s_lo/s_hi only decide where it is cut off. pred_tol and node_tol: see
-    _continue. Returns (path, code)
+    continue_root. Returns (path, code)
     with code OK, START (no starting root; path.n = 0) or INPUT (NaN parameter; path.n = 0).
     """
     for v in p:
@@ -175,8 +175,8 @@ def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float,
     z0, dz0, e0, ok = rayleigh_start(z_r, p)
     if not ok:
         return _no_path(), START
-    nd, _, dn = _continue(z0, dz0, e0, S_TOP, min(s_lo, S_TOP), EXTRA_NODES, -1.0, LN_KH, 1.0, p, pred_tol,
-                          node_tol, _nodes(NODES_INITIAL), MAX_NODES)
+    nd, _, dn = continue_root(z0, dz0, e0, S_TOP, min(s_lo, S_TOP), EXTRA_NODES, -1.0, LN_KH, 1.0, p, pred_tol,
+                          node_tol, new_nodes(NODES_INITIAL), MAX_NODES)
     top = 0  # downward nodes before this index are dropped (they lie above the EXTRA_NODES nodes above s_hi)
     if nd > EXTRA_NODES and s_hi < dn.s[EXTRA_NODES - 1]:
         # EXTRA_NODES nodes of the downward path lie above s_hi already: the interpolant up to s_hi needs no more
@@ -184,8 +184,8 @@ def build_path(s_lo: float, s_hi: float, z_r: float, p: Params, pred_tol: float,
         while top + EXTRA_NODES < nd and dn.s[top + EXTRA_NODES] > s_hi:
             top += 1
     else:
-        nu, _, up = _continue(z0, dz0, e0, S_TOP, max(s_hi, S_TOP), EXTRA_NODES, 1.0, LN_KH, 1.0, p, pred_tol,
-                              node_tol, _nodes(NODES_INITIAL), MAX_NODES)
+        nu, _, up = continue_root(z0, dz0, e0, S_TOP, max(s_hi, S_TOP), EXTRA_NODES, 1.0, LN_KH, 1.0, p, pred_tol,
+                              node_tol, new_nodes(NODES_INITIAL), MAX_NODES)
     nd -= top
     return _path_on(_ascending(dn, nd, top, up, nu), nd + nu - 1), OK
 
@@ -228,10 +228,10 @@ def _path_on(nodes: Nodes, nn: int) -> Path:
     if use_log:
         nw = np.empty(nn, dtype=np.complex128)
         for i in range(nn):
-            nw[i] = _clog(nz[i])
+            nw[i] = clog(nz[i])
             if i > 0:
-                nw[i] = _unwrap(nw[i], nw[i - 1])
-            ndz[i] = ndz[i] * _cinv(nz[i])
+                nw[i] = unwrap_phase(nw[i], nw[i - 1])
+            ndz[i] = ndz[i] * cinv(nz[i])
         cx, cf, cm = _interp_table(ns, nw, ndz, nn)
     else:
         cx, cf, cm = _interp_table(ns, nz, ndz, nn)
@@ -239,7 +239,7 @@ def _path_on(nodes: Nodes, nn: int) -> Path:
 
 
 @jitted(inline="always")
-def _interval(s: float, ns: np.ndarray, nn: int) -> int:
+def node_interval(s: float, ns: np.ndarray, nn: int) -> int:
     """Index j of the path interval [ns[j], ns[j+1]] holding s (-1 outside the path or for nn < 2 nodes)."""
     if nn < 2 or not (ns[0] <= s <= ns[nn - 1]):
         return -1
@@ -258,12 +258,12 @@ def path_value(s: float, path: Path) -> tuple[complex, complex, complex, float]:
     """(z, dz/ds, d2z/ds2, estimated relative error) of the path interpolant at s (NaN outside the path)."""
     nanz = complex(math.nan, math.nan)
     ns, nz, _, _, cx, cf, cm, nn, use_log = path
-    j = _interval(s, ns, nn)
+    j = node_interval(s, ns, nn)
     if j < 0:
         if nn == 1 and s == ns[0]:
             return nz[0], nanz, nanz, 0.0
         return nanz, nanz, nanz, math.nan
-    p, dp, d2p, est = _interp(s, j, cx, cf, cm)
+    p, dp, d2p, est = interp_node(s, j, cx, cf, cm)
     if use_log:
         z = cmath.exp(p)
         return z, dp * z, (d2p + dp * dp) * z, est
@@ -271,7 +271,7 @@ def path_value(s: float, path: Path) -> tuple[complex, complex, complex, float]:
 
 
 @jitted(inline="always")
-def _solve_at(s: float, ns: np.ndarray, nz: np.ndarray, nc: np.ndarray, ne: np.ndarray, cx: np.ndarray,
+def solve_at_unpacked(s: float, ns: np.ndarray, nz: np.ndarray, nc: np.ndarray, ne: np.ndarray, cx: np.ndarray,
               cf: np.ndarray, cm: np.ndarray, nn: int, use_log: bool, p: Params,
               rtol: float) -> tuple[complex, int, float, float, complex]:
     """The Rayleigh-branch root at s = ln kH from the path (its fields unpacked, see Path): (z, status, residual,
@@ -279,7 +279,7 @@ def _solve_at(s: float, ns: np.ndarray, nz: np.ndarray, nc: np.ndarray, ne: np.n
 
     Start from the Hermite interpolant of the path nodes. With rtol > 0 the interpolant itself is
     returned where its truncation estimate plus the nodes' error estimates is below RTOL_MARGIN rtol
-    (residual NaN: F not evaluated; dz/ds from the interpolant). Otherwise Newton's method (_newton)
+    (residual NaN: F not evaluated; dz/ds from the interpolant). Otherwise Newton's method (newton_root)
     with the first step certified by the quadratic-convergence constants measured at the surrounding
     path nodes (their steps passed the contraction certificate with larger predictor errors), times
     C_FIRST_SAFETY: where that bounds the error after one step below the target (_target), the point
@@ -287,13 +287,13 @@ def _solve_at(s: float, ns: np.ndarray, nz: np.ndarray, nc: np.ndarray, ne: np.n
     near the prediction (PRED_REJECT), else NOCONV. Outside the nodes' range the branch was lost (LOST).
     """
     nanz = complex(math.nan, math.nan)
-    j = _interval(s, ns, nn)
+    j = node_interval(s, ns, nn)
     if j < 0:
         if nn == 1 and s == ns[0]:
             return nz[0], OK, 0.0, 0.0, nanz
         return nanz, LOST, math.nan, math.nan, nanz
     if rtol > 0.0:
-        w, dw, _, est = _interp(s, j, cx, cf, cm)
+        w, dw, _, est = interp_node(s, j, cx, cf, cm)
         if use_log:
             zp = cmath.exp(w)
             dzp = dw * zp
@@ -306,20 +306,20 @@ def _solve_at(s: float, ns: np.ndarray, nz: np.ndarray, nc: np.ndarray, ne: np.n
         if est <= RTOL_MARGIN * rtol:
             return zp, OK, math.nan, est * abs(zp), dzp
     else:
-        w = _interp_value(s, j, cx, cf, cm)
+        w = interp_value(s, j, cx, cf, cm)
         zp = cmath.exp(w) if use_log else w
     c_nodes = C_FIRST_SAFETY * _around(nc, j, nn)
-    r = _newton(zp, LN_KH, s, 1.0, p, SOLVE_ITERS, _target(rtol), c_nodes, SHRINK_PATH, 1.0, NO_BOX)
-    if r.ok and r.theta <= THETA_MAX and abs(r.z - zp) <= PRED_REJECT * _local_scale(r.z):
+    r = newton_root(zp, LN_KH, s, 1.0, p, SOLVE_ITERS, _target(rtol), c_nodes, SHRINK_PATH, 1.0, NO_BOX)
+    if r.ok and r.theta <= THETA_MAX and abs(r.z - zp) <= PRED_REJECT * local_scale(r.z):
         return r.z, OK, r.resid, r.err, r.dzds
     return nanz, NOCONV, math.nan, math.nan, nanz
 
 
 @jitted
 def solve_at(s: float, path: Path, p: Params, rtol: float) -> tuple[complex, int, float, float, complex]:
-    """_solve_at for one point of a path (the loops over points inline _solve_at instead)."""
+    """solve_at_unpacked for one point of a path (the loops over points inline solve_at_unpacked instead)."""
     ns, nz, nc, ne, cx, cf, cm, nn, use_log = path
-    return _solve_at(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, p, rtol)
+    return solve_at_unpacked(s, ns, nz, nc, ne, cx, cf, cm, nn, use_log, p, rtol)
 
 
 @jitted
@@ -342,8 +342,8 @@ def branch_solve(s_req: np.ndarray, z_r: float, p: Params, rtol: float, z_out: n
             resid[i] = math.nan
             err[i] = math.nan
             continue
-        z_out[i], status[i], resid[i], err[i], _ = _solve_at(s_req[i], ns, nz, nc, ne, cx, cf, cm, nn, use_log, p,
-                                                             rtol)
+        z_out[i], status[i], resid[i], err[i], _ = solve_at_unpacked(s_req[i], ns, nz, nc, ne, cx, cf, cm, nn,
+                                                                      use_log, p, rtol)
 
 
 @jitted

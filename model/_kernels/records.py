@@ -1,9 +1,9 @@
 """The records that travel through the kernels (numba passes a NamedTuple by value, like its fields).
 
 :class:`Params`, the six physical parameters of F; :class:`Root`, what the one Newton loop
-(:func:`model._kernels.newton._newton`) returns, and :class:`Box`, the rectangle that confines it; :class:`Nodes`, the
-buffers a continuation fills (:mod:`model._kernels.continuation`); :class:`Path`, a followed Rayleigh branch (its
-nodes and the interpolation table built on them, :mod:`model._kernels.path`).
+(:func:`model._kernels.newton.newton_root`) returns, and :class:`Box`, the rectangle that confines it;
+:class:`Nodes`, the buffers a continuation fills (:mod:`model._kernels.continuation`); :class:`Path`, a followed
+Rayleigh branch (its nodes and the interpolation table built on them, :mod:`model._kernels.path`).
 """
 
 from __future__ import annotations
@@ -27,10 +27,10 @@ class Params(NamedTuple):
 
 
 class Root(NamedTuple):
-    """What _newton returns."""
+    """What newton_root returns."""
 
     z: complex  # the last iterate
-    ok: bool  # converged by the stopping rule of _newton
+    ok: bool  # converged by the stopping rule of newton_root
     evals: int  # evaluations of F made
     first: float  # |first step|
     theta: float  # first contraction rate |step 2| / |step 1| (0 if converged at the first evaluation)
@@ -40,7 +40,7 @@ class Root(NamedTuple):
 
 
 class Box(NamedTuple):
-    """A rectangle the iterates of _newton must stay in (a root confined to its cell in model.modes)."""
+    """A rectangle the iterates of newton_root must stay in (a root confined to its cell in model.modes)."""
 
     re_lo: float
     re_hi: float
@@ -52,7 +52,7 @@ NO_BOX = Box(-math.inf, math.inf, -math.inf, math.inf)
 
 
 class Nodes(NamedTuple):
-    """Buffers of path nodes filled by _continue (node 0 = the start)."""
+    """Buffers of path nodes filled by continue_root (node 0 = the start)."""
 
     s: np.ndarray  # continuation parameter (ln kH, or tau = 1/gamma)
     z: np.ndarray  # roots (complex)
@@ -65,9 +65,9 @@ class Path(NamedTuple):
     """A followed Rayleigh branch (build_path): nodes ascending in s = ln kH and the interpolant through them.
 
     Functions that loop over points (branch_solve, _refine_peak, _zero_on_path) unpack the record once,
-    ``ns, nz, nc, ne, cx, cf, cm, nn, use_log = path``, and pass the fields to the per-point helpers (_interval,
-    _interp, _im_at, _solve_at, inlined into the loop): every read of an array field of a record costs an atomic
-    reference-count increment and decrement, which inside a loop is a third of the time of an interpolated point.
+    ``ns, nz, nc, ne, cx, cf, cm, nn, use_log = path``, and pass the fields to the per-point helpers (node_interval,
+    interp_node, _im_at, solve_at_unpacked, inlined into the loop): every read of an array field of a record costs an
+    atomic reference-count increment and decrement, which inside a loop is a third of the time of an interpolated point.
     """
 
     s: np.ndarray  # node positions ln kH, ascending

@@ -32,7 +32,7 @@ import math
 import numpy as np
 
 from ._common import jitted
-from .elementary import PSI_MAX, _abs1, _cabs, _cexp, _cinv, _csqrt, _divdiff, _fix0, _psi
+from .elementary import PSI_MAX, abs1, cabs, cexp, cinv, csqrt, divdiff, fix0, psi_pair
 from .records import Params
 
 HALF_SPACE_ARG = 22.0  # eta kH Re(alpha) above which tanh(eta kH alpha) = 1 in double precision (e^-44 < 1e-19)
@@ -43,9 +43,9 @@ def response_inf(
     z: complex, q: float, beta: float
 ) -> tuple[complex, complex, complex, complex, complex, complex, float]:
     """G_x, G_y, dG_x/dz, dG_y/dz, dG_x/dq, dG_y/dq and a rounding scale for eta = inf (Eqs. Gx_LSA, Gy_LSA)."""
-    us = _fix0((1.0 - z) * (1.0 + z))
-    ud = _fix0((1.0 - beta * z) * (1.0 + beta * z))
-    return response_inf_alpha(z, _csqrt(us), _csqrt(ud), q, beta)
+    us = fix0((1.0 - z) * (1.0 + z))
+    ud = fix0((1.0 - beta * z) * (1.0 + beta * z))
+    return response_inf_alpha(z, csqrt(us), csqrt(ud), q, beta)
 
 
 @jitted
@@ -57,25 +57,25 @@ def response_inf_alpha(
     d alpha_j/dz = -beta_j^2 z / alpha_j, true on every sheet."""
     b2 = beta * beta
     z2 = z * z
-    inv_as = _cinv(a_s)
-    inv_ad = _cinv(a_d)
+    inv_as = cinv(a_s)
+    inv_ad = cinv(a_d)
     das = -z * inv_as
     dad = -b2 * z * inv_ad
-    es = _cexp(-2.0 * q * a_s)
-    ed = _cexp(-2.0 * q * a_d)
+    es = cexp(-2.0 * q * a_s)
+    ed = cexp(-2.0 * q * a_d)
     des = -2.0 * q * das * es
     ded = -2.0 * q * dad * ed
     hs = 0.5 * (1.0 + es)
     dhs = 0.5 * des
     # Rayleigh function over z^2
-    inv_one = _cinv(1.0 + a_s * a_d)
+    inv_one = cinv(1.0 + a_s * a_d)
     cnum = 1.0 + b2 - b2 * z2
     c4 = 4.0 * cnum * inv_one
     rt = z2 - 4.0 + c4
     dprod = das * a_d + a_s * dad
     drt = 2.0 * z + 4.0 * (-2.0 * b2 * z - cnum * dprod * inv_one) * inv_one
     # Hd = (h_s - h_d)/z^2
-    inv_sum = _cinv(a_s + a_d)
+    inv_sum = cinv(a_s + a_d)
     dssum = das + dad
     k = -2.0 * q * (1.0 - b2)
     t = k * z2 * inv_sum
@@ -84,13 +84,13 @@ def response_inf_alpha(
     qes = -2.0 * a_s * es
     qed = -2.0 * a_d * ed
     qt = -2.0 * (1.0 - b2) * z2 * inv_sum
-    if _abs1(t) < PSI_MAX:
-        ps, dps = _psi(t)
+    if abs1(t) < PSI_MAX:
+        ps, dps = psi_pair(t)
         qv = es * ps
         dqv = des * ps + es * dps * dt
         qqv = qes * ps + es * dps * qt
     else:
-        inv_t = _cinv(t)
+        inv_t = cinv(t)
         qv = (ed - es) * inv_t
         dqv = ((ded - des) - qv * dt) * inv_t
         qqv = ((qed - qes) - qv * qt) * inv_t
@@ -107,7 +107,7 @@ def response_inf_alpha(
     dgy = -2.0 * (-2.0 * z * hd + (2.0 - z2) * dhd)
     qgx = 0.5 * rt * qes * inv_as + 4.0 * a_d * qhd
     qgy = -2.0 * (2.0 - z2) * qhd
-    scale = (_abs1(z2) + 4.0 + _abs1(c4)) * _abs1(hs_as) + _abs1(gx_b)
+    scale = (abs1(z2) + 4.0 + abs1(c4)) * abs1(hs_as) + abs1(gx_b)
     return gx, gy, dgx, dgy, qgx, qgy, scale
 
 
@@ -123,11 +123,11 @@ def response_fin(
     """
     b2 = beta * beta
     z2 = z * z
-    us = _fix0((1.0 - z) * (1.0 + z))
-    ud = _fix0((1.0 - beta * z) * (1.0 + beta * z))
+    us = fix0((1.0 - z) * (1.0 + z))
+    ud = fix0((1.0 - beta * z) * (1.0 + beta * z))
     if eta != 1.0:
         # Re sqrt(u) = sqrt((|u| + Re u)/2)
-        re_min = min(_cabs(us) + us.real, _cabs(ud) + ud.real)
+        re_min = min(cabs(us) + us.real, cabs(ud) + ud.real)
         if re_min > 0.0 and eta * q * math.sqrt(0.5 * re_min) > HALF_SPACE_ARG:
             return response_inf(z, q, beta)
     dus = -2.0 * z
@@ -136,7 +136,7 @@ def response_fin(
     eq = eta * q
     b = eq * eq
     # upper block, height H: g1 = q g(q^2 u)
-    gs, gds, gd, gdd, dd, dd1, dd2 = _divdiff(a * us, a * ud)
+    gs, gds, gd, gdd, dd, dd1, dd2 = divdiff(a * us, a * ud)
     q3 = q * a
     q5 = q3 * a
     g1s = q * gs
@@ -146,7 +146,7 @@ def response_fin(
     d1 = q3 * dd
     dd1z = q5 * (dd1 * dus + dd2 * dud)
     # lower block, height eta H: g2 = eta q g(eta^2 q^2 u)
-    hs, hds, hd, hdd, ee, ee1, ee2 = _divdiff(b * us, b * ud)
+    hs, hds, hd, hdd, ee, ee1, ee2 = divdiff(b * us, b * ud)
     e3 = eq * b
     e5 = e3 * b
     g2s = eq * hs
@@ -186,7 +186,7 @@ def response_fin(
     gy = 2.0 * (2.0 - z2) * c * kk
     dgy = 2.0 * c * (-2.0 * z * kk + (2.0 - z2) * dkk)
     qgy = 2.0 * (2.0 - z2) * c * qkk
-    scale = _cabs(gx_a) + _cabs(gx_b) + 2.0 * _cabs(2.0 - z2) * c * (_cabs(g1s * d2) + _cabs(g2s * d1)) / _cabs(pp)
+    scale = cabs(gx_a) + cabs(gx_b) + 2.0 * cabs(2.0 - z2) * c * (cabs(g1s * d2) + cabs(g2s * d1)) / cabs(pp)
     return gx, gy, dgx, dgy, qgx, qgy, scale
 
 
@@ -214,22 +214,22 @@ def chart_point(v: complex, beta: float, chart: int) -> tuple[complex, complex, 
     near w = 0 (both sides of the cut); the physical sheet with Im z > 0 is Re w > 0, Im z > 0."""
     w = v - CHART_ORIGIN
     sgn = 1.0 if chart == 1 or chart == 3 else -1.0
-    r = _csqrt(_fix0((1.0 - w) * (1.0 + w)))
+    r = csqrt(fix0((1.0 - w) * (1.0 + w)))
     if chart <= 2:
         z = sgn * r / beta
         a_d = w
-        a_s = -1j * sgn * _csqrt(_fix0((z - 1.0) * (z + 1.0)))
+        a_s = -1j * sgn * csqrt(fix0((z - 1.0) * (z + 1.0)))
         dzdv = -w / (beta * beta * z)
     else:
         z = sgn * r
         a_s = w
-        a_d = _csqrt(_fix0((1.0 - beta * z) * (1.0 + beta * z)))
+        a_d = csqrt(fix0((1.0 - beta * z) * (1.0 + beta * z)))
         dzdv = -w / z
     return z, a_s, a_d, dzdv
 
 
 @jitted
-def _weighted_dispersion(z: complex, q: float, wg: float, wz: float, p: Params) -> tuple[complex, complex, float,
+def weighted_dispersion(z: complex, q: float, wg: float, wz: float, p: Params) -> tuple[complex, complex, float,
                                                                                            complex]:
     """wg (G_x + i f G_y) + wz i z S with S = 1 + (Delta - 1)/(1 - i xi z kH): value, dF/dz, rounding scale, dF/dkH.
 
@@ -254,15 +254,15 @@ def _weighted_dispersion(z: complex, q: float, wg: float, wz: float, p: Params) 
         qsf = 0j
         sabs = 1.0
     else:
-        inv_den = _cinv(1.0 - 1j * xi * z * q)
+        inv_den = cinv(1.0 - 1j * xi * z * q)
         sf = 1.0 + (delta - 1.0) * inv_den
         dsf = (delta - 1.0) * (1j * xi * q) * inv_den * inv_den
         qsf = (delta - 1.0) * (1j * xi * z) * inv_den * inv_den
-        sabs = 1.0 + _abs1((delta - 1.0) * inv_den)
+        sabs = 1.0 + abs1((delta - 1.0) * inv_den)
     fval = wg * (gx + 1j * f * gy) + wz * 1j * z * sf
     dfval = wg * (dgx + 1j * f * dgy) + wz * 1j * (sf + z * dsf)
     qfval = wg * (qgx + 1j * f * qgy) + wz * 1j * z * qsf
-    scale = wg * (sc + _abs1(f * gy)) + wz * _abs1(z) * sabs + _abs1(z * dfval)
+    scale = wg * (sc + abs1(f * gy)) + wz * abs1(z) * sabs + abs1(z * dfval)
     if p.eta < 0.0:
         dfval = dfval * dzdv
     return fval, dfval, scale, qfval
@@ -273,7 +273,7 @@ def dispersion_eval(
     z: complex, q: float, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float
 ) -> tuple[complex, complex, float]:
     """F(z; q) of Eq. implicit_spectrum with Eq. delta f RSF, dF/dz, and the rounding scale of F."""
-    fv, dfv, sc, _ = _weighted_dispersion(z, q, gamma, 1.0, Params(gamma, f, beta, eta, delta, xi))
+    fv, dfv, sc, _ = weighted_dispersion(z, q, gamma, 1.0, Params(gamma, f, beta, eta, delta, xi))
     return fv, dfv, sc
 
 
@@ -282,7 +282,7 @@ def dispersion_dq(
     z: complex, q: float, gamma: float, f: float, beta: float, eta: float, delta: float, xi: float
 ) -> complex:
     """dF/dkH of Eq. implicit_spectrum at fixed z (gives the branch slope dz/dkH = -F_kH / F_z)."""
-    return _weighted_dispersion(z, q, gamma, 1.0, Params(gamma, f, beta, eta, delta, xi))[3]
+    return weighted_dispersion(z, q, gamma, 1.0, Params(gamma, f, beta, eta, delta, xi))[3]
 
 
 @jitted

@@ -425,17 +425,54 @@ def test_no_import_cycle_within_a_layer() -> None:
     assert cycles == []
 
 
-def test_the_atlas_layer_the_app_and_the_command_line_use_only_public_names_of_other_modules() -> None:
-    """A module of atlas/, app/ or asymslide/ imports no underscored name from another module of the project: what
-    one module needs of another is that module's public API (the model keeps package-private helpers for its
-    kernels)."""
+def _private_names_crossing(path: Path, package: Path, root: Path = ROOT) -> list[str]:
+    """The underscored names a module takes from another module of the project: imported (``from m import _x``) or
+    read as an attribute of a module it imported (``m._x``). Importing a private module or package itself (``from .
+    import _kernels``) is not counted in model/ (``package``), whose private parts are its own."""
     import ast
 
+    tree = ast.parse(path.read_text(), str(path))
+    modules: set[str] = set()  # names bound to project modules in this file
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith("asymslide")):
+            base = path.parent
+            for _ in range(max(node.level - 1, 0)):
+                base = base.parent
+            for a in node.names:
+                sub = base.joinpath(*(node.module or "").split(".")) / a.name if node.level else None
+                is_module = sub is not None and (sub.with_suffix(".py").exists() or sub.is_dir())
+                if is_module:
+                    modules.add(a.asname or a.name)
+                if a.name.startswith("_") and not a.name.startswith("__"):
+                    if not (is_module and package in path.parents):
+                        found.append(f"{path.relative_to(root)}: {node.module} {a.name}")
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id in modules
+                and node.attr.startswith("_") and not node.attr.startswith("__")):
+            found.append(f"{path.relative_to(root)}: {node.value.id}.{node.attr}")
+    return found
+
+
+def test_no_module_uses_an_underscored_name_of_another_module() -> None:
+    """A module of model/, atlas/, app/ or asymslide/ takes no underscored name from another module of the project
+    (imported or as a module's attribute): what one module needs of another is that module's API. The model's
+    private packages (``_kernels``, ``_roots``) and modules (``_validate``) are imported whole by the model, and
+    their own names are not underscored; the other layers import none of them."""
     private = []
-    for folder in ("atlas", "app", "asymslide"):
+    for folder in ("model", "atlas", "app", "asymslide"):
         for path in sorted((ROOT / folder).rglob("*.py")):
-            for node in ast.walk(ast.parse(path.read_text(), str(path))):
-                if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith("asymslide")):
-                    names = [a.name for a in node.names if a.name.startswith("_") and not a.name.startswith("__")]
-                    private += [f"{path.relative_to(ROOT)}: {node.module} {name}" for name in names]
+            private += _private_names_crossing(path, ROOT / "model")
     assert private == []
+
+
+def test_the_private_name_check_sees_both_forms(tmp_path: Path) -> None:
+    """The check above finds ``from .m import _x`` and ``m._x``, and in the model allows ``from . import _kernels``."""
+    pkg = tmp_path / "model"
+    (pkg / "_kernels").mkdir(parents=True)
+    for name in ("__init__.py", "_kernels/__init__.py", "stability.py", "sliding.py"):
+        (pkg / name).write_text("")
+    probe = pkg / "_probe_private_names.py"
+    probe.write_text("from . import _kernels, stability\nfrom .sliding import _hidden\nx = stability._grid\n")
+    found = _private_names_crossing(probe, pkg, tmp_path)
+    assert found == ["model/_probe_private_names.py: sliding _hidden", "model/_probe_private_names.py: stability._grid"]

@@ -17,6 +17,7 @@ from mpmath import mp
 
 from asymslide import model
 from asymslide.model import modes
+from asymslide.model._roots import contour
 from asymslide.model.modes import unstable_count, unstable_modes
 from tests import oracle
 
@@ -106,12 +107,13 @@ def test_count_agrees_with_cxroots(eta, kH, im_min):
 def test_strict_sampling_finds_the_same_roots():
     """A 10x finer contour sampling (tolerances / 4-10, initial spacing / 10) changes nothing.
 
-    The finer settings are patched into the module's constants, which a problem reads when it is set up."""
+    The finer settings are patched into the root engine's constants (model._roots.contour), which a problem
+    reads when it is set up."""
     args = (0.77, 3.0, 0.9, 0.3, 10.0, 1.0, 0.0, 5.0, 1e-4, 2.0)
     normal, n_normal = modes._modes(modes._problem(*args))
-    finer = dict(PHASE_MAX=modes.PHASE_MAX / 4, TRAP_TOL=modes.TRAP_TOL / 10, LIN_TOL=modes.LIN_TOL / 10,
-                 H0=modes.H0 / 10)
-    with mock.patch.multiple(modes, **finer):
+    finer = dict(PHASE_MAX=contour.PHASE_MAX / 4, TRAP_TOL=contour.TRAP_TOL / 10, LIN_TOL=contour.LIN_TOL / 10,
+                 H0=contour.H0 / 10)
+    with mock.patch.multiple(contour, **finer):
         prob = modes._problem(*args)
     assert prob.tols == (finer["PHASE_MAX"], finer["TRAP_TOL"], finer["LIN_TOL"]) and prob.h0 == finer["H0"]
     strict, n_strict = modes._modes(prob)

@@ -20,6 +20,9 @@ from mpmath import mp
 
 from asymslide import model
 from asymslide.model import sliding
+from asymslide.model._roots import track
+from asymslide.model._roots.search import Search
+from asymslide.model._roots.track import Analysis
 from tests import oracle
 
 INF = math.inf
@@ -95,7 +98,7 @@ def test_half_space_limit_has_no_growing_root():
         p = dict(gamma=float(10 ** rng.uniform(-2, 4)), f=float(rng.uniform(-3, 3)),
                  beta=float(rng.uniform(0.05, 0.7071)), eta=INF, Delta=float(10 ** rng.uniform(-4, 0)),
                  xi=float(rng.choice([0.0, 10 ** rng.uniform(-3, 4)])))
-        search = sliding._Search(*(p[k] for k in ("gamma", "f", "beta", "eta", "Delta", "xi")), 1e-9)
+        search = Search(*(p[k] for k in ("gamma", "f", "beta", "eta", "Delta", "xi")), 1e-9)
         q = 1e12
         assert search.count(q, search.rho(1e-9, q), 1e-9, search.top(q)) == 0, p
 
@@ -271,7 +274,7 @@ def test_sliding_maximum_is_never_below_the_rayleigh_branch():
 @pytest.mark.parametrize("eta", [INF, 10.0])
 def test_grid_points_searched_once_agree_with_fastest_mode_at_each_kH(eta):
     """sliding_analysis searches a grid point once for the sample and the track (every root above a fraction of the
-    maximum so far, located: _Analysis.every_root). At each grid point its fastest root is fastest_mode's (the
+    maximum so far, located: Analysis.every_root). At each grid point its fastest root is fastest_mode's (the
     banded, best-first search of one kH, checked against the oracle above), and a point found empty above a level
     has no root there."""
     rng = np.random.default_rng(2031 if math.isinf(eta) else 2032)
@@ -280,7 +283,7 @@ def test_grid_points_searched_once_agree_with_fastest_mode_at_each_kH(eta):
         p = dict(gamma=float(10 ** rng.uniform(0.0, 1.3)), f=float(rng.uniform(0.3, 1.2)),
                  beta=float(rng.uniform(0.1, 0.65)), Delta=float(rng.uniform(0.3, 1.0)), xi=1.0, eta=eta)
         ray = model.growth_analysis(**p, kH=model.SLIDING_KH)
-        an = sliding._Analysis(sliding._Search(*(p[k] for k in ("gamma", "f", "beta", "eta", "Delta", "xi")),
+        an = Analysis(Search(*(p[k] for k in ("gamma", "f", "beta", "eta", "Delta", "xi")),
                                                model.DEFAULT_FLOOR), np.log(model.SLIDING_KH))
         g = float(ray.growth)
         an.sample((math.log(float(ray.kH_at_max)), complex(float(ray.re_z_at_max), g))
@@ -357,7 +360,7 @@ def test_sliding_thresholds_api():
         model.critical_gamma(f=0.9, beta=0.3, eta=10.0, branches="all", gamma_range=(1.0, 10.0))
 
 
-# -- roots across the cuts beside the branch points (eta = inf; model._sliding_cuts) -------------------------------
+# -- roots across the cuts beside the branch points (eta = inf; model._roots.cuts) -------------------------------
 
 
 @pytest.mark.parametrize("chart", [1, 2, 3, 4])
@@ -412,7 +415,7 @@ def test_a_root_born_at_the_cut_between_grid_points_is_found(monkeypatch):
                                         BORN_AT_THE_CUT["beta"], INF, BORN_AT_THE_CUT["Delta"],
                                         BORN_AT_THE_CUT["xi"]))
     assert res < 1e-12 * abs(z)  # a root of the oracle's F on the physical sheet
-    monkeypatch.setattr(sliding, "CUT_CHARTS", False)
+    monkeypatch.setattr(track, "CUT_CHARTS", False)
     without = model.sliding_analysis(**BORN_AT_THE_CUT)
     assert float(without.growth) < 0.2 * float(r.growth)  # what the search found before the charts
 
@@ -431,7 +434,7 @@ def test_a_root_rising_above_the_floor_between_grid_points_is_found(monkeypatch)
     assert -1.01 < complex(r.z_at_max).real < -1.0
     for kH in (model.SLIDING_KH[14], model.SLIDING_KH[15]):  # below the floor at the grid points on either side
         assert int(model.fastest_mode(kH, **RISES_ABOVE_THE_FLOOR).count) == 0
-    monkeypatch.setattr(sliding, "FLOOR_WATCH", 1.0)
+    monkeypatch.setattr(track, "FLOOR_WATCH", 1.0)
     assert int(model.sliding_analysis(**RISES_ABOVE_THE_FLOOR).verdict) == 0
 
 

@@ -8,7 +8,7 @@ at a grid point sees it. Near a branch point the local uniformizing variable w (
 continuous in kH across it. At each grid point, every root in a box of half-width CHART_BOX x (the distance to the
 chart's other singularities) around w = 0 is counted, located and followed in kH to the neighbouring grid points;
 where it lies on the physical sheet (Re w > 0) with Im z > 0, its growth is watched, and its highest point is handed
-to the certified search of :mod:`model.sliding`.
+to the certified search of :mod:`.track`.
 """
 
 from __future__ import annotations
@@ -17,12 +17,12 @@ import math
 
 import numpy as np
 
-from ._kernels.contour import LIN_TOL, PHASE_MAX, TRAP_TOL, count_rectangle
-from ._kernels.cuts import WARM_ITERS, follow_chart, growth_in_chart
-from ._kernels.newton import FULL_TOL, KH, _newton
-from ._kernels.records import NO_BOX, Params
-from ._kernels.response import CHART_ORIGIN, chart_point
-from .modes import AXIS_HMIN, REL_HMIN, _Problem, _roots_from_sums
+from .._kernels.contour import LIN_TOL, PHASE_MAX, TRAP_TOL, count_rectangle
+from .._kernels.cuts import WARM_ITERS, follow_chart, growth_in_chart
+from .._kernels.newton import FULL_TOL, KH, newton_root
+from .._kernels.records import NO_BOX, Params
+from .._kernels.response import CHART_ORIGIN, chart_point
+from .contour import AXIS_HMIN, REL_HMIN, Problem, roots_from_sums
 
 CHARTS = (1, 2, 3, 4)  # beside +1/beta, -1/beta, +1, -1 (chart_point)
 CHART_BOX = 0.6  # the box's half-width over the distance (in w) to the chart's other singularities (and to |w| = 1)
@@ -63,7 +63,7 @@ class CutCharts:
         known: roots at this kH found otherwise (followed from a neighbouring kH). The box is counted with the sums
         of its roots and of their squares (``_kernels.contour.count_rectangle``); the roots not known (at
         most two) are estimated from them and polished by Newton; if that does not give as many distinct roots in
-        the box as it holds, the box is subdivided (model.modes' locate)."""
+        the box as it holds, the box is subdivided (Problem.locate)."""
         r = self.half_width(chart)
         pc = self._params(chart)
         x0, x1 = -r, r  # symmetric in Re v, as model.modes' windows are (w = v - CHART_ORIGIN: off-centre by 0.012)
@@ -78,11 +78,11 @@ class CutCharts:
             return n, [] if n == 0 else None
         inside = [v for v in known if x0 < v.real < x1 and y0 < v.imag < y1]
         distinct = [v for k, v in enumerate(inside) if all(abs(v - u) > 1e-8 * abs(v) for u in inside[:k])]
-        got = _roots_from_sums(n, s1, s2, distinct, lambda v: self.polish(v, q, chart),
+        got = roots_from_sums(n, s1, s2, distinct, lambda v: self.polish(v, q, chart),
                                lambda v: x0 < v.real < x1 and y0 < v.imag < y1)
         if got is not None:
             return n, got
-        prob = _Problem(q, *pc, r, y0, y1, CHART_H0, (_EMPTY, _EMPTY))
+        prob = Problem(q, *pc, r, y0, y1, CHART_H0, (_EMPTY, _EMPTY))
         try:
             cell, n = prob.outer()
             found = prob.locate(cell, n) if n else []
@@ -100,7 +100,7 @@ class CutCharts:
 
     def polish(self, v0: complex, q: float, chart: int) -> tuple[complex, complex] | None:
         """Newton in the chart from v0 at kH = q: (v, dv/d ln kH) or None."""
-        r = _newton(v0, KH, 0.0, q, self._params(chart), WARM_ITERS, FULL_TOL, 0.0, 0.9, 1.0, NO_BOX)
+        r = newton_root(v0, KH, 0.0, q, self._params(chart), WARM_ITERS, FULL_TOL, 0.0, 0.9, 1.0, NO_BOX)
         self.evaluations += r.evals
         if not r.ok or not math.isfinite(r.z.real):
             return None

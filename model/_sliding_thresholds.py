@@ -33,7 +33,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _kernels as K
+from ._crossing import Crossing, empty_crossings
 from ._kernels.neutral import UPPER_LIP
+from ._roots.search import M_BELOW, M_OK, Search
+from ._roots.track import Analysis
 from .crossings import (
     SCAN_POINTS,
     T_FOUND,
@@ -48,11 +51,8 @@ from .crossings import (
     X_NOT_CERTIFIED,
     X_UNDEFINED,
     Crossings,
-    _Crossing,
-    _empty,
 )
-from .sliding import M_BELOW, M_OK, _Analysis, _Search
-from .stability import growth_chunk, growth_rows
+from .stability import growth_chunk
 
 BISECTIONS = 12  # bisections of a bracket on the verdict
 CERT_GROWTH = 10.0  # the unstable side of the certificate: where the growth is about this x the floor ...
@@ -103,13 +103,8 @@ class _Point:
         fl = self.floor if floor is None else floor
         par = self.params(t)
         ray = growth_chunk(self.s_grid, np.array(par, dtype=float)[:, None])[:, 0]
-        an = _Analysis(_Search(*par, fl), self.s_grid)
-        r = growth_rows(ray)
-        growth, s_max, re_max = float(r.growth), float(r.ln_kH_at_max), float(r.re_z_at_max)
-        start = None
-        if math.isfinite(growth) and growth >= fl and an.lo <= s_max <= an.hi:
-            start = (s_max, complex(re_max, growth))
-        an.sample(start)
+        an = Analysis(Search(*par, fl), self.s_grid)
+        an.sample_from(ray)
         status = [top.status for top in an.tops.values()]
         if M_OK in status:
             peak = an.peak(rate=False)
@@ -122,7 +117,7 @@ class _Point:
         """Im dz/dt of the root z at ln kH = s, by a central difference of SLOPE_H on roots polished by Newton."""
         zs = []
         for dt in (SLOPE_H, -SLOPE_H):
-            got = _Search(*self.params(t + dt), self.floor).polish(z, math.exp(s))
+            got = Search(*self.params(t + dt), self.floor).polish(z, math.exp(s))
             if got is None or abs(got[0] - z) > 1e-3 * abs(z):
                 return math.nan
             zs.append(got[0])
@@ -166,7 +161,7 @@ def _neutral(pt: _Point, u: _Side, t_stable: float, t_unstable: float) -> tuple[
     return None
 
 
-def _certify(pt: _Point, x: float, s: float, t: float, slope: float) -> _Crossing | None:
+def _certify(pt: _Point, x: float, s: float, t: float, slope: float) -> Crossing | None:
     """The crossing at the neutral mode (x, s, t) if both sides confirm it (module docstring, step 3): at t -/+ d the
     sliding analysis with a floor well below |slope| d finds no root on the stable side, and on the unstable side
     the neutral mode's continuation as the fastest root, with the growth its slope predicts."""
@@ -184,7 +179,7 @@ def _certify(pt: _Point, x: float, s: float, t: float, slope: float) -> _Crossin
         return None
     if pt.ev(t - direction * d, local).sign != -1.0:
         return None
-    return _Crossing(X_EDGE if pt.at_edge(s) else X_CERTIFIED, t - d, t + d, t, s, x, direction)
+    return Crossing(X_EDGE if pt.at_edge(s) else X_CERTIFIED, t - d, t + d, t, s, x, direction)
 
 
 def _approach(pt: _Point, u: _Side, t_stable: float, t_unstable: float) -> tuple[float, float, float, float] | None:
@@ -206,7 +201,7 @@ def _approach(pt: _Point, u: _Side, t_stable: float, t_unstable: float) -> tuple
     return None
 
 
-def _solve_bracket(pt: _Point, a: _Side, b: _Side) -> _Crossing:
+def _solve_bracket(pt: _Point, a: _Side, b: _Side) -> Crossing:
     """The verdict change between a and b (opposite signs): the neutral mode, certified, with bisection."""
     approached: set[complex] = set()  # the roots approached so far (each root once: an approach costs searches)
     for _ in range(BISECTIONS):
@@ -220,20 +215,20 @@ def _solve_bracket(pt: _Point, a: _Side, b: _Side) -> _Crossing:
                 return found
         m = pt.ev(0.5 * (a.t + b.t))
         if not math.isfinite(m.sign):
-            return _Crossing(X_UNDEFINED, a.t, b.t, m.t)
+            return Crossing(X_UNDEFINED, a.t, b.t, m.t)
         if m.sign == a.sign:
             a = m
         else:
             b = m
     u = a if a.sign > 0 else b
     reason = X_JUMP if u.g > JUMP_GROWTH * pt.floor else X_NOT_CERTIFIED
-    return _Crossing(reason, a.t, b.t, 0.5 * (a.t + b.t))
+    return Crossing(reason, a.t, b.t, 0.5 * (a.t + b.t))
 
 
-def _crossings(pt: _Point, ts: np.ndarray) -> tuple[list[_Crossing], list[_Side]]:
+def _crossings(pt: _Point, ts: np.ndarray) -> tuple[list[Crossing], list[_Side]]:
     """Every change of the sliding verdict over the scan values ts (opposite verdicts, or only NaN between)."""
     scan = [pt.ev(float(t)) for t in ts]
-    out: list[_Crossing] = []
+    out: list[Crossing] = []
     prev: _Side | None = None
     gap = False
     for e in scan:
@@ -241,12 +236,12 @@ def _crossings(pt: _Point, ts: np.ndarray) -> tuple[list[_Crossing], list[_Side]
             gap = prev is not None or gap
             continue
         if prev is not None and prev.sign != e.sign:
-            out.append(_Crossing(X_UNDEFINED, prev.t, e.t) if gap else _solve_bracket(pt, prev, e))
+            out.append(Crossing(X_UNDEFINED, prev.t, e.t) if gap else _solve_bracket(pt, prev, e))
         prev, gap = e, False
     return out, scan
 
 
-def _status(found: list[_Crossing], scan: list[_Side]) -> int:
+def _status(found: list[Crossing], scan: list[_Side]) -> int:
     if any(c.certified for c in found):
         return T_FOUND
     if found:
@@ -257,12 +252,12 @@ def _status(found: list[_Crossing], scan: list[_Side]) -> int:
     return T_STABLE if all(v < 0 for v in signs) else (T_UNSTABLE if all(v > 0 for v in signs) else T_UNDEFINED)
 
 
-def _all_crossings_chunk(which: int, name: str, s_grid: np.ndarray, p: np.ndarray, bounds: tuple[float, float],
+def all_crossings_chunk(which: int, name: str, s_grid: np.ndarray, p: np.ndarray, bounds: tuple[float, float],
                         floor: float, max_crossings: int) -> Crossings:
     """Every change of the sliding verdict in gamma or eta (row `which` of p, ignored) for each parameter set of a
     chunk, p (6, n) in growth_chunk's layout; the range `bounds` (validated by the caller)."""
     n = p.shape[1]
-    res = _empty(n, int(max_crossings), name)
+    res = empty_crossings(n, int(max_crossings), name)
     ts = np.linspace(math.log(bounds[0]), math.log(bounds[1]), SCAN_POINTS)
     for i in range(n):
         col = tuple(float(v) for v in p[:, i])
