@@ -165,6 +165,58 @@ def markdown(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+
+
+#: the issue-52 windows: finite eta, thousands of the lower block's real-axis poles in the window
+DENSE = [
+    (dict(gamma=3.2801, f=0.6919, beta=0.35, eta=3.0, Delta=0.3654, xi=2.7141), 10.0, 1e-4, 3.0,
+     (100.0, 400.0, 1569.79, 1569.80, 2191.7)),
+    (dict(gamma=5.6087, f=1.2033, beta=0.3576, eta=3.0, Delta=0.8781, xi=1.3451), 1.0, 1e-4, 2.936254836205487,
+     (1000.0, 10000.0, 30000.0, 64056.57098757342)),
+    (dict(gamma=3.0, f=0.9, beta=0.3, eta=1e4, Delta=1.0, xi=0.0), 1.0, 1e-4, 2.0, (5.0, 20.0, 50.0)),
+    (dict(gamma=3.0, f=0.9, beta=0.3, eta=1e4, Delta=1.0, xi=0.0), 1.0, 1e-5, 2.0, (5.0, 20.0, 50.0, 200.0)),
+]
+
+
+def poles_in_window(kH: float, beta: float, eta: float, re_max: float) -> int:
+    """The real-axis poles of both families (docs/physics.md §2) with |x| <= re_max + 1 (both signs)."""
+    a = math.pi / ((1.0 + eta) * kH)
+    x = re_max + 1.0
+    return 2 * sum(int(math.sqrt(max((x * bj) ** 2 - 1.0, 0.0)) / a) for bj in (1.0, beta))
+
+
+def dense_poles() -> list[dict]:
+    """Rows {case, re_max, poles, count, time_s, evaluations, note}: model.unstable_count (one run each) in windows
+    holding more and more real-axis poles; a refused count names its reason."""
+    rows = []
+    for p, kH, im_min, im_max, radii in DENSE:
+        case = f"kH={kH:g}, eta={p['eta']:g}, beta={p['beta']:g}, im_min={im_min:g}"
+        for re_max in radii:
+            args = (kH, p["gamma"], p["f"], p["beta"], p["eta"], p["Delta"], p["xi"], re_max, im_min, im_max)
+            prob = modes._problem(*args)
+            t = time.perf_counter()
+            try:
+                n, note = prob.outer()[1], ""
+            except RuntimeError as exc:
+                n, note = -1, f"refused: {exc}"
+            rows.append(dict(case=case, re_max=re_max, poles=poles_in_window(kH, p["beta"], p["eta"], re_max),
+                             count=n, time_s=time.perf_counter() - t, evaluations=prob.evaluations, note=note))
+    return rows
+
+
+def dense_markdown(rows: list[dict]) -> str:
+    lines = ["| case | re_max | poles in window | count | time (s) | evaluations of F | note |",
+             "|---|---:|---:|---:|---:|---:|---|"]
+    for r in rows:
+        count = "refused" if r["count"] < 0 else str(r["count"])
+        lines.append(f"| {r['case']} | {r['re_max']:g} | {r['poles']:,} | {count} | {r['time_s']:.2f} | "
+                     f"{r['evaluations']:,} | {r['note']} |")
+    return "\n".join(lines) + "\n"
+
+
 if __name__ == "__main__":
-    print("Unstable modes in |Re z| <= 5, im_min <= Im z <= 2 (f = 0.9, beta = 0.3, gamma = 3, Delta = 1)\n")
-    print(markdown(run()))
+    if "--dense" not in sys.argv:
+        print("Unstable modes in |Re z| <= 5, im_min <= Im z <= 2 (f = 0.9, beta = 0.3, gamma = 3, Delta = 1)\n")
+        print(markdown(run()))
+    print("Counts beside dense real-axis poles: time against the number of poles in the window\n")
+    print(dense_markdown(dense_poles()))

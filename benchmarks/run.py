@@ -181,6 +181,8 @@ def other_sections() -> str:
 
     text += ("\n## All unstable roots in |Re z| <= 5, im_min <= Im z <= 2 (model.unstable_modes vs cxroots)\n\n"
              + bench_modes.markdown(bench_modes.run()))
+    text += ("\n## Counts beside dense real-axis poles (model.unstable_count; "
+             "`python benchmarks/bench_modes.py --dense`)\n\n" + bench_modes.dense_markdown(bench_modes.dense_poles()))
     from benchmarks import bench_sliding
 
     text += ("\n## Sliding over the whole spectrum (model.sliding_analysis; `benchmarks/bench_sliding.py`)\n\n"

@@ -25,7 +25,8 @@ spaced <= 0.1; vertical lines add nodes graded geometrically (ratio 3) from thei
 lines at height y add nodes p +- y 3^k around each real-axis singularity p (z = +-1, +-1/beta, and for
 finite eta the poles z^2 = 1 + (pi n / ((1+eta) kH))^2, z^2 = beta^-2 [1 + (pi n / ((1+eta) kH))^2]) that is
 at least 2y from one of its neighbours, so that a root sitting next to a pole is resolved at every scale.
-(Families with more than 20000 poles in range get no graded nodes and rely on the refinement alone.)
+(Every pole in range is graded, however many there are; a line needing more than 2^23 samples is refused:
+docs/physics.md §10, beside dense poles.)
 
 *Locating.* The rectangle is split recursively (a vertical line at mid-width, or for a tall cell a horizontal
 line at mid-height, geometric mean height near the axis); the samples of the parent's edges are reused, only

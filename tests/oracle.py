@@ -1032,7 +1032,7 @@ GRADING = 2  # ratio of the geometric grading towards the real axis (vertical ed
 H_MIN_REL = 1e-12  # smallest segment (relative to the window) before a root counts as lying on the edge
 MAX_EVALS = 200_000  # new evaluations of F allowed for one count
 INTEGER_TOL = 1e-6  # largest distance of the winding number from an integer
-MAX_SINGULAR = 4000  # real-axis poles around which horizontal edges are graded (denser families: adaptivity alone)
+MAX_SINGULAR = 4000  # most real-axis poles in range around which horizontal edges are graded (more: refused)
 POLISH_DPS = 25  # digits of the returned roots
 CELL_MIN_REL = 1e-10  # smallest cell (relative to the window) still split while locating roots
 
@@ -1043,8 +1043,9 @@ class RootOnContour(RuntimeError):
 
 def _real_singularities(p: Params, q: mpmath.mpf, lo: mpmath.mpf, hi: mpmath.mpf) -> list[mpmath.mpf]:
     """Real-axis singularities of F in [lo, hi] (docs/physics.md §2): the branch points +-1, +-1/beta and, for finite
-    eta, the poles z^2 = 1 + t_n^2 and z^2 = (1 + t_n^2)/beta^2 with t_n = pi n/((1 + eta) q), n >= 1 (none of the
-    families if they hold more than MAX_SINGULAR poles in range: horizontal edges then rely on adaptivity alone)."""
+    eta, the poles z^2 = 1 + t_n^2 and z^2 = (1 + t_n^2)/beta^2 with t_n = pi n/((1 + eta) q), n >= 1. More than
+    MAX_SINGULAR poles in range: RuntimeError (a pole whose horizontal edges are not graded around it can hide a
+    root beside it, issue 52: the oracle refuses rather than count without them)."""
     reach = max(abs(lo), abs(hi))
     beta = mp.sqrt(p.b)
     pts = [mp.mpf(1)] + ([1 / beta] if beta > 0 else [])
@@ -1059,8 +1060,10 @@ def _real_singularities(p: Params, q: mpmath.mpf, lo: mpmath.mpf, hi: mpmath.mpf
                     break
                 fam.append(z)
                 n += 1
-        if len(fam) <= MAX_SINGULAR:
-            pts += fam
+        if len(fam) > MAX_SINGULAR:
+            raise RuntimeError(f"more than {MAX_SINGULAR} real-axis poles in [{mp.nstr(lo, 8)}, {mp.nstr(hi, 8)}]: "
+                               "too many for the oracle's graded nodes")
+        pts += fam
     both = {s * x for x in pts for s in (1, -1)}
     return sorted(x for x in both if lo <= x <= hi)
 

@@ -28,7 +28,7 @@ H0 = 0.1  # initial sample spacing along lines
 LADDER = 3.0  # ratio of the graded initial nodes around real-axis poles
 GRADE = 3.0  # ratio of the initial nodes of a vertical line graded towards the real axis
 TINY = 1e-13  # |F| / scale below which a sample is taken to be a root on the line
-CAP = 1 << 20  # most samples on one line
+CAP = 1 << 23  # most samples on one line (its seeds included: a line needing more is refused, status 2)
 NEWTON_ITERS = 60  # Newton evaluations allowed in a cell (generous: a start at the cell's centre may converge slowly)
 SHRINK_CELL = 0.9  # Newton in a cell fails once a step is not below 0.9 x the previous one (slow but converging
 # steps are allowed: the start is an estimate, and the confinement to the cell guards against wandering)
@@ -134,12 +134,14 @@ def sample_line(t0, t1, c, horizontal, h0, geo0, lad_y, poles, half, q, gamma, f
     """
     ts = _seeds(t0, t1, h0, geo0, lad_y, poles, half)
     n0 = ts.shape[0]
+    if n0 > CAP:  # the graded seeds alone exceed the cap: refused before any evaluation
+        return ts[:0], np.empty(0, dtype=np.complex128), np.empty(0, dtype=np.complex128), 2, t0, 0
     st_t = np.empty(n0 + 4096)
     st_f = np.empty(n0 + 4096, dtype=np.complex128)
     st_d = np.empty(n0 + 4096, dtype=np.complex128)
-    out_t = np.empty(4 * n0 + 64)
-    out_f = np.empty(4 * n0 + 64, dtype=np.complex128)
-    out_l = np.empty(4 * n0 + 64, dtype=np.complex128)
+    out_t = np.empty(2 * n0 + 64)  # (grown by doubling as needed)
+    out_f = np.empty(2 * n0 + 64, dtype=np.complex128)
+    out_l = np.empty(2 * n0 + 64, dtype=np.complex128)
     nev = 0
     # evaluate the initial points and push them (right to left) on the stack
     sp = 0

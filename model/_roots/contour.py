@@ -32,7 +32,6 @@ IM_FLOOR = 1e-10  # the bottom edge never goes below this (im_min = 0)
 REL_HMIN = 1e-11  # smallest segment, relative to the window size ...
 AXIS_HMIN = 1e-7  # ... and relative to the distance of the line from the real axis
 SHIFT = 16.0  # an edge holding a root moves outward by SHIFT * h_min (then SHIFT_GROWTH x more per retry)
-MAX_LADDER_POLES = 20000  # beyond this many isolated real-axis poles the graded seeding is skipped
 RESID_MAX = 1e-12  # largest |F| / scale accepted at a cell's root (a converged root has it at rounding level)
 CORNER_TOL = 1e-8  # a corner's two log-increments must sum to its segment's to this (else a root is near the corner)
 MAX_SHIFTS = 6  # times an edge holding a root is moved outward (by SHIFT * SHIFT_GROWTH^k h_min) before giving up
@@ -85,8 +84,9 @@ def real_axis_singularities(q: float, beta: float, eta: float, xmax: float, h: f
     (docs/physics.md §2; beta_j = 1 for the shear family, beta for the dilatational one), each only where a line at
     height y sees it, (1 + eta) kH beta_j y < LADDER_DAMPED: above that, F along the line changes on the scale of
     the pole spacing by less than exp(-2 LADDER_DAMPED) of its size, and the adaptive sampling alone resolves it
-    (y = 0: every family). The spacing of a family tends to a = pi / ((1 + eta) kH) from below; a family with more
-    than MAX_LADDER_POLES members in range is left to the adaptive refinement alone.
+    (y = 0: every family). Every family is seeded whatever its number of poles in range (a
+    pole without its seeds can hide a root beside it: docs/physics.md §10); a line then needing more than CAP samples
+    is refused.
     """
     pts = [1.0, 1.0 / beta]
     if math.isinf(eta) or (1.0 + eta) * q * beta * y >= LADDER_DAMPED:  # the branch points alone (no NumPy: fast)
@@ -100,8 +100,10 @@ def real_axis_singularities(q: float, beta: float, eta: float, xmax: float, h: f
         if (1.0 + eta) * q * bj * y >= LADDER_DAMPED:
             continue
         nmax = math.sqrt(max((xmax * bj) ** 2 - 1.0, 0.0)) / a
-        if nmax > MAX_LADDER_POLES:
-            continue
+        if 2.0 * nmax > CAP:  # (both signs) every pole needs a seed: more than a line's cap of samples
+            raise RuntimeError(f"unstable_modes: more than {CAP} samples needed on a line near the real axis: "
+                               f"{2 * int(nmax):,} real-axis poles of the lower block in range, each graded "
+                               "(raise im_min or narrow the window)")
         n = np.arange(1, int(nmax) + 1, dtype=_FLOAT)
         pts.extend((np.sqrt(1.0 + (n * a) ** 2) / bj).tolist())
     xs = np.unique(np.array(pts))
