@@ -122,8 +122,24 @@ def test_cross_validation_fast(i):
 def test_cross_validation_at_seeded_points():
     """32 seeded sets (eta 1.5 ... 100, kH 0.01 ... 30): the same roots, to 1e-8, in every window."""
     found = [cross_validate(kH, p, w) for kH, p, w in FINITE]
-    assert sum(n for n, _ in found) >= 100  # the sets do hold roots to compare (~230 at this seed)
+    assert sum(n for n, _ in found) >= 100  # the sets do hold roots to compare (175 at this seed, in 18 sets)
     assert sum(1 for kH, p, _ in FINITE if p["eta"] >= 30) >= 5 and sum(1 for kH, *_ in FINITE if kH >= 3) >= 5
+
+
+CORNERS = [  # the ends of the issue's ranges that the random sets (kH (1 + eta) <= 120) do not reach together
+    (30.0, dict(gamma=10.0, f=0.9, beta=0.3, eta=1.5), dict(re_max=1.2, im_min=1e-3, im_max=1.5)),
+    (30.0, dict(gamma=30.0, f=-1.1, beta=0.5, eta=1.5, Delta=0.5, xi=1.0), dict(re_max=2.0, im_min=1e-3, im_max=1.5)),
+    (0.3, dict(gamma=10.0, f=0.9, beta=0.3, eta=100.0), dict(re_max=3.0, im_min=1e-2, im_max=1.5)),
+    (0.05, dict(gamma=20.0, f=1.0, beta=0.4, eta=100.0, Delta=0.4, xi=10.0), dict(re_max=10.0, im_min=1e-3,
+                                                                                  im_max=1.5)),
+]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kH, p, window", CORNERS)
+def test_cross_validation_at_the_corners(kH, p, window):
+    n, _ = cross_validate(kH, p, window)
+    assert n >= 1
 
 
 def _half_space_sets(seed: int, n: int) -> list[tuple[float, dict, dict]]:
@@ -143,7 +159,9 @@ def _half_space_sets(seed: int, n: int) -> list[tuple[float, dict, dict]]:
 def test_cross_validation_half_space():
     """eta = inf on the stretched half-space: the same roots in the upper half-plane, none spurious."""
     found = [cross_validate(kH, p, w) for kH, p, w in _half_space_sets(50, 8)]
-    assert sum(n for n, _ in found) >= 8
+    found.append(cross_validate(0.5, dict(gamma=23.65, f=0.82, beta=0.3, eta=math.inf),  # issue 31's example
+                                dict(re_max=10.0, im_min=1e-2, im_max=1.5)))
+    assert sum(n for n, _ in found) >= 10  # 11 at this seed
 
 
 # ------------------------------------------------------------------------------------------------
