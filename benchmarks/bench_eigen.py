@@ -66,10 +66,14 @@ def sample(n: int = SETS, seed: int = SEED) -> list[tuple[float, dict]]:
     out = []
     for _ in range(n):
         kH = float(10 ** rng.uniform(-2, 1))
-        p = dict(gamma=float(10 ** rng.uniform(0, math.log10(30))), f=float(rng.uniform(-1.2, 1.2)),
-                 beta=float(rng.uniform(0.15, 0.7)), eta=float(10 ** rng.uniform(math.log10(1.5), 1)),
-                 Delta=float(rng.choice([1.0, rng.uniform(0.2, 1)])),
-                 xi=float(rng.choice([0.0, 10 ** rng.uniform(-2, 2)])))
+        p = dict(
+            gamma=float(10 ** rng.uniform(0, math.log10(30))),
+            f=float(rng.uniform(-1.2, 1.2)),
+            beta=float(rng.uniform(0.15, 0.7)),
+            eta=float(10 ** rng.uniform(math.log10(1.5), 1)),
+            Delta=float(rng.choice([1.0, rng.uniform(0.2, 1)])),
+            xi=float(rng.choice([0.0, 10 ** rng.uniform(-2, 2)])),
+        )
         out.append((kH, p))
     return out
 
@@ -126,6 +130,7 @@ def variants(kH: float, p: dict) -> dict:
     def auto():
         r = model.eigenmodes(kH, **p, **WINDOW)
         return r.z, sum(r.n), r.dropped
+
     out["eigen auto"] = auto
     for s in SCALES:
         n = tuple(max(em.MIN_POINTS, round(s * k)) for k in rule)
@@ -133,18 +138,22 @@ def variants(kH: float, p: dict) -> dict:
         def scaled(n=n):
             r = model.eigenmodes(kH, **p, n=n, **WINDOW)
             return r.z, sum(r.n), r.dropped
+
         out[f"eigen x {s:g}"] = scaled
 
     def single():
         return _in_window(em._eigenvalues(em._params(kH, **p), rule)), sum(rule), 0
+
     out["eigen single solve"] = single
     out["contour"] = lambda: (model.unstable_modes(kH, **p, **WINDOW), 0, 0)
-    strict = dict(PHASE_MAX=modes.PHASE_MAX / 4, TRAP_TOL=modes.TRAP_TOL / 10, LIN_TOL=modes.LIN_TOL / 10,
-                  H0=modes.H0 / 10)
+    strict = dict(
+        PHASE_MAX=modes.PHASE_MAX / 4, TRAP_TOL=modes.TRAP_TOL / 10, LIN_TOL=modes.LIN_TOL / 10, H0=modes.H0 / 10
+    )
 
     def contour_strict():
         with mock.patch.multiple(modes, **strict):
             return model.unstable_modes(kH, **p, **WINDOW), 0, 0
+
     out["contour strict"] = contour_strict
     return out
 
@@ -158,8 +167,21 @@ def run(n: int = SETS) -> list[dict]:
         for name, fun in variants(kH, p).items():
             (found, points, dropped), seconds = timed(fun)
             err, missed, spurious = score(found, ref)
-            rows.append(dict(point=i, kH=kH, eta=p["eta"], variant=name, ms=1e3 * seconds, error=err, missed=missed,
-                             spurious=spurious, roots=ref.size, points=points, dropped=dropped))
+            rows.append(
+                dict(
+                    point=i,
+                    kH=kH,
+                    eta=p["eta"],
+                    variant=name,
+                    ms=1e3 * seconds,
+                    error=err,
+                    missed=missed,
+                    spurious=spurious,
+                    roots=ref.size,
+                    points=points,
+                    dropped=dropped,
+                )
+            )
         print(f"point {i:2d}: kH = {kH:.3g}, eta = {p['eta']:.3g}: {ref.size} roots", flush=True)
     return rows
 
@@ -171,19 +193,24 @@ def _fmt(x: float) -> str:
 def table(rows: list[dict]) -> str:
     """Per variant: median / max error, missed, spurious, points flagged incomplete (eigenvalues dropped), median /
     max time per kH, median points."""
-    lines = ["| variant | median error | max error | missed | of them silent | spurious | flagged incomplete "
-             "| median ms/kH | max ms/kH | median points |", "|---|---|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "| variant | median error | max error | missed | of them silent | spurious | flagged incomplete "
+        "| median ms/kH | max ms/kH | median points |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
     for name in dict.fromkeys(r["variant"] for r in rows):
         sel = [r for r in rows if r["variant"] == name]
         errs = [r["error"] for r in sel if r["roots"] and not math.isnan(r["error"])]
         ms = [r["ms"] for r in sel]
         pts = [r["points"] for r in sel]
-        lines.append(f"| {name} | {_fmt(statistics.median(errs)) if errs else '—'} | "
-                     f"{_fmt(max(errs)) if errs else '—'} | {sum(r['missed'] for r in sel)} | "
-                     f"{sum(r['missed'] for r in sel if not r['dropped'])} | "
-                     f"{sum(r['spurious'] for r in sel)} | {sum(1 for r in sel if r['dropped'])} | "
-                     f"{statistics.median(ms):.0f} | {max(ms):.0f} | "
-                     f"{statistics.median(pts):.0f} |")
+        lines.append(
+            f"| {name} | {_fmt(statistics.median(errs)) if errs else '—'} | "
+            f"{_fmt(max(errs)) if errs else '—'} | {sum(r['missed'] for r in sel)} | "
+            f"{sum(r['missed'] for r in sel if not r['dropped'])} | "
+            f"{sum(r['spurious'] for r in sel)} | {sum(1 for r in sel if r['dropped'])} | "
+            f"{statistics.median(ms):.0f} | {max(ms):.0f} | "
+            f"{statistics.median(pts):.0f} |"
+        )
     return "\n".join(lines)
 
 
@@ -193,19 +220,28 @@ def target(rows: list[dict]) -> str:
     accurate = [r for r in sel if r["missed"] == 0 and r["spurious"] == 0 and not r["error"] > TARGET_ERROR]
     fast = [r for r in accurate if r["ms"] <= TARGET_MS]
     slow = sorted((r for r in sel if r["ms"] > TARGET_MS), key=lambda r: r["ms"])
-    text = (f"Target (every mode of the window to {TARGET_ERROR:g} in <= {TARGET_MS:g} ms per kH): accuracy met at "
-            f"{len(accurate)} of {len(sel)} points, time too at {len(fast)}; "
-            f"{'MET' if len(fast) == len(sel) else 'NOT MET'}.")
+    text = (
+        f"Target (every mode of the window to {TARGET_ERROR:g} in <= {TARGET_MS:g} ms per kH): accuracy met at "
+        f"{len(accurate)} of {len(sel)} points, time too at {len(fast)}; "
+        f"{'MET' if len(fast) == len(sel) else 'NOT MET'}."
+    )
     if slow:
-        text += " Over the time: " + ", ".join(
-            f"kH = {r['kH']:.3g}, eta = {r['eta']:.3g}: {r['ms']:.0f} ms ({r['points']} points)" for r in slow) + "."
+        text += (
+            " Over the time: "
+            + ", ".join(
+                f"kH = {r['kH']:.3g}, eta = {r['eta']:.3g}: {r['ms']:.0f} ms ({r['points']} points)" for r in slow
+            )
+            + "."
+        )
     return text
 
 
 def corners() -> list[str]:
     """The far corner of the target range: the points the eigen-solver needs, its time, and the contour's."""
-    lines = ["| kH | eta | roots | eigen auto: error, missed, spurious | ms | points (finer) | contour ms |",
-             "|---|---|---|---|---|---|---|"]
+    lines = [
+        "| kH | eta | roots | eigen auto: error, missed, spurious | ms | points (finer) | contour ms |",
+        "|---|---|---|---|---|---|---|",
+    ]
     p = dict(gamma=3.0, f=0.9, beta=0.3, Delta=1.0, xi=0.0)
     for kH, eta in CORNERS:
         q = dict(p, eta=eta)
@@ -213,8 +249,10 @@ def corners() -> list[str]:
         ref = reference(kH, q, roots)
         res, t_e = timed(lambda q=q, kH=kH: model.eigenmodes(kH, **q, **WINDOW), repeat=1)
         err, missed, spurious = score(res.z, ref)
-        lines.append(f"| {kH:g} | {eta:g} | {ref.size} | {_fmt(err)}, {missed}, {spurious} | {1e3 * t_e:.0f} | "
-                     f"{sum(res.n)} | {1e3 * t_c:.1f} |")
+        lines.append(
+            f"| {kH:g} | {eta:g} | {ref.size} | {_fmt(err)}, {missed}, {spurious} | {1e3 * t_e:.0f} | "
+            f"{sum(res.n)} | {1e3 * t_c:.1f} |"
+        )
         print(lines[-1], flush=True)
     return lines
 
@@ -223,8 +261,10 @@ def main() -> None:
     corner_lines = corners()
     rows = run()
     print()
-    print(f"Window {WINDOW}; {SETS} points (seed {SEED}); {sum(r['roots'] for r in rows if r['variant'] == 'contour')}"
-          " reference roots (25 digits, oracle)")
+    print(
+        f"Window {WINDOW}; {SETS} points (seed {SEED}); {sum(r['roots'] for r in rows if r['variant'] == 'contour')}"
+        " reference roots (25 digits, oracle)"
+    )
     print(table(rows))
     print()
     print(target(rows))
@@ -234,8 +274,9 @@ def main() -> None:
     for i in sorted({r["point"] for r in rows}):
         a = next(r for r in rows if r["point"] == i and r["variant"] == "eigen auto")
         c = next(r for r in rows if r["point"] == i and r["variant"] == "contour")
-        print(f"| {i} | {a['kH']:.3g} | {a['eta']:.3g} | {a['roots']} | {a['ms']:.0f} | {a['points']} "
-              f"| {c['ms']:.1f} |")
+        print(
+            f"| {i} | {a['kH']:.3g} | {a['eta']:.3g} | {a['roots']} | {a['ms']:.0f} | {a['points']} | {c['ms']:.1f} |"
+        )
     print()
     print("The far corner (gamma = 3, f = 0.9, beta = 0.3, Delta = 1):")
     print("\n".join(corner_lines))

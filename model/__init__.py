@@ -34,7 +34,7 @@ All branches (§10)
     :func:`unstable_modes`, :func:`unstable_count` (argument principle in a stated window).
 
 Every mode at once, a second solver (§15)
-    :func:`eigenmodes` returning :class:`Eigenmodes` (Chebyshev collocation of Eq. LE in both blocks, one eigenvalue
+    :func:`eigenmodes` returning :class:`Eigenmodes` (Chebyshev collocation of Eq. S-LE in both blocks, one eigenvalue
     problem per kH, the converged eigenvalues of two resolutions), :func:`mode_shape` returning :class:`ModeShape`
     (the fields of one mode), :func:`eigenmode_resolution` (the points it takes for a window).
 

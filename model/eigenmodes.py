@@ -1,9 +1,9 @@
 """Every mode at once: the linear problem of Sect. S-II and S-III as one eigenvalue problem (docs/physics.md §15).
 
 A second solver of the linear stability problem, independent of the closed-form response functions: the Navier
-equations (Eq. LE) are discretised across the thickness of both blocks by Chebyshev collocation, the boundary
-conditions of the paper (Eq. SBC at the far boundaries; at the interface continuous tractions and u_y, and the
-linearised rate-and-state friction law, Eq. fric_law with Eq. delta f RSF_SM, the state variable an unknown of its
+equations (Eq. S-LE) are discretised across the thickness of both blocks by Chebyshev collocation, the boundary
+conditions of the paper (Eq. S-SBC at the far boundaries; at the interface continuous tractions and u_y, and the
+linearised rate-and-state friction law, Eq. S-fric_law with Eq. S-delta f RSF_SM, the state variable an unknown of its
 own) are rows of the same linear system, and the frequency omega = kH z at fixed kH is the eigenvalue of a
 polynomial eigenvalue problem, linearised and solved with :func:`scipy.linalg.eigvals`. It returns every mode of
 the discretisation; two resolutions tell the converged eigenvalues from the unresolved ones.
@@ -22,7 +22,7 @@ the mode grows). The upper block (1) is 0 < y < 1, the lower block (2) -eta < y 
 Discretisation
 --------------
 *Bulk.* In each block, u_x and u_y on the N + 1 Chebyshev-Gauss-Lobatto points y_k (k = 0..N), d/dy by the
-Chebyshev differentiation matrix D. Eq. LE with d/dx -> i q, d/dt -> -i omega reads, at every interior point,
+Chebyshev differentiation matrix D. Eq. S-LE with d/dx -> i q, d/dt -> -i omega reads, at every interior point,
 
     D^2 u_x - q^2 u_x / beta^2 + i q (1/beta^2 - 1) D u_y + omega^2 u_x = 0
     D^2 u_y / beta^2 - q^2 u_y + i q (1/beta^2 - 1) D u_x + omega^2 u_y = 0
@@ -31,15 +31,15 @@ with sigma_xy = D u_x + i q u_y, sigma_yy = i q (1/beta^2 - 2) u_x + D u_y / bet
 
 *Boundary rows* (the equations at the 8 end points are replaced):
 
-- far boundaries y = 1 and y = -eta (Eq. SBC): d_t u_x = -i omega u_x = 0, i.e. u_x = 0 (omega != 0), and
+- far boundaries y = 1 and y = -eta (Eq. S-SBC): d_t u_x = -i omega u_x = 0, i.e. u_x = 0 (omega != 0), and
   sigma_yy = 0;
 - interface y = 0: u_y^(1) = u_y^(2) (no opening), sigma_xy^(1) = sigma_xy^(2), sigma_yy^(1) = sigma_yy^(2);
-- the slip eps = u_x^(1) - u_x^(2) (Eq. epsilon) and the linearised friction law (Eq. fric_law:
+- the slip eps = u_x^(1) - u_x^(2) (Eq. epsilon) and the linearised friction law (Eq. S-fric_law:
   delta sigma_xy + f delta sigma_yy = sigma_0 delta f, delta f = d_v f [delta v + (1 - Delta) theta]) divided by mu:
   gamma (sigma_xy + f sigma_yy) + i omega eps - (1 - Delta) theta = 0, with the slip rate delta v = -i omega eps;
 - the state variable theta = (v^2/D) delta phi (a velocity) is one more unknown; the linearised evolution law of
   Sect. S-III, -i c k delta phi = g'(1) (v/D delta phi + delta v / v), reads theta (1 - i xi omega) = i omega eps.
-  Eliminated, it gives delta f = d_v f delta v S with S = 1 + (Delta - 1)/(1 - i xi z q), Eq. delta f RSF_SM.
+  Eliminated, it gives delta f = d_v f delta v S with S = 1 + (Delta - 1)/(1 - i xi z q), Eq. S-delta f RSF_SM.
   Where theta does not act (Delta = 1) or follows the slip rate at once (xi = 0: theta = i omega eps), it is
   eliminated and not an unknown.
 
@@ -259,7 +259,7 @@ def _blocks(p: _Params, n1: int, n2: int, stretch: float) -> tuple[_Block, _Bloc
 
 
 def _navier(block: _Block, p: _Params, K: np.ndarray) -> None:
-    """Write the Navier equations (Eq. LE) of one block, omega^2 u moved aside, into its rows of K."""
+    """Write the Navier equations (Eq. S-LE) of one block, omega^2 u moved aside, into its rows of K."""
     D = block.D
     D2 = D @ D
     eye = np.eye(block.N + 1)
@@ -274,7 +274,7 @@ def _navier(block: _Block, p: _Params, K: np.ndarray) -> None:
 
 
 def _row(block: _Block, size: int, kind: str, k: int, p: _Params) -> np.ndarray:
-    """The row that evaluates u_x, u_y, sigma_xy or sigma_yy of `block` at node k (Eq. LE, mu = 1)."""
+    """The row that evaluates u_x, u_y, sigma_xy or sigma_yy of `block` at node k (Eq. S-LE, mu = 1)."""
     r = np.zeros(size, dtype=complex)
     cols_x = slice(block.ix, block.ix + block.N + 1)
     cols_y = slice(block.iy, block.iy + block.N + 1)
@@ -293,27 +293,41 @@ def _row(block: _Block, size: int, kind: str, k: int, p: _Params) -> np.ndarray:
 
 def _end_nodes(upper: _Block, lower: _Block) -> np.ndarray:
     """Indices of the 8 end values (u_x, u_y at y = 1, at the interface on both sides, at the lower far end)."""
-    return np.array([upper.ix + upper.far, upper.iy + upper.far, upper.ix + upper.interface,
-                     upper.iy + upper.interface, lower.ix + lower.interface, lower.iy + lower.interface,
-                     lower.ix + lower.far, lower.iy + lower.far])
+    return np.array(
+        [
+            upper.ix + upper.far,
+            upper.iy + upper.far,
+            upper.ix + upper.interface,
+            upper.iy + upper.interface,
+            lower.ix + lower.interface,
+            lower.iy + lower.interface,
+            lower.ix + lower.far,
+            lower.iy + lower.far,
+        ]
+    )
 
 
 def _boundary_rows(upper: _Block, lower: _Block, p: _Params, size: int) -> np.ndarray:
-    """The 7 rows without omega (Eq. SBC at both far ends, or u = 0 at the end of a half-space; continuity of
+    """The 7 rows without omega (Eq. S-SBC at both far ends, or u = 0 at the end of a half-space; continuity of
     u_y, sigma_xy, sigma_yy at y = 0) and, last, the slip eps = u_x^(1) - u_x^(2) at y = 0 (Eq. epsilon)."""
+
     def row(b: _Block, kind: str, k: int) -> np.ndarray:
         return _row(b, size, kind, k, p)
 
     i1, i2 = upper.interface, lower.interface
     far_kind = "uy" if math.isinf(p.eta) else "syy"
-    return np.array([
-        row(upper, "ux", upper.far), row(upper, "syy", upper.far),
-        row(lower, "ux", lower.far), row(lower, far_kind, lower.far),
-        row(upper, "uy", i1) - row(lower, "uy", i2),
-        row(upper, "sxy", i1) - row(lower, "sxy", i2),
-        row(upper, "syy", i1) - row(lower, "syy", i2),
-        row(upper, "ux", i1) - row(lower, "ux", i2),
-    ])
+    return np.array(
+        [
+            row(upper, "ux", upper.far),
+            row(upper, "syy", upper.far),
+            row(lower, "ux", lower.far),
+            row(lower, far_kind, lower.far),
+            row(upper, "uy", i1) - row(lower, "uy", i2),
+            row(upper, "sxy", i1) - row(lower, "sxy", i2),
+            row(upper, "syy", i1) - row(lower, "syy", i2),
+            row(upper, "ux", i1) - row(lower, "ux", i2),
+        ]
+    )
 
 
 def _prolongation(rows: np.ndarray, ends: np.ndarray, interior: np.ndarray) -> np.ndarray:
@@ -340,8 +354,8 @@ class _System:
 
 
 def _system(p: _Params, n1: int, n2: int, stretch: float = 0.0) -> _System:
-    """Assemble the bulk (Eq. LE), eliminate the end values (Eq. SBC, continuity), add friction (Eq. fric_law
-    with Eq. delta f RSF_SM and the state equation) and linearise in omega (module docstring)."""
+    """Assemble the bulk (Eq. S-LE), eliminate the end values (Eq. S-SBC, continuity), add friction (Eq. S-fric_law
+    with Eq. S-delta f RSF_SM and the state equation) and linearise in omega (module docstring)."""
     upper, lower = _blocks(p, n1, n2, stretch)
     size = 2 * (n1 + 1) + 2 * (n2 + 1)
     K = np.zeros((size, size), dtype=complex)
@@ -409,12 +423,13 @@ def _points_for(a: np.ndarray) -> int:
     return max(MIN_POINTS, int(math.ceil(float(np.max(need)))))
 
 
-def eigenmode_resolution(kH: float, *, beta: float, eta: float, re_max: float = 5.0, im_min: float = 1e-4,
-               im_max: float = 2.0) -> tuple[int, int]:
+def eigenmode_resolution(
+    kH: float, *, beta: float, eta: float, re_max: float = 5.0, im_min: float = 1e-4, im_max: float = 2.0
+) -> tuple[int, int]:
     """The coarser resolution (N1, N2) of :func:`eigenmodes` for a window: Chebyshev points per block.
 
     A mode z has the fields exp(kH alpha y), alpha = alpha_s = sqrt(1 - z^2) or alpha_d = sqrt(1 - beta^2 z^2)
-    (Eq. full_sol); across a block of height L that is exp(a x) on the Chebyshev interval with a = kH L alpha / 2.
+    (Eq. S-full_sol); across a block of height L that is exp(a x) on the Chebyshev interval with a = kH L alpha / 2.
     N is the largest of :func:`_points_for` over the two alphas at 15 points of the window. At eta = inf the lower
     block gets HALF_SPACE_POINTS (the rational map's field does not depend on kH).
 
@@ -446,8 +461,9 @@ def _in_window(z: np.ndarray, window: tuple[float, float, float]) -> np.ndarray:
     return (np.abs(z.real) <= re_max + s) & (z.imag >= im_min - s) & (z.imag <= im_max + s)
 
 
-def _converged(fine: np.ndarray, coarse: np.ndarray, window: tuple[float, float, float],
-               tol: float) -> tuple[np.ndarray, np.ndarray, int]:
+def _converged(
+    fine: np.ndarray, coarse: np.ndarray, window: tuple[float, float, float], tol: float
+) -> tuple[np.ndarray, np.ndarray, int]:
     """The eigenvalues of `fine` in the window confirmed by `coarse` (mutual nearest, within tol |z|), their
     errors |z_fine - z_coarse|, and the number of the others in the window."""
     cand = fine[_in_window(fine, window)]
@@ -471,8 +487,10 @@ def _eigenvalues(p: _Params, n: tuple[int, int]) -> np.ndarray:
         return scipy.linalg.eigvals(_system(p, *n).T, overwrite_a=True, check_finite=False) / p.q
     halves = []
     for sign in (1.0, -1.0):
-        z = scipy.linalg.eigvals(_system(p, *n, sign * HALF_SPACE_STRETCH).T, overwrite_a=True,
-                                 check_finite=False) / p.q
+        z = (
+            scipy.linalg.eigvals(_system(p, *n, sign * HALF_SPACE_STRETCH).T, overwrite_a=True, check_finite=False)
+            / p.q
+        )
         halves.append(z[(z.real >= 0.0) if sign > 0 else (z.real < 0.0)])
     return np.concatenate(halves)
 
@@ -511,8 +529,10 @@ def _window(re_max, im_min, im_max, eta: float) -> tuple[float, float, float]:
     if im_hi <= im_lo:
         raise ValueError(f"im_max must be > im_min = {im_lo!r}; got {im_hi!r}")
     if math.isinf(eta) and im_lo <= 0:
-        raise ValueError(f"im_min must be > 0 at eta = inf (the stretched half-space holds the physical modes "
-                         f"above the real axis only); got {im_lo!r}")
+        raise ValueError(
+            f"im_min must be > 0 at eta = inf (the stretched half-space holds the physical modes "
+            f"above the real axis only); got {im_lo!r}"
+        )
     return re_m, im_lo, im_hi
 
 
@@ -545,13 +565,14 @@ def _resolution_arg(n) -> tuple[int, int] | None:
 # ------------------------------------------------------------------------------------------------
 
 
-def eigenmodes(kH, *, gamma, f, beta, eta, Delta=1.0, xi=0.0, n=None, tol=DEFAULT_TOL, re_max=5.0, im_min=1e-4,
-               im_max=2.0) -> Eigenmodes:
+def eigenmodes(
+    kH, *, gamma, f, beta, eta, Delta=1.0, xi=0.0, n=None, tol=DEFAULT_TOL, re_max=5.0, im_min=1e-4, im_max=2.0
+) -> Eigenmodes:
     """Every eigenvalue z = c/c_s of the linear problem at one kH that two resolutions agree on, in a window.
 
-    The Navier equations (Eq. LE) in both blocks on Chebyshev points, the far boundaries loaded as in Eq. SBC,
-    the interface with continuous tractions and u_y and the linearised friction law (Eq. fric_law with
-    Eq. delta f RSF_SM; the slip of Eq. epsilon; the state variable an unknown) make one polynomial eigenvalue
+    The Navier equations (Eq. S-LE) in both blocks on Chebyshev points, the far boundaries loaded as in Eq. S-SBC,
+    the interface with continuous tractions and u_y and the linearised friction law (Eq. S-fric_law with
+    Eq. S-delta f RSF_SM; the slip of Eq. epsilon; the state variable an unknown) make one polynomial eigenvalue
     problem in omega = kH z, linearised and solved at once (module docstring; docs/physics.md §15). Its roots are
     those of Eq. implicit_spectrum with the response functions of Eq. S-G_gen, which this function never
     evaluates.
@@ -594,8 +615,9 @@ def eigenmodes(kH, *, gamma, f, beta, eta, Delta=1.0, xi=0.0, n=None, tol=DEFAUL
     window = _window(re_max, im_min, im_max, p.eta)
     tol = _tol(tol)
     fixed = _resolution_arg(n)
-    coarse_n = fixed or eigenmode_resolution(p.q, beta=p.beta, eta=p.eta, re_max=window[0], im_min=window[1],
-                                   im_max=window[2])
+    coarse_n = fixed or eigenmode_resolution(
+        p.q, beta=p.beta, eta=p.eta, re_max=window[0], im_min=window[1], im_max=window[2]
+    )
     fine_n = _finer(coarse_n, FINE_RATIO)
     coarse, fine = _eigenvalues(p, coarse_n), _eigenvalues(p, fine_n)
     z, err, dropped = _converged(fine, coarse, window, tol)
@@ -620,8 +642,8 @@ def _inverse_iteration(T: np.ndarray, omega: complex, steps: int = 3) -> np.ndar
 
 def _fields(block: _Block, x: np.ndarray, p: _Params, size: int) -> tuple[np.ndarray, ...]:
     """u_x, u_y, sigma_xy, sigma_yy of one block from the nodal values x."""
-    ux = x[block.ix: block.ix + block.N + 1]
-    uy = x[block.iy: block.iy + block.N + 1]
+    ux = x[block.ix : block.ix + block.N + 1]
+    uy = x[block.iy : block.iy + block.N + 1]
     sxy = block.D @ ux + 1j * p.q * uy
     syy = block.D @ uy / p.beta**2 + 1j * p.q * (1.0 / p.beta**2 - 2.0) * ux
     return ux, uy, sxy, syy
@@ -630,7 +652,7 @@ def _fields(block: _Block, x: np.ndarray, p: _Params, size: int) -> tuple[np.nda
 def mode_shape(kH, z, *, gamma, f, beta, eta, Delta=1.0, xi=0.0, n=None) -> ModeShape:
     """The fields of one mode: the eigenvector of the discretisation's eigenvalue nearest z.
 
-    The problem is that of :func:`eigenmodes` (Eq. LE in both blocks, Eq. SBC, continuity and Eq. fric_law at
+    The problem is that of :func:`eigenmodes` (Eq. S-LE in both blocks, Eq. S-SBC, continuity and Eq. S-fric_law at
     the interface), at the resolution :func:`eigenmode_resolution` gives for a window just holding z (or n). The
     eigenvector is found by inverse iteration; the end values come from the boundary rows, so the fields satisfy them to
     rounding, and the stresses are sigma_xy = d_y u_x + i kH u_y, sigma_yy = i kH (1/beta^2 - 2) u_x +
@@ -662,8 +684,8 @@ def mode_shape(kH, z, *, gamma, f, beta, eta, Delta=1.0, xi=0.0, n=None) -> Mode
 
     References
     ----------
-    Aldam et al., Phys. Rev. X 6, 041023 (2016), Eq. LE, Eq. SBC, Eq. full_sol, Eq. epsilon, Eq. fric_law,
-    Eq. delta f RSF_SM.
+    Aldam et al., Phys. Rev. X 6, 041023 (2016), Eq. S-LE, Eq. S-SBC, Eq. S-full_sol, Eq. epsilon, Eq. S-fric_law,
+    Eq. S-delta f RSF_SM.
     """
     p = _params(kH, gamma, f, beta, eta, Delta, xi)
     z0 = complex(check("z", z, complex_ok=True))
@@ -681,8 +703,9 @@ def mode_shape(kH, z, *, gamma, f, beta, eta, Delta=1.0, xi=0.0, n=None) -> Mode
     return _shape(p, sys_, v, omega, z0, nn, stretch)
 
 
-def _shape(p: _Params, s: _System, v: np.ndarray, omega: complex, z0: complex, nn: tuple[int, int],
-           stretch: float) -> ModeShape:
+def _shape(
+    p: _Params, s: _System, v: np.ndarray, omega: complex, z0: complex, nn: tuple[int, int], stretch: float
+) -> ModeShape:
     """The normalised fields of the eigenvector v of T (eigenvalue omega)."""
     m = s.m
     eps = v[m]
@@ -697,12 +720,22 @@ def _shape(p: _Params, s: _System, v: np.ndarray, omega: complex, z0: complex, n
     i1 = s.upper.interface
     z = complex(omega / p.q)
     return ModeShape(
-        z=z, mismatch=abs(z - z0) / abs(z0) if z0 != 0 else abs(z), n=nn,
-        y_upper=s.upper.y[::-1].copy(), y_lower=s.lower.y[keep][::-1].copy(), stretch=stretch,
-        u_x_upper=scale * up[0][::-1], u_y_upper=scale * up[1][::-1],
-        sigma_xy_upper=scale * up[2][::-1], sigma_yy_upper=scale * up[3][::-1],
-        u_x_lower=scale * lo[0][keep][::-1], u_y_lower=scale * lo[1][keep][::-1],
-        sigma_xy_lower=scale * lo[2][keep][::-1], sigma_yy_lower=scale * lo[3][keep][::-1],
-        slip=complex(scale * eps), shear_stress=complex(scale * up[2][i1]), normal_stress=complex(scale * up[3][i1]),
+        z=z,
+        mismatch=abs(z - z0) / abs(z0) if z0 != 0 else abs(z),
+        n=nn,
+        y_upper=s.upper.y[::-1].copy(),
+        y_lower=s.lower.y[keep][::-1].copy(),
+        stretch=stretch,
+        u_x_upper=scale * up[0][::-1],
+        u_y_upper=scale * up[1][::-1],
+        sigma_xy_upper=scale * up[2][::-1],
+        sigma_yy_upper=scale * up[3][::-1],
+        u_x_lower=scale * lo[0][keep][::-1],
+        u_y_lower=scale * lo[1][keep][::-1],
+        sigma_xy_lower=scale * lo[2][keep][::-1],
+        sigma_yy_lower=scale * lo[3][keep][::-1],
+        slip=complex(scale * eps),
+        shear_stress=complex(scale * up[2][i1]),
+        normal_stress=complex(scale * up[3][i1]),
         state=complex(scale * theta),
     )

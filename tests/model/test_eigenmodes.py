@@ -4,7 +4,7 @@ The expected values never come from the eigen-solver: they are the roots certifi
 (:func:`model.unstable_modes`, the argument principle on the closed-form F), the Rayleigh branch
 (:func:`model.rayleigh_branch`, Newton continuation on F), the closed-form response functions
 (:func:`model.response_functions`, for the mode shapes) and the paper's check values (docs/physics.md §7). The two
-solvers share no code: the eigen-solver discretises Eq. LE and never evaluates G_x, G_y or F
+solvers share no code: the eigen-solver discretises Eq. S-LE and never evaluates G_x, G_y or F
 (:func:`test_the_module_imports_no_closed_form`).
 """
 
@@ -36,8 +36,11 @@ SLACK = 1e-6  # relative shrink / enlargement of a window: roots within it of an
 
 def _scaled(window: dict, s: float) -> dict:
     """The window enlarged (s > 0) or shrunk (s < 0) by the relative amount |s| on each edge."""
-    return dict(re_max=window["re_max"] * (1 + s), im_min=window["im_min"] * (1 - s) if window["im_min"] > 0
-                else window["im_min"] * (1 + s), im_max=window["im_max"] * (1 + s))
+    return dict(
+        re_max=window["re_max"] * (1 + s),
+        im_min=window["im_min"] * (1 - s) if window["im_min"] > 0 else window["im_min"] * (1 + s),
+        im_max=window["im_max"] * (1 + s),
+    )
 
 
 def _inside(z: np.ndarray, window: dict) -> np.ndarray:
@@ -95,9 +98,14 @@ def _finite_sets(seed: int, n: int, budget: int = 90, qeta_max: float = 120.0) -
         eta = float(10 ** rng.uniform(math.log10(1.5), 2))
         if kH * (1 + eta) > qeta_max:
             continue
-        p = dict(gamma=float(10 ** rng.uniform(-0.5, 1.5)), f=float(rng.uniform(-1.2, 1.2)),
-                 beta=float(rng.uniform(0.15, 0.7)), eta=eta, Delta=float(rng.choice([1.0, rng.uniform(0.2, 1)])),
-                 xi=float(rng.choice([0.0, 10 ** rng.uniform(-2, 2)])))
+        p = dict(
+            gamma=float(10 ** rng.uniform(-0.5, 1.5)),
+            f=float(rng.uniform(-1.2, 1.2)),
+            beta=float(rng.uniform(0.15, 0.7)),
+            eta=eta,
+            Delta=float(rng.choice([1.0, rng.uniform(0.2, 1)])),
+            xi=float(rng.choice([0.0, 10 ** rng.uniform(-2, 2)])),
+        )
         im_min = float(rng.choice([1e-3, 3e-3, 1e-2]))
         for re_max in (10.0, 8.0, 5.0, 3.0, 2.0, 1.2):
             window = dict(re_max=re_max, im_min=im_min, im_max=1.5)
@@ -108,8 +116,11 @@ def _finite_sets(seed: int, n: int, budget: int = 90, qeta_max: float = 120.0) -
 
 
 FINITE = _finite_sets(49, 32)
-FAST = [i for i, (kH, p, w) in enumerate(FINITE)
-        if sum(model.eigenmode_resolution(kH, beta=p["beta"], eta=p["eta"], **w)) <= 40][:6]
+FAST = [
+    i
+    for i, (kH, p, w) in enumerate(FINITE)
+    if sum(model.eigenmode_resolution(kH, beta=p["beta"], eta=p["eta"], **w)) <= 40
+][:6]
 
 
 @pytest.mark.parametrize("i", FAST)
@@ -130,8 +141,11 @@ CORNERS = [  # the ends of the issue's ranges that the random sets (kH (1 + eta)
     (30.0, dict(gamma=10.0, f=0.9, beta=0.3, eta=1.5), dict(re_max=1.2, im_min=1e-3, im_max=1.5)),
     (30.0, dict(gamma=30.0, f=-1.1, beta=0.5, eta=1.5, Delta=0.5, xi=1.0), dict(re_max=2.0, im_min=1e-3, im_max=1.5)),
     (0.3, dict(gamma=10.0, f=0.9, beta=0.3, eta=100.0), dict(re_max=3.0, im_min=1e-2, im_max=1.5)),
-    (0.05, dict(gamma=20.0, f=1.0, beta=0.4, eta=100.0, Delta=0.4, xi=10.0), dict(re_max=10.0, im_min=1e-3,
-                                                                                  im_max=1.5)),
+    (
+        0.05,
+        dict(gamma=20.0, f=1.0, beta=0.4, eta=100.0, Delta=0.4, xi=10.0),
+        dict(re_max=10.0, im_min=1e-3, im_max=1.5),
+    ),
 ]
 
 
@@ -148,9 +162,14 @@ def _half_space_sets(seed: int, n: int) -> list[tuple[float, dict, dict]]:
     out = []
     for _ in range(n):
         kH = float(10 ** rng.uniform(math.log10(0.05), 1))
-        p = dict(gamma=float(10 ** rng.uniform(0.3, 1.5)), f=float(rng.uniform(-1.2, 1.2)),
-                 beta=float(rng.uniform(0.15, 0.7)), eta=math.inf, Delta=float(rng.choice([1.0, rng.uniform(0.2, 1)])),
-                 xi=float(rng.choice([0.0, 10 ** rng.uniform(-2, 2)])))
+        p = dict(
+            gamma=float(10 ** rng.uniform(0.3, 1.5)),
+            f=float(rng.uniform(-1.2, 1.2)),
+            beta=float(rng.uniform(0.15, 0.7)),
+            eta=math.inf,
+            Delta=float(rng.choice([1.0, rng.uniform(0.2, 1)])),
+            xi=float(rng.choice([0.0, 10 ** rng.uniform(-2, 2)])),
+        )
         out.append((kH, p, dict(re_max=5.0, im_min=float(rng.choice([1e-3, 1e-2])), im_max=1.5)))
     return out
 
@@ -159,8 +178,13 @@ def _half_space_sets(seed: int, n: int) -> list[tuple[float, dict, dict]]:
 def test_cross_validation_half_space():
     """eta = inf on the stretched half-space: the same roots in the upper half-plane, none spurious."""
     found = [cross_validate(kH, p, w) for kH, p, w in _half_space_sets(50, 8)]
-    found.append(cross_validate(0.5, dict(gamma=23.65, f=0.82, beta=0.3, eta=math.inf),  # issue 31's example
-                                dict(re_max=10.0, im_min=1e-2, im_max=1.5)))
+    found.append(
+        cross_validate(
+            0.5,
+            dict(gamma=23.65, f=0.82, beta=0.3, eta=math.inf),  # issue 31's example
+            dict(re_max=10.0, im_min=1e-2, im_max=1.5),
+        )
+    )
     assert sum(n for n, _ in found) >= 10  # 11 at this seed
 
 
@@ -191,10 +215,13 @@ def test_check_value_ten_roots_eta_10():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kH, z_ref, rtol", [
-    (1.0, 0.88336356305352538 + 0.00815518661032729j, 1e-10),  # the Rayleigh branch (17 digits quoted)
-    (0.45, 3.53354704617255 + 0.07585981635187j, 1e-9),  # faster than c_d (15 digits)
-])
+@pytest.mark.parametrize(
+    "kH, z_ref, rtol",
+    [
+        (1.0, 0.88336356305352538 + 0.00815518661032729j, 1e-10),  # the Rayleigh branch (17 digits quoted)
+        (0.45, 3.53354704617255 + 0.07585981635187j, 1e-9),  # faster than c_d (15 digits)
+    ],
+)
 def test_check_values_half_space(kH, z_ref, rtol):
     res = eigenmodes(kH, eta=math.inf, **PAPER, im_min=1e-3)
     assert res.complete
@@ -288,10 +315,16 @@ def _derivative(y: np.ndarray, u: np.ndarray) -> np.ndarray:
 MODES = [  # (kH, parameters, a root of the contour solver's window)
     (0.45, dict(eta=3.0, **PAPER), dict(re_max=5.0, im_min=1e-2, im_max=2.0)),
     (0.77, dict(eta=10.0, **PAPER), dict(re_max=5.0, im_min=1e-2, im_max=2.0)),
-    (1.28, dict(gamma=2.23, f=-0.99, beta=0.48, eta=8.95, Delta=0.24, xi=0.0), dict(re_max=2.0, im_min=1e-2,
-                                                                                   im_max=2.0)),
-    (0.66, dict(gamma=2.45, f=-0.94, beta=0.43, eta=4.59, Delta=0.6, xi=4.78), dict(re_max=5.0, im_min=1e-2,
-                                                                                   im_max=2.0)),
+    (
+        1.28,
+        dict(gamma=2.23, f=-0.99, beta=0.48, eta=8.95, Delta=0.24, xi=0.0),
+        dict(re_max=2.0, im_min=1e-2, im_max=2.0),
+    ),
+    (
+        0.66,
+        dict(gamma=2.45, f=-0.94, beta=0.43, eta=4.59, Delta=0.6, xi=4.78),
+        dict(re_max=5.0, im_min=1e-2, im_max=2.0),
+    ),
 ]
 
 
@@ -308,12 +341,16 @@ def test_mode_shape_satisfies_its_equations(kH, p, window):
         q, w = kH, kH * m.z
         lam2 = 1 / p["beta"] ** 2
         # normalisation and phase
-        u_max = max(np.max(np.abs(m.u_x_upper)), np.max(np.abs(m.u_y_upper)), np.max(np.abs(m.u_x_lower)),
-                    np.max(np.abs(m.u_y_lower)))
+        u_max = max(
+            np.max(np.abs(m.u_x_upper)),
+            np.max(np.abs(m.u_y_upper)),
+            np.max(np.abs(m.u_x_lower)),
+            np.max(np.abs(m.u_y_lower)),
+        )
         assert u_max == pytest.approx(1.0, rel=1e-12)
         assert m.slip.real > 0 and abs(m.slip.imag) <= 1e-12 * abs(m.slip)
         tiny = 1e-9 * max(1.0, np.max(np.abs(m.sigma_xy_upper)), np.max(np.abs(m.sigma_yy_upper)))
-        # far boundaries (Eq. SBC): u_x = 0 and sigma_yy = 0 at y = 1 and y = -eta
+        # far boundaries (Eq. S-SBC): u_x = 0 and sigma_yy = 0 at y = 1 and y = -eta
         assert m.y_upper[-1] == 1.0 and m.y_lower[0] == pytest.approx(-p["eta"])
         for u, s in ((m.u_x_upper[-1], m.sigma_yy_upper[-1]), (m.u_x_lower[0], m.sigma_yy_lower[0])):
             assert abs(u) <= 1e-12 and abs(s) <= tiny
@@ -322,17 +359,19 @@ def test_mode_shape_satisfies_its_equations(kH, p, window):
         assert abs(m.sigma_xy_upper[0] - m.sigma_xy_lower[-1]) <= tiny
         assert abs(m.sigma_yy_upper[0] - m.sigma_yy_lower[-1]) <= tiny
         assert m.slip == pytest.approx(m.u_x_upper[0] - m.u_x_lower[-1], rel=1e-12)
-        # the friction law and the state equation (Eq. fric_law, Eq. delta f RSF_SM)
+        # the friction law and the state equation (Eq. S-fric_law, Eq. S-delta f RSF_SM)
         friction = p["gamma"] * (m.shear_stress + p["f"] * m.normal_stress) + 1j * w * m.slip
         assert abs(friction - (1 - p["Delta"]) * m.state) <= 1e-9 * abs(w * m.slip)
         assert abs(m.state * (1 - 1j * p["xi"] * w) - 1j * w * m.slip) <= 1e-9 * abs(w * m.slip)
-        for y, ux, uy, sxy, syy in ((m.y_upper, m.u_x_upper, m.u_y_upper, m.sigma_xy_upper, m.sigma_yy_upper),
-                                    (m.y_lower, m.u_x_lower, m.u_y_lower, m.sigma_xy_lower, m.sigma_yy_lower)):
+        for y, ux, uy, sxy, syy in (
+            (m.y_upper, m.u_x_upper, m.u_y_upper, m.sigma_xy_upper, m.sigma_yy_upper),
+            (m.y_lower, m.u_x_lower, m.u_y_lower, m.sigma_xy_lower, m.sigma_yy_lower),
+        ):
             dux, duy = _derivative(y, ux), _derivative(y, uy)
             scale = np.max(np.abs(sxy)) + np.max(np.abs(syy)) + q
             assert np.max(np.abs(sxy - (dux + 1j * q * uy))) <= 1e-7 * scale
             assert np.max(np.abs(syy - (1j * q * (lam2 - 2) * ux + lam2 * duy))) <= 1e-7 * scale
-            # Navier (Eq. LE) at the interior nodes: d_y sigma_xy + i q sigma_xx = -omega^2 u_x, and for u_y
+            # Navier (Eq. S-LE) at the interior nodes: d_y sigma_xy + i q sigma_xx = -omega^2 u_x, and for u_y
             sxx = 1j * q * lam2 * ux + (lam2 - 2) * duy
             inner = slice(1, -1)
             res_x = (_derivative(y, sxy) + 1j * q * sxx + w * w * ux)[inner]
@@ -356,7 +395,7 @@ def test_mode_shape_interface_gives_the_closed_form_response(kH, p, window):
 def test_mode_shape_half_space():
     """eta = inf: the upper block and the interface are physical (Eq. G with the eta = inf response functions);
     in the depth the lower block's field on the path y~ = (1 + i s) y decays as the slower of the two waves of
-    Eq. full_sol, |exp(kH alpha_j y~)|, alpha_j computed here from z."""
+    Eq. S-full_sol, |exp(kH alpha_j y~)|, alpha_j computed here from z."""
     z_ref = 3.53354704617255 + 0.07585981635187j
     m = mode_shape(0.45, z_ref, eta=math.inf, **PAPER)
     assert m.mismatch <= 1e-8 and m.stretch > 0
@@ -376,12 +415,33 @@ def test_mode_shape_half_space():
 # ------------------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("name, value", [
-    ("kH", 0.0), ("kH", -1.0), ("kH", np.array([0.5, 1.0])), ("kH", "1"), ("gamma", 0.0), ("gamma", math.inf),
-    ("f", math.nan), ("beta", 0.8), ("beta", 0.0), ("eta", 0.0), ("eta", -2.0), ("Delta", 0.0), ("Delta", 1.5),
-    ("xi", -1.0), ("tol", 0.0), ("tol", 0.5), ("n", 3), ("n", (10, 2.5)), ("n", "ten"), ("re_max", 0.0),
-    ("im_max", -1.0), ("im_min", math.nan),
-])
+@pytest.mark.parametrize(
+    "name, value",
+    [
+        ("kH", 0.0),
+        ("kH", -1.0),
+        ("kH", np.array([0.5, 1.0])),
+        ("kH", "1"),
+        ("gamma", 0.0),
+        ("gamma", math.inf),
+        ("f", math.nan),
+        ("beta", 0.8),
+        ("beta", 0.0),
+        ("eta", 0.0),
+        ("eta", -2.0),
+        ("Delta", 0.0),
+        ("Delta", 1.5),
+        ("xi", -1.0),
+        ("tol", 0.0),
+        ("tol", 0.5),
+        ("n", 3),
+        ("n", (10, 2.5)),
+        ("n", "ten"),
+        ("re_max", 0.0),
+        ("im_max", -1.0),
+        ("im_min", math.nan),
+    ],
+)
 def test_bad_input_names_the_parameter(name, value):
     args = dict(kH=0.5, gamma=3.0, f=0.9, beta=0.3, eta=3.0)
     args[name] = value
