@@ -98,8 +98,8 @@ MAX_POINTS = 320  # ... as long as the finer one has at most this many points in
 MIN_POINTS = 8  # fewest Chebyshev points per block (N)
 MAX_N = 2000  # largest N per block a caller may ask for
 # the resolution rule (:func:`eigenmode_resolution`): N = min(|a| + OSC |a|^(1/3), sqrt(EVAN |a|^2 / Re a)) + EXTRA
-# for the exponent a = q L alpha / 2 of a field exp(q alpha y) across a block of height L; fitted to the fewest
-# points that give 1e-8 at the coarser resolution on random parameter sets (docs/physics.md §15)
+# for the exponent a = q L alpha / 2 of a field exp(q alpha y) across a block of height L (docs/physics.md §15.4:
+# what the benchmark measured at this rule and at 0.6 and 0.8 times it)
 OSC = 8.0
 EVAN = 46.0
 EXTRA = 3.0
@@ -118,6 +118,8 @@ EDGE = 1e-12  # relative slack of the window when an eigenvalue lies on its edge
 class Eigenmodes:
     """The converged eigenvalues of one kH (:func:`eigenmodes`).
 
+    Attributes
+    ----------
     z : complex ndarray, every converged eigenvalue z = c/c_s in the window, by decreasing Im z (then Re z)
     error : float ndarray, |z_fine - z_coarse| of each (an estimate of the error of the coarser value; the finer,
         returned, is more accurate)
@@ -149,6 +151,10 @@ class Eigenmodes:
 class ModeShape:
     """The fields of one mode (:func:`mode_shape`), exp(i (kH x - kH z t)) times the arrays below.
 
+    The displacements are scaled to max(|u_x|, |u_y|) = 1 over both blocks; stresses in units of mu (H = 1).
+
+    Attributes
+    ----------
     z : complex, the eigenvalue of the discretisation this is the eigenvector of (nearest the z asked for)
     mismatch : |z - z asked| / |z asked|
     n : (N1, N2), Chebyshev points per block
@@ -162,8 +168,6 @@ class ModeShape:
     slip : eps_x = u_x^(1)(0+) - u_x^(2)(0-) (Eq. epsilon), real and positive (this fixes the phase)
     shear_stress, normal_stress : delta sigma_xy, delta sigma_yy at the interface (units of mu)
     state : theta = (v^2/D) delta phi, the state variable's change (units of c_s, as the slip rate -i kH z eps)
-
-    The displacements are scaled to max(|u_x|, |u_y|) = 1 over both blocks; stresses in units of mu (H = 1).
     """
 
     z: complex
@@ -430,8 +434,9 @@ def eigenmode_resolution(
 
     A mode z has the fields exp(kH alpha y), alpha = alpha_s = sqrt(1 - z^2) or alpha_d = sqrt(1 - beta^2 z^2)
     (Eq. S-full_sol); across a block of height L that is exp(a x) on the Chebyshev interval with a = kH L alpha / 2.
-    N is the largest of :func:`_points_for` over the two alphas at 15 points of the window. At eta = inf the lower
-    block gets HALF_SPACE_POINTS (the rational map's field does not depend on kH).
+    N = min(|a| + 8 |a|^(1/3), sqrt(46 |a|^2 / Re a)) + 3, rounded up and at least 8, the largest over the two
+    alphas at 15 points of the window (a 5 x 3 grid, corners included; docs/physics.md §15.4). At eta = inf the
+    lower block gets HALF_SPACE_POINTS (the rational map's field does not depend on kH).
 
     Parameters
     ----------
@@ -680,7 +685,7 @@ def mode_shape(kH, z, *, gamma, f, beta, eta, Delta=1.0, xi=0.0, n=None) -> Mode
     Notes
     -----
     At eta = inf the lower block is the stretched half-space of :func:`eigenmodes` (s > 0 for Re z >= 0, s < 0
-    for Re z < 0): its fields are those at the complex depth (1 + i s) y (:attr:`ModeShape.stretch`).
+    for Re z < 0): its fields are those at the complex depth (1 + i s) y (``ModeShape.stretch``).
 
     References
     ----------
