@@ -33,6 +33,11 @@ Stability (§4, §9)
 All branches (§10)
     :func:`unstable_modes`, :func:`unstable_count` (argument principle in a stated window).
 
+Every mode at once, a second solver (§15)
+    :func:`eigenmodes` returning :class:`Eigenmodes` (Chebyshev collocation of Eq. S-LE in both blocks, one eigenvalue
+    problem per kH, the converged eigenvalues of two resolutions), :func:`mode_shape` returning :class:`ModeShape`
+    (the fields of one mode), :func:`eigenmode_resolution` (the points it takes for a window).
+
 The whole spectrum: is steady sliding stable? (§14)
     :func:`root_window` (where the roots with Im z >= floor can be: a theorem), :func:`fastest_mode` (the root of
     largest Im z over every branch at each kH, certified, its family :data:`FAMILIES` and the count above the floor,
@@ -83,6 +88,7 @@ from .crossings import (
     Crossings,
     ThresholdReason,
 )
+from .eigenmodes import Eigenmodes, ModeShape, eigenmode_resolution, eigenmodes, mode_shape
 from .elastic import poisson_ratio, shear_modulus, wave_speed_ratio
 from .elastodynamics import (
     dispersion,
@@ -274,6 +280,11 @@ __all__ = [
     "thin_on_thick_response",
     "unstable_count",
     "unstable_modes",
+    "Eigenmodes",
+    "ModeShape",
+    "eigenmodes",
+    "mode_shape",
+    "eigenmode_resolution",
     "SpectrumResult",
     "dispersion",
     "dispersion_derivative",
