@@ -44,7 +44,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from asymslide import model  # noqa: E402
-from asymslide.model import modes  # noqa: E402
+from asymslide.model._roots import contour  # noqa: E402  (the root engine's sampling constants)
 from tests import oracle  # noqa: E402
 
 em = importlib.import_module("asymslide.model.eigenmodes")
@@ -148,11 +148,12 @@ def variants(kH: float, p: dict) -> dict:
     out["eigen single solve"] = single
     out["contour"] = lambda: (model.unstable_modes(kH, **p, **WINDOW), 0, 0)
     strict = dict(
-        PHASE_MAX=modes.PHASE_MAX / 4, TRAP_TOL=modes.TRAP_TOL / 10, LIN_TOL=modes.LIN_TOL / 10, H0=modes.H0 / 10
+        PHASE_MAX=contour.PHASE_MAX / 4, TRAP_TOL=contour.TRAP_TOL / 10, LIN_TOL=contour.LIN_TOL / 10,
+        H0=contour.H0 / 10,
     )
 
     def contour_strict():
-        with mock.patch.multiple(modes, **strict):
+        with mock.patch.multiple(contour, **strict):
             return model.unstable_modes(kH, **p, **WINDOW), 0, 0
 
     out["contour strict"] = contour_strict

@@ -181,6 +181,12 @@ def other_sections() -> str:
 
     text += ("\n## All unstable roots in |Re z| <= 5, im_min <= Im z <= 2 (model.unstable_modes vs cxroots)\n\n"
              + bench_modes.markdown(bench_modes.run()))
+    from benchmarks import bench_eigen
+
+    eigen_rows = bench_eigen.run()
+    text += ("\n## Every mode at once: the collocation eigen-solver against the contour solver (model.eigenmodes; "
+             "`benchmarks/bench_eigen.py`)\n\n" + bench_eigen.table(eigen_rows) + "\n" + bench_eigen.target(eigen_rows)
+             + "\n")
     text += ("\n## Counts beside dense real-axis poles (model.unstable_count; "
              "`python benchmarks/bench_modes.py --dense`)\n\n" + bench_modes.dense_markdown(bench_modes.dense_poles()))
     from benchmarks import bench_sliding
