@@ -45,7 +45,9 @@ The whole spectrum: is steady sliding stable? (§14)
     growth and of the temporal rate, and the sliding verdict beside the Rayleigh branch's, :class:`SlidingResult`,
     :class:`SlidingReason`, :data:`SLIDING_STATUS`), :func:`sliding_chunk` (a chunk for sweeps, rows
     :data:`SLIDING_ROWS`; its reason codes as verdict classes :func:`sliding_verdict`, its family row as codes
-    :func:`family_codes`); :data:`DEFAULT_FLOOR`, :data:`SLIDING_KH`.
+    :func:`family_codes`); :data:`DEFAULT_FLOOR`, :data:`SLIDING_KH`; :func:`growth_rate_limit` (the supremum of
+    the temporal growth rate kH Im z approached as kH -> infinity, eta = inf: :class:`GrowthRateLimit`,
+    :data:`LIMIT_STATUS`).
 
 Thin-on-thick (§6)
     :func:`bessel_integral_B`, :func:`one_minus_bessel_integral_B`, :func:`bessel_term_C` (Eq. B(q)C(q)),
@@ -98,6 +100,7 @@ from .elastodynamics import (
     response_functions,
     root_error_estimate,
 )
+from .growth_limits import LIMIT_STATUS, GrowthRateLimit, growth_rate_limit
 from .lab_units import (
     Delta_from_lab,
     Delta_from_rate_state,
@@ -226,6 +229,9 @@ __all__ = [
     "FastestMode",
     "SlidingResult",
     "fastest_mode",
+    "growth_rate_limit",
+    "GrowthRateLimit",
+    "LIMIT_STATUS",
     "root_window",
     "sliding_analysis",
     "sliding_chunk",

@@ -10,7 +10,7 @@ the discretisation; two resolutions tell the converged eigenvalues from the unre
 
 This module uses numpy, scipy.linalg and :mod:`model._validate` only: nothing of the closed-form response
 functions G_x, G_y (Eq. S-G_gen), of the dispersion function F (Eq. implicit_spectrum) or of the compiled kernels.
-That independence is its purpose (issue 49): it cross-validates the contour-integral root finder
+That independence is its purpose: it cross-validates the contour-integral root finder
 (:func:`model.unstable_modes`) on the elastodynamic equations themselves.
 
 Units and fields

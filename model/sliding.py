@@ -31,6 +31,7 @@ from ._kernels.window import exclusion_radius, top_of_roots
 from ._roots.search import M_BELOW, M_FAILED, M_OK, M_WIDE, Search, Top
 from ._roots.track import Analysis, Peak, family, rayleigh_roots
 from ._validate import check, check_floor, check_kh_grid
+from .growth_limits import growth_rate_limit
 from .stability import GrowthResult, Verdict
 
 __all__ = [
@@ -299,6 +300,11 @@ class SlidingResult:
         :data:`SLIDING_STATUS`
     floor : the growth floor; kH_range : the range searched
     rayleigh : the Rayleigh branch alone on the same grid (:func:`growth_analysis`), side by side
+    rate_limit : with rate=True at eta = inf, the supremum of kH Im z approached as kH -> infinity
+        (:func:`growth_rate_limit`; 0.0 where no root keeps a finite rate, NaN at finite eta or with rate=False),
+        rate_limit_re_z its root's Re z there, rate_beyond_range where it is positive and exceeds the maximum over the
+        range, or the range gives none (the temporal rate then rises higher beyond the range's end, towards
+        rate_limit)
     """
 
     growth: np.ndarray
@@ -317,6 +323,9 @@ class SlidingResult:
     floor: float
     kH_range: tuple[float, float]
     rayleigh: GrowthResult
+    rate_limit: np.ndarray | None = None
+    rate_limit_re_z: np.ndarray | None = None
+    rate_beyond_range: np.ndarray | None = None
 
 
 def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, floor=DEFAULT_FLOOR,
@@ -336,8 +345,9 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     the maximum is a lower bound of the continuous one (``lower_bound``; a denser kH narrows the gap). Verdict:
     stable if no root has Im z >= floor at any kH searched, unstable if one does (:data:`SLIDING_STATUS`).
     rate=True also gives the maximum of the temporal rate kH Im z (a point is then searched above the lower of the
-    two levels: costlier at finite eta and large kH, where the rate often keeps growing to the end of the range);
-    else those fields are NaN. Parameters broadcast.
+    two levels: costlier at finite eta and large kH, where the rate often keeps growing to the end of the range),
+    and at eta = inf its limit as kH -> infinity (``rate_limit``, ~1 s a set; docs/physics.md §14.14); else those
+    fields are NaN. Parameters broadcast.
     """
     from .stability import growth_chunk, growth_result
 
@@ -360,4 +370,24 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
                          np.exp(r["ln_kH_at_max_rate_all"]), z_rate, fam(r["family_rate_all"]),
                          r["max_at_end_all"] == 1.0, r["rate_at_end_all"] == 1.0, np.isfinite(arrays[3]), verdict,
                          reason.astype(np.int8), fl,
-                         (float(grid[0]), float(grid[-1])), growth_result(ray, shape))
+                         (float(grid[0]), float(grid[-1])), growth_result(ray, shape),
+                         *_rate_limit(arrays, r["rate_all"], rate))
+
+
+def _rate_limit(arrays: list[np.ndarray], rate_max: np.ndarray, rate: bool
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(rate_limit, its Re z, rate_beyond_range) of :class:`SlidingResult` (NaN/False without rate or at finite
+    eta)."""
+    shape = arrays[0].shape
+    lim = np.full(shape, np.nan)
+    re_z = np.full(shape, np.nan)
+    if rate:
+        inf = np.isinf(arrays[3])
+        if inf.any():
+            got = growth_rate_limit(**dict(zip(("gamma", "f", "beta", "eta", "Delta", "xi"),
+                                                    (a[inf] for a in arrays), strict=True)))
+            lim[inf] = np.where(got.status <= 1, got.sigma, np.nan)
+            re_z[inf] = got.x
+    with np.errstate(invalid="ignore"):
+        beyond = (lim > 0.0) & ~(lim <= rate_max)  # (also where the range gives no maximum)
+    return lim, re_z, beyond

@@ -1045,7 +1045,7 @@ def _real_singularities(p: Params, q: mpmath.mpf, lo: mpmath.mpf, hi: mpmath.mpf
     """Real-axis singularities of F in [lo, hi] (docs/physics.md §2): the branch points +-1, +-1/beta and, for finite
     eta, the poles z^2 = 1 + t_n^2 and z^2 = (1 + t_n^2)/beta^2 with t_n = pi n/((1 + eta) q), n >= 1. More than
     MAX_SINGULAR poles in range: RuntimeError (a pole whose horizontal edges are not graded around it can hide a
-    root beside it, issue 52: the oracle refuses rather than count without them)."""
+    root beside it: the oracle refuses rather than count without them)."""
     reach = max(abs(lo), abs(hi))
     beta = mp.sqrt(p.b)
     pts = [mp.mpf(1)] + ([1 / beta] if beta > 0 else [])

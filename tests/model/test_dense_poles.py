@@ -1,4 +1,4 @@
-"""Counts and roots beside dense real-axis poles (finite eta): right or refused, never a smaller number (issue 52).
+"""Counts and roots beside dense real-axis poles (finite eta): right or refused, never a smaller number.
 
 At finite eta the lower block's real-axis poles are spaced ~ pi / ((1 + eta) kH); a root just above the bottom edge
 beside a pole below it changes log F only within ~ its distance of the pole, where the acceptance tests on coarser
@@ -40,7 +40,7 @@ def _same_roots(ours: np.ndarray, ref: list[complex], rtol: float = 1e-10) -> bo
 
 @pytest.mark.slow
 def test_the_count_does_not_fall_as_the_window_grows_past_20000_poles() -> None:
-    """Issue 52, case 1 (kH = 10, eta = 3): the windows |Re z| <= 1569.79, 1569.80 and the root_window's 2191.7 (at
+    """Case 1 (kH = 10, eta = 3): the windows |Re z| <= 1569.79, 1569.80 and the root_window's 2191.7 (at
     floor 1e-4) hold the same roots; the roots found in the big window at Re z in (-1.5, -1.2) are the oracle's there
     (mpmath, its own F and contour: the two roots the count used to lose among them)."""
     counts = [model.unstable_count(10.0, **CASE_1, **CASE_1_WINDOW, re_max=r) for r in (1569.79, 1569.80, 2191.7)]
@@ -56,7 +56,7 @@ def test_the_count_does_not_fall_as_the_window_grows_past_20000_poles() -> None:
 
 @pytest.mark.slow
 def test_the_whole_root_window_beside_two_hundred_thousand_poles() -> None:
-    """Issue 52, case 2 (kH = 1, eta = 3, floor 1e-4): over its root_window the count is the issue's independent
+    """Case 2 (kH = 1, eta = 3, floor 1e-4): over its root_window the count is the independent
     reference's 2903 (it was 491), nested windows count no more in the smaller one, and the roots at |Re z| < 4 are
     the oracle's."""
     re_max, im_max = (float(v) for v in model.root_window(1.0, **CASE_2, floor=1e-4))

@@ -25,7 +25,7 @@ from asymslide.model import eigenmodes, mode_shape
 em = importlib.import_module("asymslide.model.eigenmodes")  # the module (model.eigenmodes is the function)
 
 PAPER = dict(gamma=3.0, f=0.9, beta=0.3)
-RTOL = 1e-8  # the cross-validation's tolerance (issue 49)
+RTOL = 1e-8  # the cross-validation's tolerance
 SLACK = 1e-6  # relative shrink / enlargement of a window: roots within it of an edge are judged on both sides
 
 
@@ -181,7 +181,7 @@ def test_cross_validation_half_space():
     found.append(
         cross_validate(
             0.5,
-            dict(gamma=23.65, f=0.82, beta=0.3, eta=math.inf),  # issue 31's example
+            dict(gamma=23.65, f=0.82, beta=0.3, eta=math.inf),  # the |Re z| <= 100 example of the reading notes
             dict(re_max=10.0, im_min=1e-2, im_max=1.5),
         )
     )
@@ -466,7 +466,7 @@ def test_mode_shape_bad_input_names_the_parameter(name, value):
 
 def test_the_module_imports_no_closed_form():
     """The eigen-solver imports numpy, scipy and model._validate only: nothing of the response functions, the
-    dispersion function, the kernels or the other solvers (issue 49's independence)."""
+    dispersion function, the kernels or the other solvers (the independence of the second solver)."""
     tree = ast.parse(Path(em.__file__).read_text())
     imported = set()
     for node in ast.walk(tree):

@@ -345,10 +345,21 @@ def test_thresholds_never_leak_scipy_nan_errors(corner_outcomes: list[Outcome]) 
     assert leaked == [], f"{len(leaked)} of {len(corner_outcomes)} corner calls: " + "; ".join(leaked)
 
 
+#: the documented refusal of a count beside real-axis poles too dense to grade (docs/physics.md §10)
+REFUSED_DENSE = "samples needed on a line"
+
+
+def refused_as_documented(out: Outcome) -> bool:
+    """The call raised the counter's documented RuntimeError: too many samples (dense poles), never a guess."""
+    return out.kind == "raise" and out.exc_type == "RuntimeError" and REFUSED_DENSE in out.message
+
+
 @examples(50)
 @given(kH=kHs, p=physical())
 def test_unstable_modes(worker: Worker, kH: float, p: dict) -> None:
     out = worker.call("unstable_modes", kH, **p)
+    if refused_as_documented(out):
+        return
     assert_finite_or_nan(out)
     z = out.value
     assert z.ndim == 1 and z.dtype == np.complex128 and np.all(np.isfinite(z)), out.describe()
@@ -362,6 +373,8 @@ def test_unstable_modes(worker: Worker, kH: float, p: dict) -> None:
 @given(kH=kHs, p=physical())
 def test_unstable_count(worker: Worker, kH: float, p: dict) -> None:
     out = worker.call("unstable_count", kH, **p)
+    if refused_as_documented(out):
+        return
     assert out.kind == "ok", out.describe()
     assert isinstance(out.value, (int, np.integer)) and out.value >= 0, out.describe()
 
