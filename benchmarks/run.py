@@ -187,6 +187,10 @@ def other_sections() -> str:
     text += ("\n## Every mode at once: the collocation eigen-solver against the contour solver (model.eigenmodes; "
              "`benchmarks/bench_eigen.py`)\n\n" + bench_eigen.table(eigen_rows) + "\n" + bench_eigen.target(eigen_rows)
              + "\n")
+    from benchmarks import bench_growth_limits
+
+    text += ("\n## The temporal growth rate as kH -> inf (model.growth_rate_limit, eta = inf; "
+             "`benchmarks/bench_growth_limits.py`)\n\n" + bench_growth_limits.markdown(bench_growth_limits.run()))
     text += ("\n## Counts beside dense real-axis poles (model.unstable_count; "
              "`python benchmarks/bench_modes.py --dense`)\n\n" + bench_modes.dense_markdown(bench_modes.dense_poles()))
     from benchmarks import bench_sliding
