@@ -189,8 +189,9 @@ def other_sections() -> str:
              + "\n")
     from benchmarks import bench_growth_limits
 
-    text += ("\n## The temporal growth rate as kH -> inf (model.growth_rate_limit, eta = inf; "
-             "`benchmarks/bench_growth_limits.py`)\n\n" + bench_growth_limits.markdown(bench_growth_limits.run()))
+    text += ("\n## The temporal growth rate as kH -> inf (model.growth_rate_limit; "
+             "`benchmarks/bench_growth_limits.py`)\n\n" + bench_growth_limits.markdown(bench_growth_limits.run())
+             + "\n" + bench_growth_limits.finite_eta())
     text += ("\n## Counts beside dense real-axis poles (model.unstable_count; "
              "`python benchmarks/bench_modes.py --dense`)\n\n" + bench_modes.dense_markdown(bench_modes.dense_poles()))
     from benchmarks import bench_sliding

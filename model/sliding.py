@@ -300,8 +300,8 @@ class SlidingResult:
         :data:`SLIDING_STATUS`
     floor : the growth floor; kH_range : the range searched
     rayleigh : the Rayleigh branch alone on the same grid (:func:`growth_analysis`), side by side
-    rate_limit : with rate=True at eta = inf, the supremum of kH Im z approached as kH -> infinity
-        (:func:`growth_rate_limit`; 0.0 where no root keeps a finite rate, NaN at finite eta or with rate=False),
+    rate_limit : with rate=True, the supremum of kH Im z approached as kH -> infinity (:func:`growth_rate_limit`;
+        0.0 where no root keeps a finite rate, NaN with rate=False),
         rate_limit_re_z its root's Re z there, rate_beyond_range where it is positive and exceeds the maximum over the
         range, or the range gives none (the temporal rate then rises higher beyond the range's end, towards
         rate_limit)
@@ -346,7 +346,7 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     stable if no root has Im z >= floor at any kH searched, unstable if one does (:data:`SLIDING_STATUS`).
     rate=True also gives the maximum of the temporal rate kH Im z (a point is then searched above the lower of the
     two levels: costlier at finite eta and large kH, where the rate often keeps growing to the end of the range),
-    and at eta = inf its limit as kH -> infinity (``rate_limit``, ~1 s a set; docs/physics.md §14.14); else those
+    and its limit as kH -> infinity (``rate_limit``, 1-3 s a set; docs/physics.md §14.14); else those
     fields are NaN. Parameters broadcast.
     """
     from .stability import growth_chunk, growth_result
@@ -376,18 +376,14 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
 
 def _rate_limit(arrays: list[np.ndarray], rate_max: np.ndarray, rate: bool
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(rate_limit, its Re z, rate_beyond_range) of :class:`SlidingResult` (NaN/False without rate or at finite
-    eta)."""
+    """(rate_limit, its Re z, rate_beyond_range) of :class:`SlidingResult` (NaN/False without rate)."""
     shape = arrays[0].shape
     lim = np.full(shape, np.nan)
     re_z = np.full(shape, np.nan)
     if rate:
-        inf = np.isinf(arrays[3])
-        if inf.any():
-            got = growth_rate_limit(**dict(zip(("gamma", "f", "beta", "eta", "Delta", "xi"),
-                                                    (a[inf] for a in arrays), strict=True)))
-            lim[inf] = np.where(got.status <= 1, got.sigma, np.nan)
-            re_z[inf] = got.x
+        got = growth_rate_limit(**dict(zip(("gamma", "f", "beta", "eta", "Delta", "xi"), arrays, strict=True)))
+        lim[...] = np.where(got.status <= 1, got.sigma, np.nan)
+        re_z[...] = got.x
     with np.errstate(invalid="ignore"):
         beyond = (lim > 0.0) & ~(lim <= rate_max)  # (also where the range gives no maximum)
     return lim, re_z, beyond
