@@ -31,10 +31,16 @@ from asymslide.app.stability_map.scene import StabilityMapScene
 from asymslide.app.tabs import TABS_REGISTRY, Shared
 from asymslide.app.thin_on_thick import ThinOnThickParams, ThinOnThickScene
 from asymslide.app.urlstate import TABS, Updates, parse_query, query_string, url_attributes
-from asymslide.app.workarounds import guard_detached_updates, guard_stream_registry, use_server_stylesheets
+from asymslide.app.workarounds import (
+    guard_closed_connections,
+    guard_detached_updates,
+    guard_stream_registry,
+    use_server_stylesheets,
+)
 
 guard_detached_updates()  # panes of a tab switched away from keep the page's stylesheets (app/workarounds.py)
 guard_stream_registry()  # sessions on several threads build plots at once (app/workarounds.py)
+guard_closed_connections()  # a page gone between a keep-alive ping and its close (app/workarounds.py)
 
 TITLE = "asymslide — frictional sliding without reflection symmetry"
 

@@ -9,6 +9,8 @@ it still patch what it patches?) and update :data:`CHECKED_WITH` and the lock to
    Bokeh internals: ``doc.models.invalidate`` / ``recompute``).
 3. HoloViews' global stream registry used from several threads (:func:`guard_stream_registry`; HoloViews internal:
    ``holoviews.streams._StreamRegistry``).
+4. A websocket closed twice over (:func:`guard_closed_connections`; Bokeh internals: ``WSHandler.on_close``,
+   ``ServerConnection._session``).
 
 (tests/support/spies.py relies on where ``pn.cache`` keeps the cached function; it checks that itself.)
 
@@ -44,6 +46,15 @@ it (``list(Stream.registry.items())``) while a stream made elsewhere registers i
 sessions on more than one thread (Panel's threaded serving; a preset click builds a tab while another session builds
 its plots), and the copy then fails with ``RuntimeError: dictionary changed size during iteration``: a plot that never
 appears. :func:`guard_stream_registry` serialises the registry's reads and writes with one lock.
+
+## 4. A websocket closed twice over
+
+Bokeh's keep-alive job pings every client; a ping to a page that has just gone raises ``WebSocketClosedError``, and
+the job then drops the client (``client_lost``: the connection forgets its session). Tornado then reports the close
+itself, and ``WSHandler.on_close`` asks the connection for its session again: ``AssertionError`` in
+``bokeh/server/connection.py``, a Traceback in the server log for a page the user closed (seen in CI, with
+``--num-procs 2``). :func:`guard_closed_connections` makes ``on_close`` skip a connection whose client was already
+dropped: nothing is left to clean up.
 """
 
 from __future__ import annotations
@@ -65,6 +76,26 @@ CHECKED_WITH = {"panel": "1.9.4", "bokeh": "3.9.2", "holoviews": "1.23.2"}
 _REGISTRY_LOCK = threading.RLock()
 #: the registry methods HoloViews reads and writes it with
 REGISTRY_METHODS = ("register", "unregister", "items", "values", "get", "__getitem__")
+
+
+def guard_closed_connections() -> None:
+    """Make Bokeh's ``WSHandler.on_close`` skip a connection the keep-alive job already dropped (workaround 4;
+    idempotent)."""
+    from bokeh.server.views.ws import WSHandler
+
+    if getattr(WSHandler.on_close, "_asymslide_guard", False):
+        return
+    original = WSHandler.on_close
+
+    @functools.wraps(original)
+    def on_close(self) -> None:
+        connection = self.connection
+        if connection is not None and connection._session is None:  # client_lost ran: nothing left to clean up
+            self.connection = None
+        return original(self)
+
+    on_close._asymslide_guard = True
+    WSHandler.on_close = on_close
 
 
 def guard_stream_registry() -> None:

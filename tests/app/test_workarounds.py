@@ -76,3 +76,46 @@ def test_the_stream_registry_can_be_copied_while_another_thread_registers_stream
     finally:
         stop.set()
         maker.join()
+
+
+def _dropped_client():
+    """A websocket handler whose client the keep-alive job dropped (a ping to a page just closed): what
+    ``BokehTornado._keep_alive`` leaves behind before Tornado reports the close."""
+    from types import SimpleNamespace
+    from unittest import mock
+
+    from bokeh.server.connection import ServerConnection
+    from bokeh.server.tornado import BokehTornado
+
+    session = mock.Mock()
+    connection = ServerConnection(mock.Mock(), mock.Mock(), mock.Mock(), session)
+    tornado = BokehTornado.__new__(BokehTornado)
+    tornado._clients = {connection}
+    tornado.client_lost(connection)  # what _keep_alive does on WebSocketClosedError
+    application = mock.Mock(wraps=tornado)
+    handler = SimpleNamespace(connection=connection, application=application, close_code=1001, close_reason=None)
+    return handler, session
+
+
+def test_a_close_after_the_keep_alive_dropped_the_client_logs_no_traceback() -> None:
+    """Workaround 4: Bokeh's own on_close fails on such a handler (the AssertionError CI's server log showed); with the
+    guard app.main installs, the close is quiet and cleans up nothing twice."""
+    from bokeh.server.views.ws import WSHandler
+
+    handler, session = _dropped_client()
+    bokehs_own = getattr(WSHandler.on_close, "__wrapped__", WSHandler.on_close)
+    with pytest.raises(AssertionError):
+        bokehs_own(handler)
+    import asymslide.app.main  # noqa: F401 (installs the guard)
+
+    handler, session = _dropped_client()
+    WSHandler.on_close(handler)
+    session.notify_connection_lost.assert_not_called()
+    assert handler.connection is None
+    handler.application.client_lost.assert_not_called()
+    live, session = _dropped_client()  # an ordinary close: the connection still holds its session
+    live.connection._session = session
+    connection = live.connection
+    WSHandler.on_close(live)
+    session.notify_connection_lost.assert_called_once()
+    live.application.client_lost.assert_called_once_with(connection)
