@@ -28,7 +28,7 @@ import numpy as np
 
 from ._kernels.records import Params
 from ._kernels.window import exclusion_radius, top_of_roots
-from ._roots.search import M_BELOW, M_FAILED, M_OK, M_WIDE, Search, Top
+from ._roots.search import M_BELOW, M_FAILED, M_OK, M_WIDE, SAMPLE_LIMIT, Search, Top
 from ._roots.track import Analysis, Peak, family, rayleigh_roots
 from ._validate import check, check_floor, check_kh_grid
 from .growth_limits import growth_rate_limit
@@ -53,6 +53,9 @@ __all__ = [
 
 #: the default growth floor: roots with Im z below it are not searched (their e-folding time is > 1e6 H/(c_s kH))
 DEFAULT_FLOOR = 1e-6
+#: the search limit (samples on a window's bottom edge) of the temporal rate at finite eta: its windows at level
+#: sigma/kH need ~ kH x 1e3 samples (the layers' poles), 20x the limit of the Im z search (docs/physics.md §14.15)
+RATE_SAMPLE_LIMIT = 4e6
 #: the default kH grid of :func:`sliding_analysis` (its ends are the range)
 SLIDING_KH = np.logspace(-2, 2, 17)
 
@@ -218,7 +221,8 @@ def _analyse_one(s_grid: np.ndarray, par: tuple, floor: float, rayleigh: np.ndar
     """One column of :data:`SLIDING_ROWS` for one parameter set; rayleigh: its column of model.growth_chunk on the
     same grid (the Rayleigh branch's own maximum, a certified root, is searched first: the sliding maximum is never
     below it, and the other kH are searched only above it)."""
-    an = Analysis(Search(*par, floor), s_grid, rate)
+    finite_rate = rate and math.isfinite(par[3])
+    an = Analysis(Search(*par, floor, sample_limit=RATE_SAMPLE_LIMIT if finite_rate else SAMPLE_LIMIT), s_grid, rate)
     an.sample_from(rayleigh)
     reason = _verdict_reason(list(an.tops.values()))
     if reason == S_STABLE and math.isinf(par[3]) and an.rises_above_floor():
@@ -230,9 +234,9 @@ def _analyse_one(s_grid: np.ndarray, par: tuple, floor: float, rayleigh: np.ndar
     row_im = [im.value, im.s, im.z.real, nan]
     if not certified:
         row_im, reason = [nan] * 4, S_UNSTABLE_UNCERTIFIED_MAX
-    rt = an.peak(rate=True) if rate else Peak()
+    rt, rt_certified = an.certified_peak(rate=True) if rate else (Peak(), False)
     row_rt = [nan] * 5
-    if rate and not an.uncertified(rt.value, rate=True):
+    if rate and rt_certified:
         row_rt = [rt.value, rt.s, rt.z.real, rt.z.imag, nan]
     ks = [v for v in (row_im[1], row_rt[1]) if math.isfinite(v)]
     rz = dict(zip(ks, rayleigh_roots(np.exp(ks), par), strict=True)) if ks else {}

@@ -271,13 +271,20 @@ class Analysis:
                 return True
         return False
 
-    def follow_to_peak(self, z: complex, dz: complex, s: float, end: float) -> tuple[float, complex] | None:
-        """Follow the root z (slope dz) from ln kH = s towards `end` while its Im z rises; where it stops rising
-        inside, the stationary point by Newton (as :meth:`refine`). (s, z) of that peak, or None if Im z falls from
-        the start, rises all the way to `end` (the root is there: the search at `end` covers it), or the root is
-        lost (it leaves the physical sheet through a cut)."""
+    @staticmethod
+    def slope(rate: bool, z: complex, dz: complex) -> float:
+        """The sign-carrying slope of the objective along a root: d(Im z)/d ln kH, or (rate) e^-s d(kH Im z)/d ln kH
+        = Im z + Im dz/d ln kH."""
+        return dz.imag + (z.imag if rate else 0.0)
+
+    def follow_to_peak(self, z: complex, dz: complex, s: float, end: float, rate: bool = False
+                       ) -> tuple[float, complex] | None:
+        """Follow the root z (slope dz) from ln kH = s towards `end` while its objective (Im z, or kH Im z with rate)
+        rises; where it stops rising inside, the stationary point by Newton (as :meth:`refine`). (s, z) of that peak,
+        or None if the objective falls from the start, rises all the way to `end` (the root is there: the search at
+        `end` covers it), or the root is lost (it leaves the physical sheet through a cut)."""
         sign = 1.0 if end > s else -1.0
-        if not math.isfinite(dz.real) or sign * dz.imag <= 0.0:
+        if not math.isfinite(dz.real) or sign * self.slope(rate, z, dz) <= 0.0:
             return None
         cap = FOLLOW_STEP
         for _ in range(FOLLOW_ITERS):
@@ -289,24 +296,26 @@ class Analysis:
             if got is None or abs(got[0] - pred) > 0.1 * abs(pred - z) + 1e-12 * abs(z):
                 cap *= 0.5
                 continue
-            if sign * got[1].imag <= 0.0:  # passed the peak: Newton on the stationary point from here
-                return self.stationary(got[0], got[1], s_new)
+            if sign * self.slope(rate, *got) <= 0.0:  # passed the peak: Newton on the stationary point from here
+                return self.stationary(got[0], got[1], s_new, rate)
             z, dz, s = got[0], got[1], s_new
             if s == end:
                 return None
             cap = min(FOLLOW_STEP, 2.0 * cap)
         return None
 
-    def stationary(self, z: complex, dz: complex, s: float) -> tuple[float, complex] | None:
-        """Newton on Im dz/d ln kH = 0 along the root z from ln kH = s (g' by a difference over STATIONARY_H)."""
+    def stationary(self, z: complex, dz: complex, s: float, rate: bool = False) -> tuple[float, complex] | None:
+        """Newton on the objective's slope = 0 along the root z from ln kH = s (its derivative by a difference over
+        STATIONARY_H)."""
         for _ in range(12):
             other = self.search.polish(z + dz * STATIONARY_H, math.exp(s + STATIONARY_H))
             if other is None:
                 return None
-            dg = (other[1].imag - dz.imag) / STATIONARY_H
+            g0 = self.slope(rate, z, dz)
+            dg = (self.slope(rate, *other) - g0) / STATIONARY_H
             if not dg < 0.0:
                 return None
-            step = max(-FOLLOW_STEP, min(FOLLOW_STEP, -dz.imag / dg))
+            step = max(-FOLLOW_STEP, min(FOLLOW_STEP, -g0 / dg))
             s_new = min(max(s + step, self.lo), self.hi)
             pred = z + dz * (s_new - s)
             got = self.search.polish(pred, math.exp(s_new))
@@ -317,29 +326,36 @@ class Analysis:
                 break
         return s, z
 
-    def follow_and_search(self, z: complex, dz: complex, s: float, end: float, best: float) -> bool:
-        """Follow the root z from ln kH = s towards `end` to its peak; search there if the peak is above `best`."""
-        peak = self.follow_to_peak(z, dz, s, end)
-        if peak is None or not peak[1].imag > best * (1.0 + CERT_MARGIN) or peak[0] in self.tops:
+    def follow_and_search(self, z: complex, dz: complex, s: float, end: float, best: float,
+                          rate: bool = False) -> bool:
+        """Follow the root z from ln kH = s towards `end` to the peak of its objective; search there (certified) if
+        the peak is above `best` (an Im z, or with rate a kH Im z)."""
+        peak = self.follow_to_peak(z, dz, s, end, rate)
+        if peak is None or peak[0] in self.tops:
             return False
-        t = self.at(peak[0], peak[1], peak[1].imag, level=best)
-        return t.status == M_OK and t.z.imag > best
+        scale = math.exp(peak[0]) if rate else 1.0
+        if not peak[1].imag * scale > best * (1.0 + CERT_MARGIN):
+            return False
+        t = self.at(peak[0], peak[1], peak[1].imag, level=best / scale)
+        return t.status == M_OK and t.z.imag * scale > best
 
-    def track(self, best: float, level: float | None = None) -> bool:
-        """Between the grid points: every root with Im z >= level (default max(floor, fraction x best)) at a grid
-        point is followed into both neighbouring intervals to where its Im z peaks, and at eta = inf the roots across
-        the cuts (:meth:`across_cuts`); a peak above `best` is searched there (certified). True if a root higher than
-        `best` was found. A grid point whose window is refused is not followed from (docs/physics.md §14.7)."""
-        if level is None:
-            level = max(self.search.floor, self.fraction() * best)
+    def track(self, best: float, level: float | None = None, rate: bool = False) -> bool:
+        """Between the grid points: every root above the level at a grid point (default: the fraction of `best`, and
+        the floor; with rate, `best` is a kH Im z and the level at each point best x fraction / kH) is followed into
+        both neighbouring intervals to where its objective peaks, and at eta = inf (Im z) the roots across the cuts
+        (:meth:`across_cuts`); a peak above `best` is searched there (certified). True if a root higher than `best`
+        was found. A grid point whose window is refused is not followed from (docs/physics.md §14.7)."""
         grid = self.s_grid
         higher = False
         for i, s in enumerate(grid):
-            for z, dz in self.roots_above(s, level) or []:
+            lev = level
+            if lev is None:
+                lev = max(self.search.floor, self.fraction() * best * (math.exp(-s) if rate else 1.0))
+            for z, dz in self.roots_above(s, lev) or []:
                 for j in (i - 1, i + 1):
                     if 0 <= j < len(grid):
-                        higher = self.follow_and_search(z, dz, s, grid[j], best) or higher
-        if math.isinf(self.search.p.eta) and CUT_CHARTS:
+                        higher = self.follow_and_search(z, dz, s, grid[j], best, rate) or higher
+        if math.isinf(self.search.p.eta) and CUT_CHARTS and not rate:
             higher = self.across_cuts(best) or higher
         return higher
 
@@ -403,15 +419,15 @@ class Analysis:
                     return True
         return False
 
-    def certified_peak(self) -> tuple[Peak, bool]:
-        """The maximum of Im z, refined, then the roots followed between the grid points (:meth:`track`): a root found
-        higher starts another round. Certified unless a search was refused above it."""
-        im = self.peak(rate=False)
+    def certified_peak(self, rate: bool = False) -> tuple[Peak, bool]:
+        """The maximum of Im z (or with rate of kH Im z), refined, then the roots followed between the grid points
+        (:meth:`track`): a root found higher starts another round. Certified unless a search was refused above it."""
+        pk = self.peak(rate)
         for _ in range(CERT_ROUNDS):
-            if not self.track(im.value):
+            if not math.isfinite(pk.value) or not self.track(pk.value, rate=rate):
                 break
-            im = self.peak(rate=False)
-        return im, not self.uncertified(im.value, rate=False)
+            pk = self.peak(rate)
+        return pk, not self.uncertified(pk.value, rate)
 
 
 def family(z: complex, beta: float, rayleigh_z: complex) -> int:
