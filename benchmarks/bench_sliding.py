@@ -203,6 +203,32 @@ def oracle_errors(n: int = 8) -> str:
             f"({roots} cases with a root).\n")
 
 
+def rate_cost(n: int = 12, etas: tuple[float, ...] = (10.0, 2.0, 1e3)) -> str:
+    """The temporal rate's maximum at finite eta (docs/physics.md §14.15): on the first n of issue 31's sets at each
+    eta, how many rates ``sliding_analysis(rate=True)`` certifies (among the unstable sets) and its time, beside the
+    same call without the rate (one run each: the guide and the limit make repeats long)."""
+    lines = ["", "The temporal rate's maximum at finite eta (`sliding_analysis(rate=True)`, the first "
+             f"{n} of the sets above per eta; its time includes `rate_limit`):", "",
+             "| eta | unstable | rate certified | median time, rate | max | median time, no rate |",
+             "|---|---:|---:|---:|---:|---:|"]
+    for eta in etas:
+        unstable = certified = 0
+        t_rate, t_plain = [], []
+        for p in sample(eta, n):
+            t0 = time.perf_counter()
+            plain = model.sliding_analysis(**p)
+            t_plain.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            r = model.sliding_analysis(**p, rate=True)
+            t_rate.append(time.perf_counter() - t0)
+            if int(r.verdict) == 1 or int(plain.verdict) == 1:
+                unstable += 1
+                certified += bool(np.isfinite(r.rate))
+        lines.append(f"| {_eta(eta)} | {unstable} | {certified} | {statistics.median(t_rate):.2f} s | "
+                     f"{max(t_rate):.2f} s | {statistics.median(t_plain):.2f} s |")
+    return "\n".join(lines) + "\n"
+
+
 def atlas_cost(n: int = 12) -> str:
     """An atlas with both verdicts against the Rayleigh branch alone: a dense n x n sweep over gamma in [0.3, 30] (log)
     and beta in [0.1, 0.65] at eta = inf (f = 0.9), in memory on this machine's threads, with and without
@@ -374,7 +400,7 @@ def main() -> None:
     results = run()
     dense = dense_results(results)
     text = (markdown(results) + denser_grid(results, dense) + track_fraction(results, dense) + oracle_errors()
-            + atlas_cost() + map_cost() + threads_vs_processes() + adaptive_atlas())
+            + rate_cost() + atlas_cost() + map_cost() + threads_vs_processes() + adaptive_atlas())
     print(text)
 
 

@@ -199,7 +199,7 @@ def other_sections() -> str:
     text += ("\n## Sliding over the whole spectrum (model.sliding_analysis; `benchmarks/bench_sliding.py`)\n\n"
              + bench_sliding.markdown(sliding := bench_sliding.run())
              + bench_sliding.denser_grid(sliding, dense := bench_sliding.dense_results(sliding))
-             + bench_sliding.track_fraction(sliding, dense) + bench_sliding.oracle_errors()
+             + bench_sliding.track_fraction(sliding, dense) + bench_sliding.oracle_errors() + bench_sliding.rate_cost()
              + bench_sliding.atlas_cost() + bench_sliding.map_cost() + bench_sliding.threads_vs_processes()
              + bench_sliding.adaptive_atlas())
     from benchmarks import bench_coverage, bench_sweep, bench_thresholds, threshold_accuracy

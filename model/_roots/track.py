@@ -96,6 +96,17 @@ class Analysis:
             start = (s_max, complex(re_max, growth))
         self.sample(start)
 
+    def seed(self, guides: list[tuple[float, complex]]) -> None:
+        """Search at each guide (ln kH, z) inside the range, above half its Im z (and the floor), warm-started from
+        z: a certified root found there joins the points the maximum is taken over. Nothing else is kept (a search
+        that finds nothing that high says nothing about the floor, so it does not enter the verdict)."""
+        for s, z in guides:
+            if not (self.lo <= s <= self.hi and math.isfinite(z.imag)) or s in self.tops:
+                continue
+            t = self.at(s, z, z.imag, level=max(self.search.floor, 0.5 * z.imag))
+            if t.status != M_OK:
+                del self.tops[s]
+
     def sample(self, start: tuple[float, complex] | None = None) -> None:
         """Every point of the grid, from the start (a certified root, e.g. the Rayleigh branch's maximum) outward,
         each search warm-started from the last root found."""

@@ -158,14 +158,15 @@ def test_it_broadcasts() -> None:
 @pytest.mark.slow
 def test_sliding_analysis_states_the_limit_beside_the_range() -> None:
     """With rate=True at eta = inf, sliding_analysis gives the limit beside the maximum over its kH range: at gamma = 3
-    the range's maximum (kH = 0.49) is above it (attained); at gamma = 10 the rate over [1e-2, 1e2] peaks at kH ~ 56
-    below the limit, which it then approaches beyond the range; at gamma = 1 sliding is stable and nothing grows as
+    the range's maximum (kH = 0.49) is above it (attained); at gamma = 15 the rate over [1e-2, 1e2] peaks at kH ~ 56
+    below the limit, which it then approaches beyond the range (at gamma = 10 a root at kH = 0.52 is above its limit,
+    by 6e-5); at gamma = 1 sliding is stable and nothing grows as
     kH -> infinity. Without rate the limit is NaN; at eta = 10 it is the finite-eta limit."""
-    r = model.sliding_analysis(gamma=np.array([1.0, 3.0, 10.0]), f=0.9, beta=0.3, rate=True)
+    r = model.sliding_analysis(gamma=np.array([1.0, 3.0, 15.0]), f=0.9, beta=0.3, rate=True)
     assert r.rate_limit[0] == 0.0 and not r.rate_beyond_range[0] and int(r.verdict[0]) == 0
     assert r.rate[1] > r.rate_limit[1] > 0.0 and not r.rate_beyond_range[1] and 0.4 < r.kH_at_max_rate[1] < 0.6
     assert r.rate_limit[2] > r.rate[2] and r.rate_beyond_range[2] and r.kH_at_max_rate[2] < 100.0
-    assert abs(r.rate_limit_re_z[2] - float(model.growth_rate_limit(gamma=10.0, f=0.9, beta=0.3).x)) < 1e-6
+    assert abs(r.rate_limit_re_z[2] - float(model.growth_rate_limit(gamma=15.0, f=0.9, beta=0.3).x)) < 1e-6
     plain = model.sliding_analysis(gamma=3.0, f=0.9, beta=0.3)
     finite = model.sliding_analysis(gamma=3.0, f=0.9, beta=0.3, eta=10.0, rate=True)
     assert math.isnan(float(plain.rate_limit)) and not bool(plain.rate_beyond_range)
