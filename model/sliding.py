@@ -60,6 +60,11 @@ RATE_SAMPLE_LIMIT = 4e6
 #: over its thickness like exp(-eta kH Re alpha), so its roots lie beside eta = inf's, which the cut charts find
 #: where the finite-eta grid misses them (docs/physics.md §14.15)
 ETA_GUIDE = 10.0
+#: the kH -> 0 end of sigma: below the range, quarter decades are searched down to where the bound of
+#: docs/physics.md §14.16 excludes a faster root at every smaller kH, but not below this kH (then refused)
+KH_LOW_LIMIT = 1e-8
+#: the step (in ln kH) of that search below the range
+LOW_STEP = math.log(10.0) / 4
 #: the default kH grid of :func:`sliding_analysis` (its ends are the range)
 SLIDING_KH = np.logspace(-2, 2, 17)
 
@@ -327,6 +332,13 @@ class SlidingResult:
         rate_limit_re_z its root's Re z there, rate_beyond_range where it is positive and exceeds the maximum over the
         range, or the range gives none (the temporal rate then rises higher beyond the range's end, towards
         rate_limit)
+    sigma : with rate=True, the supremum over 0 < kH < inf of the temporal rate kH Im z (c_s/H; docs/physics.md
+        §14.16): the largest of the range's maximum, the maximum below the range (searched down to sigma_kH_low,
+        below which the bound of §14.3 leaves no root that fast) and rate_limit. kH_at_sigma is where it is attained,
+        inf where it is approached as kH -> infinity (rate_limit above the others; z_at_sigma is then the limit's
+        Re z, Im z -> 0). NaN where a part is refused (the range's rate, the search below it, or the limit), or where
+        no root grows (verdict stable and rate_limit 0). Between the range's end and infinity sigma is the larger of
+        the two, not certified (an approach from above by O(1/kH) can exceed both slightly: §14.14)
     """
 
     growth: np.ndarray
@@ -348,6 +360,10 @@ class SlidingResult:
     rate_limit: np.ndarray | None = None
     rate_limit_re_z: np.ndarray | None = None
     rate_beyond_range: np.ndarray | None = None
+    sigma: np.ndarray | None = None
+    kH_at_sigma: np.ndarray | None = None
+    z_at_sigma: np.ndarray | None = None
+    sigma_kH_low: np.ndarray | None = None
 
 
 def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None, floor=DEFAULT_FLOOR,
@@ -397,7 +413,84 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
                          r["max_at_end_all"] == 1.0, r["rate_at_end_all"] == 1.0, np.isfinite(arrays[3]), verdict,
                          reason.astype(np.int8), fl,
                          (float(grid[0]), float(grid[-1])), growth_result(ray, shape),
-                         *_rate_limit(arrays, r["rate_all"], rate))
+                         *(limit := _rate_limit(arrays, r["rate_all"], rate)),
+                         *_sigma(arrays, s_grid[0], fl, r, z_rate, limit, rate))
+
+
+def _low_end(par: tuple, s_lo: float, sigma: float, floor: float) -> tuple[float, float, float, complex]:
+    """Below the range (ln kH < s_lo): (kH_low, sigma', ln kH, z). kH_low: the kH below which no root has kH Im z >=
+    sigma (§14.16: at Im z = sigma/kH the bound of §14.3 at |z| = Im z only rises as kH falls, so it holds for
+    every smaller kH once it holds at one); the quarter decades from there to the range's start are searched
+    above sigma/kH and their roots followed between them (:meth:`Analysis.track`). sigma' > sigma with its ln kH and
+    root where a faster root lies there (certified), else NaN; kH_low NaN where refused (a search refused above
+    the level, or no exclusion above KH_LOW_LIMIT)."""
+    nan = (math.nan, math.nan, complex(math.nan, math.nan))
+    p = Params(*par)
+
+    def excluded(s: float) -> bool:
+        y = sigma * math.exp(-s)
+        return exclusion_radius(y, math.exp(s), p) <= y
+
+    grid = [s_lo]
+    while not excluded(grid[-1]):
+        if grid[-1] - LOW_STEP < math.log(KH_LOW_LIMIT):
+            return (math.nan, *nan)
+        grid.append(grid[-1] - LOW_STEP)
+    if len(grid) == 1:
+        return (math.exp(s_lo), *nan)
+    an = Analysis(Search(*par, floor, sample_limit=RATE_SAMPLE_LIMIT), np.array(grid[::-1]), rate=True)
+    an.best_im, an.best_rate = math.inf, sigma  # every point searched above sigma/kH alone
+    an.sample()
+    found = any(t.status == M_OK for t in an.tops.values()) or an.track(sigma, rate=True)
+    if found:
+        an.best_im = -math.inf
+        pk, certified = an.certified_peak(rate=True)
+        if not certified or not pk.value > sigma:
+            return (math.nan, *nan)
+        return (math.exp(grid[-1]), pk.value, pk.s, pk.z)  # (the bound excludes the faster sigma there too)
+    if an.uncertified(sigma, rate=True):
+        return (math.nan, *nan)
+    return (math.exp(grid[-1]), *nan)
+
+
+def _sigma(arrays: list[np.ndarray], s_lo: float, floor: float, r: dict, z_rate: np.ndarray,
+           limit: tuple[np.ndarray, np.ndarray, np.ndarray], rate: bool) -> tuple[np.ndarray, ...]:
+    """(sigma, kH_at_sigma, z_at_sigma, sigma_kH_low) of :class:`SlidingResult` (NaN without rate)."""
+    shape = arrays[0].shape
+    out = [np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, complex(np.nan, np.nan)),
+           np.full(shape, np.nan)]
+    if rate:
+        lim, lim_x, _ = limit
+        for idx in np.ndindex(shape):
+            kh = float(np.exp(r["ln_kH_at_max_rate_all"][idx]))
+            range_max = (float(r["rate_all"][idx]), kh, complex(z_rate[idx]))
+            got = _sigma_one(tuple(float(a[idx]) for a in arrays), s_lo, floor, int(r["verdict_reason_all"][idx]),
+                             range_max, (float(lim[idx]), float(lim_x[idx])))
+            for o, v in zip(out, got, strict=True):
+                o[idx] = v
+    return tuple(out)
+
+
+def _sigma_one(par: tuple, s_lo: float, floor: float, reason: int, range_max: tuple[float, float, complex],
+               limit: tuple[float, float]) -> tuple[float, float, complex, float]:
+    """(sigma, kH_at_sigma, z_at_sigma, sigma_kH_low) of one set from the range's maximum (sigma, kH, z), its verdict
+    reason and the limit (sigma_inf, its Re z)."""
+    nan = (math.nan, math.nan, complex(math.nan, math.nan), math.nan)
+    cands: list[tuple[float, float, complex]] = []
+    kh_low = math.exp(s_lo)
+    if reason == S_UNSTABLE and math.isfinite(range_max[0]):
+        cands.append(range_max)
+        kh_low, low, s_low, z_low = _low_end(par, s_lo, range_max[0], floor)
+        if math.isfinite(low):
+            cands.append((low, math.exp(s_low), z_low))
+    if not math.isfinite(kh_low) or not math.isfinite(limit[0]) or (reason != S_STABLE and not cands):
+        return nan
+    top = max(cands, key=lambda c: c[0], default=None)
+    if limit[0] > 0.0 and (top is None or limit[0] > top[0]):
+        top = (limit[0], math.inf, complex(limit[1], 0.0))
+    if top is None:  # stable over the range, and nothing grows as kH -> infinity
+        return nan
+    return (*top, kh_low)
 
 
 def _rate_limit(arrays: list[np.ndarray], rate_max: np.ndarray, rate: bool

@@ -102,3 +102,53 @@ def test_the_rate_maximum_against_the_oracle(p: dict) -> None:
     for side in (math.exp(-0.05), math.exp(0.05)):
         k = kh * side
         assert _count(k, p, sigma / k, 1.01 * float(model.root_window(k, **p, floor=sigma / k)[1]) + 1e-3) == 0
+
+
+# ------------------------------------------------------------------------------------------------
+# sigma over every kH (docs/physics.md §14.16)
+# ------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.slow
+def test_sigma_over_every_kh_does_not_depend_on_the_range() -> None:
+    """gamma = 3, eta = inf: over [1, 100] the rate peaks at kH ~ 56 (0.04808), but sigma, the supremum over every
+    kH, is the maximum at kH = 0.4932 that the default range [0.01, 100] holds, found below the range."""
+    full = model.sliding_analysis(**PAPER, gamma=3.0, rate=True)
+    short = model.sliding_analysis(**PAPER, gamma=3.0, kH=np.logspace(0, 2, 9), rate=True)
+    assert float(short.rate) < 0.0481 < float(full.rate)
+    for r in (full, short):
+        assert float(r.sigma) == pytest.approx(0.0485628317, rel=1e-9)
+        assert float(r.kH_at_sigma) == pytest.approx(0.49317917, rel=1e-6)
+        assert complex(r.z_at_sigma) == pytest.approx(complex(full.z_at_max_rate), rel=1e-9)
+        assert float(r.sigma_kH_low) < 0.01
+    plain = model.sliding_analysis(**PAPER, gamma=3.0)
+    assert math.isnan(float(plain.sigma)) and math.isnan(float(plain.kH_at_sigma))
+
+
+@pytest.mark.slow
+def test_sigma_is_approached_as_kh_goes_to_infinity_or_is_nan_where_nothing_grows() -> None:
+    """gamma = 15: the range's maximum (0.273074 at kH = 56) is below the limit 0.273087, so sigma is the limit,
+    approached as kH -> infinity (kH_at_sigma = inf, z_at_sigma its Re z); gamma = 3: attained at kH = 0.49;
+    gamma = 1: stable on the range and nothing grows as kH -> infinity: NaN, not a rate."""
+    r = model.sliding_analysis(**PAPER, gamma=np.array([15.0, 3.0, 1.0]), rate=True)
+    assert r.rate[0] < r.rate_limit[0] == r.sigma[0] and math.isinf(r.kH_at_sigma[0])
+    assert r.z_at_sigma[0] == complex(r.rate_limit_re_z[0], 0.0)
+    assert r.sigma[1] == r.rate[1] > r.rate_limit[1] and r.kH_at_sigma[1] == r.kH_at_max_rate[1]
+    assert int(r.verdict[2]) == 0 and r.rate_limit[2] == 0.0 and math.isnan(r.sigma[2])
+
+
+@pytest.mark.slow
+def test_below_the_range_the_oracle_finds_no_faster_root() -> None:
+    """eta = 10, gamma = 3: below the range's start the model searched quarter decades down to sigma_kH_low, where
+    the bound of §14.3 at Im z = sigma/kH holds (the window above sigma/kH is empty there and at every smaller kH);
+    the oracle's counts above sigma/kH at those quarter decades are 0."""
+    p = dict(PAPER, gamma=3.0, eta=10.0)
+    r = model.sliding_analysis(**p, rate=True)
+    sigma, low = float(r.sigma), float(r.sigma_kH_low)
+    assert 1e-4 < low < 0.01 and float(r.kH_at_sigma) > 0.01
+    for kh in (low, low / 10, low / 1e3):
+        _, top = model.root_window(kh, **p, floor=sigma / kh)
+        assert float(top) <= sigma / kh * (1 + 1e-4)  # no room above sigma / kH
+    for kh in np.exp(np.arange(math.log(low), math.log(0.01), math.log(10) / 4)):
+        _, top = model.root_window(kh, **p, floor=sigma / kh)
+        assert _count(kh, p, sigma / kh, 1.01 * float(top) + 1e-3) == 0, kh
