@@ -107,14 +107,22 @@ def compute_lab_spectrum(gamma: float, f: float, beta: float, eta: float, Delta:
 @pn.cache(max_items=64)
 def compute_lab_sliding(gamma: float, f: float, beta: float, eta: float, Delta: float, xi: float, H1: float,
                         c_s: float) -> dict:
-    """The fastest-growing mode of every branch (the largest temporal rate k Im c over the kH range of
-    :func:`model.sliding_analysis` with ``rate=True``, its default floor) in lab units, with its family and verdict."""
+    """The fastest growth of every branch over every kH (``sigma`` of :func:`model.sliding_analysis` with
+    ``rate=True``, its default floor: the supremum of k Im c over 0 < kH < inf) in lab units, with its family and the
+    verdict: ``peak`` where it is attained at a kH, ``limit`` where it is approached as kH -> inf (growth rate,
+    e-folding time and phase speed; the wavelength tends to 0), else ``bound`` where only the mode of the largest
+    Im c is certified."""
     r = model.sliding_analysis(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi, rate=True)
-    out = {"verdict": int(r.verdict), "reason": int(r.verdict_reason), "family": int(r.family_rate),
-           "kH": float(r.kH_at_max_rate), "at_end": bool(r.rate_at_end), "lower_bound": bool(r.lower_bound),
-           "floor": float(r.floor), "range": r.kH_range}
-    if math.isfinite(float(r.rate)):
-        lab = model.spectrum_in_lab_units(kH=float(r.kH_at_max_rate), z=complex(r.z_at_max_rate), H1=H1, c_s=c_s)
+    out = {"verdict": int(r.verdict), "reason": int(r.verdict_reason), "family": int(r.family_sigma),
+           "kH": float(r.kH_at_sigma), "lower_bound": bool(r.lower_bound), "floor": float(r.floor),
+           "range": r.kH_range}
+    sigma, kh, z = float(r.sigma), float(r.kH_at_sigma), complex(r.z_at_sigma)
+    out["rate_limit"] = float(r.rate_limit)
+    if math.isfinite(sigma) and math.isinf(kh):  # in lab units: k Im c = sigma c_s / H1 (at kH = 1 with Im z = sigma)
+        lab = model.spectrum_in_lab_units(kH=1.0, z=complex(z.real, sigma), H1=H1, c_s=c_s)
+        out["limit"] = {k: float(lab[k]) for k in ("growth_rate", "e_folding_time", "phase_speed")}
+    elif math.isfinite(sigma):
+        lab = model.spectrum_in_lab_units(kH=kh, z=z, H1=H1, c_s=c_s)
         out["peak"] = {k: float(v) for k, v in lab.items()}
     elif math.isfinite(float(r.growth)):  # the rate's maximum is not certified: the mode of the largest Im c bounds it
         lab = model.spectrum_in_lab_units(kH=float(r.kH_at_max), z=complex(r.z_at_max), H1=H1, c_s=c_s)
@@ -123,12 +131,37 @@ def compute_lab_sliding(gamma: float, f: float, beta: float, eta: float, Delta: 
     return out
 
 
+def _sigma_line(d: dict, scope: str) -> str:
+    """The readout line of the fastest growth over every kH (:func:`compute_lab_sliding`'s peak or limit)."""
+    name = FAMILY_NAMES.get(d["family"], "family unknown")
+    sign = "≥ " if d["lower_bound"] else ""
+    if "limit" in d:
+        lm = d["limit"]
+        line = (f"**Fastest growth of every branch: approached as kH → ∞** ({name}; {scope}): growth rate → {sign}"
+                f"{fmt(lm['growth_rate'])} 1/s, e-folding time → {fmt(lm['e_folding_time'] * 1e3)} ms, phase speed → "
+                f"{fmt(lm['phase_speed'])} m/s, as λ → 0")
+        if d["verdict"] == model.Verdict.STABLE:
+            line += f" (no mode grows over kH {d['range'][0]:g} to {d['range'][1]:g}: only shorter waves do)"
+        return line
+    pk = d["peak"]
+    line = (f"**Fastest-growing mode of every branch** ({name}, at kH = {fmt(d['kH'])}; {scope}): "
+            f"λ = {fmt(pk['wavelength'] * 1e3)} mm, growth rate {sign}{fmt(pk['growth_rate'])} 1/s, e-folding time "
+            f"{fmt(pk['e_folding_time'] * 1e3)} ms, phase speed {fmt(pk['phase_speed'])} m/s")
+    if not d["range"][0] <= d["kH"] <= d["range"][1]:
+        line += f" (outside kH {d['range'][0]:g} to {d['range'][1]:g}, where Im c is searched)"
+    return line
+
+
 def sliding_lab_lines(d: dict) -> list[str]:
-    """The readout of :func:`compute_lab_sliding`: the fastest-growing mode of every branch in lab units."""
+    """The readout of :func:`compute_lab_sliding`: the fastest growth of every branch over every kH in lab units."""
     lo, hi = d["range"]
     scope = f"every branch, Im c/c_s ≥ {d['floor']:g}, kH {lo:g} to {hi:g}"
+    if "peak" in d or "limit" in d:
+        return [_sigma_line(d, f"every branch and every kH, Im c/c_s ≥ {d['floor']:g}")]
     if d["verdict"] == model.Verdict.STABLE:
-        return [f"**Sliding stable** ({scope}): no mode of any branch grows"]
+        beyond = ("nor as kH → ∞" if d["rate_limit"] == 0.0 else
+                  "and as kH → ∞ undetermined (the limit of k Im c was refused)")
+        return [f"**Sliding stable** ({scope}): no mode of any branch grows, {beyond}"]
     if "bound" in d:
         b = d["bound"]
         return [f"**Sliding unstable** ({scope}): the largest growth rate k Im c of every branch is not certified (a "
@@ -136,18 +169,8 @@ def sliding_lab_lines(d: dict) -> list[str]:
                 f"({FAMILY_NAMES.get(d['bound_family'], 'family unknown')}, at kH = {fmt(d['bound_kH'])}) grows at "
                 f"{fmt(b['growth_rate'])} 1/s (λ = {fmt(b['wavelength'] * 1e3)} mm, e-folding time "
                 f"{fmt(b['e_folding_time'] * 1e3)} ms): the fastest grows at least as fast"]
-    if d["verdict"] == model.Verdict.UNDETERMINED or "peak" not in d:
-        what = "undetermined" if d["verdict"] == model.Verdict.UNDETERMINED else "unstable"
-        return [f"**Sliding {what}** ({scope}): {model.SLIDING_STATUS[d['reason']]}"]
-    pk = d["peak"]
-    sign = "≥ " if d["lower_bound"] else ""
-    line = (f"**Fastest-growing mode of every branch** ({FAMILY_NAMES.get(d['family'], 'family unknown')}, at kH = "
-            f"{fmt(d['kH'])}; {scope}): λ = {fmt(pk['wavelength'] * 1e3)} mm, growth rate {sign}"
-            f"{fmt(pk['growth_rate'])} 1/s, e-folding time {fmt(pk['e_folding_time'] * 1e3)} ms, phase speed "
-            f"{fmt(pk['phase_speed'])} m/s")
-    if d["at_end"]:
-        line += " (at an end of the kH range: the rate may keep growing beyond it)"
-    return [line]
+    what = "undetermined" if d["verdict"] == model.Verdict.UNDETERMINED else "unstable"
+    return [f"**Sliding {what}** ({scope}): {model.SLIDING_STATUS[d['reason']]}"]
 
 
 @pn.cache(max_items=256)

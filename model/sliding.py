@@ -336,9 +336,10 @@ class SlidingResult:
         §14.16): the largest of the range's maximum, the maximum below the range (searched down to sigma_kH_low,
         below which the bound of §14.3 leaves no root that fast) and rate_limit. kH_at_sigma is where it is attained,
         inf where it is approached as kH -> infinity (rate_limit above the others; z_at_sigma is then the limit's
-        Re z, Im z -> 0). NaN where a part is refused (the range's rate, the search below it, or the limit), or where
-        no root grows (verdict stable and rate_limit 0). Between the range's end and infinity sigma is the larger of
-        the two, not certified (an approach from above by O(1/kH) can exceed both slightly: §14.14)
+        Re z, Im z -> 0), family_sigma its family (:data:`FAMILIES`; -1 none). NaN where a part is refused (the
+        range's rate, the search below it, or the limit), or where no root grows (verdict stable and rate_limit 0).
+        Between the range's end and infinity sigma is the larger of the two, not certified (an approach from above
+        by O(1/kH) can exceed both slightly: §14.14)
     """
 
     growth: np.ndarray
@@ -363,6 +364,7 @@ class SlidingResult:
     sigma: np.ndarray | None = None
     kH_at_sigma: np.ndarray | None = None
     z_at_sigma: np.ndarray | None = None
+    family_sigma: np.ndarray | None = None
     sigma_kH_low: np.ndarray | None = None
 
 
@@ -413,7 +415,7 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
                          r["max_at_end_all"] == 1.0, r["rate_at_end_all"] == 1.0, np.isfinite(arrays[3]), verdict,
                          reason.astype(np.int8), fl,
                          (float(grid[0]), float(grid[-1])), growth_result(ray, shape),
-                         *(limit := _rate_limit(arrays, r["rate_all"], rate)),
+                         *(limit := _rate_limit(arrays, r["rate_all"], rate))[:3],
                          *_sigma(arrays, s_grid[0], fl, r, z_rate, limit, rate))
 
 
@@ -455,27 +457,28 @@ def _low_end(par: tuple, s_lo: float, sigma: float, floor: float) -> tuple[float
 
 def _sigma(arrays: list[np.ndarray], s_lo: float, floor: float, r: dict, z_rate: np.ndarray,
            limit: tuple[np.ndarray, np.ndarray, np.ndarray], rate: bool) -> tuple[np.ndarray, ...]:
-    """(sigma, kH_at_sigma, z_at_sigma, sigma_kH_low) of :class:`SlidingResult` (NaN without rate)."""
+    """(sigma, kH_at_sigma, z_at_sigma, family_sigma, sigma_kH_low) of :class:`SlidingResult` (NaN, -1 without
+    rate)."""
     shape = arrays[0].shape
     out = [np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, complex(np.nan, np.nan)),
-           np.full(shape, np.nan)]
+           np.full(shape, -1, dtype=np.int8), np.full(shape, np.nan)]
     if rate:
-        lim, lim_x, _ = limit
+        lim, lim_x, _, lim_family = limit
         for idx in np.ndindex(shape):
             kh = float(np.exp(r["ln_kH_at_max_rate_all"][idx]))
             range_max = (float(r["rate_all"][idx]), kh, complex(z_rate[idx]))
             got = _sigma_one(tuple(float(a[idx]) for a in arrays), s_lo, floor, int(r["verdict_reason_all"][idx]),
-                             range_max, (float(lim[idx]), float(lim_x[idx])))
+                             range_max, (float(lim[idx]), float(lim_x[idx]), int(lim_family[idx])))
             for o, v in zip(out, got, strict=True):
                 o[idx] = v
     return tuple(out)
 
 
 def _sigma_one(par: tuple, s_lo: float, floor: float, reason: int, range_max: tuple[float, float, complex],
-               limit: tuple[float, float]) -> tuple[float, float, complex, float]:
-    """(sigma, kH_at_sigma, z_at_sigma, sigma_kH_low) of one set from the range's maximum (sigma, kH, z), its verdict
-    reason and the limit (sigma_inf, its Re z)."""
-    nan = (math.nan, math.nan, complex(math.nan, math.nan), math.nan)
+               limit: tuple[float, float, int]) -> tuple[float, float, complex, int, float]:
+    """(sigma, kH_at_sigma, z_at_sigma, family_sigma, sigma_kH_low) of one set from the range's maximum (sigma, kH,
+    z), its verdict reason and the limit (sigma_inf, its Re z, its family)."""
+    nan = (math.nan, math.nan, complex(math.nan, math.nan), -1, math.nan)
     cands: list[tuple[float, float, complex]] = []
     kh_low = math.exp(s_lo)
     if reason == S_UNSTABLE and math.isfinite(range_max[0]):
@@ -487,22 +490,25 @@ def _sigma_one(par: tuple, s_lo: float, floor: float, reason: int, range_max: tu
         return nan
     top = max(cands, key=lambda c: c[0], default=None)
     if limit[0] > 0.0 and (top is None or limit[0] > top[0]):
-        top = (limit[0], math.inf, complex(limit[1], 0.0))
+        return (limit[0], math.inf, complex(limit[1], 0.0), limit[2], kh_low)
     if top is None:  # stable over the range, and nothing grows as kH -> infinity
         return nan
-    return (*top, kh_low)
+    return (*top, family(top[2], par[2], rayleigh_roots(np.array([top[1]]), par)[0]), kh_low)
 
 
 def _rate_limit(arrays: list[np.ndarray], rate_max: np.ndarray, rate: bool
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(rate_limit, its Re z, rate_beyond_range) of :class:`SlidingResult` (NaN/False without rate)."""
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(rate_limit, its Re z, rate_beyond_range) of :class:`SlidingResult` (NaN/False without rate), and the
+    limit's family (-1 without rate)."""
     shape = arrays[0].shape
     lim = np.full(shape, np.nan)
     re_z = np.full(shape, np.nan)
+    fam = np.full(shape, -1, dtype=np.int8)
     if rate:
         got = growth_rate_limit(**dict(zip(("gamma", "f", "beta", "eta", "Delta", "xi"), arrays, strict=True)))
         lim[...] = np.where(got.status <= 1, got.sigma, np.nan)
         re_z[...] = got.x
+        fam[...] = got.family
     with np.errstate(invalid="ignore"):
         beyond = (lim > 0.0) & ~(lim <= rate_max)  # (also where the range gives no maximum)
-    return lim, re_z, beyond
+    return lim, re_z, beyond, fam

@@ -295,9 +295,9 @@ def test_readout_and_plot_equal_the_model(lab: dict) -> None:
 @pytest.mark.parametrize("lab", [{}, {"H1_mm": 50.0, "H2_infinite": False, "H2_mm": 100.0, "b": 0.005,
                                       "D_c_um": 2.0, "v": 0.2}])
 def test_the_fastest_mode_of_every_branch_in_lab_units(lab: dict) -> None:
-    """The panel reads back the fastest-growing mode of every branch (largest k Im c over every branch,
-    model.sliding_analysis(rate=True)) in lab units, with its family, beside the Rayleigh branch's. At PMMA's defaults
-    an intersonic guided mode grows ~5 times faster than the Rayleigh branch."""
+    """The panel reads back the fastest growth of every branch over every kH (model.sliding_analysis(rate=True).sigma:
+    the largest k Im c over every branch and 0 < kH < inf) in lab units, with its family, beside the Rayleigh
+    branch's. At PMMA's defaults an intersonic guided mode grows ~5 times faster than the Rayleigh branch."""
     scene = LabScene(params=LabParams(**lab))
     p = _expected(scene.params)
     args = {k: p[k] for k in SpectrumParams.MODEL_ARGS}
@@ -305,25 +305,41 @@ def test_the_fastest_mode_of_every_branch_in_lab_units(lab: dict) -> None:
     r = model.sliding_analysis(**args, rate=True)
     text = scene.readout()
     assert "**Fastest-growing mode of the Rayleigh branch**" in text or "**No growing mode**" in text
-    if r.verdict != 1:
-        assert f"**Sliding {model.VERDICTS[int(r.verdict)]}**" in text
-        return
-    if not np.isfinite(r.rate):  # not certified (lab1: finite eta): the mode of the largest Im c bounds it
+    if not np.isfinite(r.sigma):
+        if r.verdict != 1:
+            assert f"**Sliding {model.VERDICTS[int(r.verdict)]}**" in text
+            return
         b = model.spectrum_in_lab_units(kH=r.kH_at_max, z=r.z_at_max, H1=H1, c_s=c_s)
         assert "the largest growth rate k Im c of every branch is not certified" in text
         assert f"grows at {float(b['growth_rate']):.4g} 1/s (λ = {float(b['wavelength']) * 1e3:.4g} mm" in text
-        assert lab
         return
-    peak = model.spectrum_in_lab_units(kH=r.kH_at_max_rate, z=r.z_at_max_rate, H1=H1, c_s=c_s)
-    line = next(s for s in text.split("\n\n") if s.startswith("**Fastest-growing mode of every branch**"))
-    assert f"({lb.FAMILY_NAMES[int(r.family_rate)]}, at kH = {float(r.kH_at_max_rate):.4g};" in line
-    assert f"λ = {float(peak['wavelength']) * 1e3:.4g} mm" in line
     sign = "≥ " if bool(r.lower_bound) else ""
+    if np.isinf(r.kH_at_sigma):
+        line = next(s for s in text.split("\n\n") if s.startswith("**Fastest growth of every branch: approached"))
+        assert f"growth rate → {sign}{float(r.sigma) * c_s / H1:.4g} 1/s" in line
+        assert f"phase speed → {float(r.z_at_sigma.real) * c_s:.4g} m/s, as λ → 0" in line
+        return
+    peak = model.spectrum_in_lab_units(kH=r.kH_at_sigma, z=r.z_at_sigma, H1=H1, c_s=c_s)
+    line = next(s for s in text.split("\n\n") if s.startswith("**Fastest-growing mode of every branch**"))
+    assert f"({lb.FAMILY_NAMES[int(r.family_sigma)]}, at kH = {float(r.kH_at_sigma):.4g}; every branch and every kH" \
+        in line
+    assert f"λ = {float(peak['wavelength']) * 1e3:.4g} mm" in line
     assert f"growth rate {sign}{float(peak['growth_rate']):.4g} 1/s" in line
     assert f"e-folding time {float(peak['e_folding_time']) * 1e3:.4g} ms" in line
     assert f"phase speed {float(peak['phase_speed']):.4g} m/s" in line
     if not lab:
-        assert int(r.family_rate) == 2 and "intersonic guided mode" in line
+        assert int(r.family_sigma) == 2 and "intersonic guided mode" in line
+
+
+def test_the_lab_readout_names_a_growth_approached_as_kh_goes_to_infinity() -> None:
+    """gamma = 15 (eta = inf): the range's maximum of k Im c (kH ~ 56) lies below its limit as kH -> inf, so the
+    panel says the fastest growth is approached as kH -> inf, with the limit's rate in 1/s, not the range's."""
+    r = model.sliding_analysis(gamma=15.0, f=0.9, beta=0.3, rate=True)
+    d = lb.compute_lab_sliding(15.0, 0.9, 0.3, math.inf, 1.0, 0.0, 0.01, 1000.0)
+    (line,) = lb.sliding_lab_lines(d)
+    assert line.startswith("**Fastest growth of every branch: approached as kH → ∞** (supersonic guided mode")
+    assert f"growth rate → {float(r.rate_limit) * 1000.0 / 0.01:.4g} 1/s" in line
+    assert float(r.rate) < float(r.rate_limit) and "at kH =" not in line
 
 
 def test_the_sliders_point_in_lab_units() -> None:
