@@ -297,7 +297,8 @@ def test_readout_and_plot_equal_the_model(lab: dict) -> None:
 def test_the_fastest_mode_of_every_branch_in_lab_units(lab: dict) -> None:
     """The panel reads back the fastest growth of every branch over every kH (model.sliding_analysis(rate=True).sigma:
     the largest k Im c over every branch and 0 < kH < inf) in lab units, with its family, beside the Rayleigh
-    branch's. At PMMA's defaults an intersonic guided mode grows ~5 times faster than the Rayleigh branch."""
+    branch's. At PMMA's defaults the fastest growth is a supersonic guided mode's, approached as kH -> inf (over
+    [0.01, 100] an intersonic guided mode grows fastest, ~5 times faster than the Rayleigh branch)."""
     scene = LabScene(params=LabParams(**lab))
     p = _expected(scene.params)
     args = {k: p[k] for k in SpectrumParams.MODEL_ARGS}
@@ -318,6 +319,8 @@ def test_the_fastest_mode_of_every_branch_in_lab_units(lab: dict) -> None:
         line = next(s for s in text.split("\n\n") if s.startswith("**Fastest growth of every branch: approached"))
         assert f"growth rate → {sign}{float(r.sigma) * c_s / H1:.4g} 1/s" in line
         assert f"phase speed → {float(r.z_at_sigma.real) * c_s:.4g} m/s, as λ → 0" in line
+        if not lab:
+            assert int(r.family_sigma) == 3 and "supersonic guided mode" in line and int(r.family_rate) == 2
         return
     peak = model.spectrum_in_lab_units(kH=r.kH_at_sigma, z=r.z_at_sigma, H1=H1, c_s=c_s)
     line = next(s for s in text.split("\n\n") if s.startswith("**Fastest-growing mode of every branch**"))
