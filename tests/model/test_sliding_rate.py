@@ -1,7 +1,7 @@
 """The temporal growth rate sigma = kH Im z (c_s/H) over a kH range at finite eta (docs/physics.md §14.15):
 model.sliding_analysis(rate=True).
 
-Issue 48 measured on main: ``rate`` NaN at every finite eta tried (eta = 2, 10; gamma = 1, 3), and at eta = 1e8 a
+Measured before this was built: ``rate`` NaN at every finite eta tried (eta = 2, 10; gamma = 1, 3), and at eta = 1e8 a
 maximum 13x below eta = inf's, whose root fastest_mode finds at eta = 1e8 between the grid points. Here the rate's
 maximum is certified inside the range, large eta equals eta = inf where the lower block's waves cannot reach its far
 face, and the maximum is checked with the independent oracle (tests/oracle.py, its own contour count): one root at
