@@ -115,9 +115,8 @@ def compute_lab_sliding(gamma: float, f: float, beta: float, eta: float, Delta: 
     r = model.sliding_analysis(gamma=gamma, f=f, beta=beta, eta=eta, Delta=Delta, xi=xi, rate=True)
     out = {"verdict": int(r.verdict), "reason": int(r.verdict_reason), "family": int(r.family_sigma),
            "kH": float(r.kH_at_sigma), "lower_bound": bool(r.lower_bound), "floor": float(r.floor),
-           "range": r.kH_range}
+           "range": r.kH_range, "rate_limit": float(r.rate_limit)}
     sigma, kh, z = float(r.sigma), float(r.kH_at_sigma), complex(r.z_at_sigma)
-    out["rate_limit"] = float(r.rate_limit)
     if math.isfinite(sigma) and math.isinf(kh):  # in lab units: k Im c = sigma c_s / H1 (at kH = 1 with Im z = sigma)
         lab = model.spectrum_in_lab_units(kH=1.0, z=complex(z.real, sigma), H1=H1, c_s=c_s)
         out["limit"] = {k: float(lab[k]) for k in ("growth_rate", "e_folding_time", "phase_speed")}

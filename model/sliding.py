@@ -390,8 +390,9 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     rate=True also gives the maximum of the temporal rate kH Im z, found as that of Im z (refined, its roots followed
     between the grid points to where their kH Im z peaks; a point is searched above the lower of the two levels, at
     finite eta up to :data:`RATE_SAMPLE_LIMIT` samples: NaN where even that is refused above it), and its limit as
-    kH -> infinity (``rate_limit``, 1-3 s a set; docs/physics.md §14.14-15); else those fields are NaN. 2-5 s a set
-    at finite eta with the rate, 0.2-0.6 s without. Parameters broadcast.
+    kH -> infinity (``rate_limit``, 1-3 s a set; docs/physics.md §14.14-15), and ``sigma``, the supremum over every kH
+    (§14.16); else those fields are NaN. 2-8 s a set at finite eta with the rate, 0.2-0.6 s without.
+    Parameters broadcast.
     """
     from .stability import growth_chunk, growth_result
 
@@ -444,8 +445,7 @@ def _low_end(par: tuple, s_lo: float, sigma: float, floor: float) -> tuple[float
     an.best_im, an.best_rate = math.inf, sigma  # every point searched above sigma/kH alone
     an.sample()
     found = any(t.status == M_OK for t in an.tops.values()) or an.track(sigma, rate=True)
-    if found:
-        an.best_im = -math.inf
+    if found:  # (best_im stays inf: every search, the refinement's too, is above the rate's level alone)
         pk, certified = an.certified_peak(rate=True)
         if not certified or not pk.value > sigma:
             return (math.nan, *nan)
@@ -477,22 +477,27 @@ def _sigma(arrays: list[np.ndarray], s_lo: float, floor: float, r: dict, z_rate:
 def _sigma_one(par: tuple, s_lo: float, floor: float, reason: int, range_max: tuple[float, float, complex],
                limit: tuple[float, float, int]) -> tuple[float, float, complex, int, float]:
     """(sigma, kH_at_sigma, z_at_sigma, family_sigma, sigma_kH_low) of one set from the range's maximum (sigma, kH,
-    z), its verdict reason and the limit (sigma_inf, its Re z, its family)."""
+    z), its verdict reason and the limit (sigma_inf, its Re z, its family): the larger of the range's maximum and the
+    limit (the range's on a tie: attained), unless the search below the range, above that value, finds a faster
+    root."""
     nan = (math.nan, math.nan, complex(math.nan, math.nan), -1, math.nan)
-    cands: list[tuple[float, float, complex]] = []
-    kh_low = math.exp(s_lo)
-    if reason == S_UNSTABLE and math.isfinite(range_max[0]):
-        cands.append(range_max)
-        kh_low, low, s_low, z_low = _low_end(par, s_lo, range_max[0], floor)
-        if math.isfinite(low):
-            cands.append((low, math.exp(s_low), z_low))
-    if not math.isfinite(kh_low) or not math.isfinite(limit[0]) or (reason != S_STABLE and not cands):
+    if not math.isfinite(limit[0]) or reason not in (S_STABLE, S_UNSTABLE):
         return nan
-    top = max(cands, key=lambda c: c[0], default=None)
-    if limit[0] > 0.0 and (top is None or limit[0] > top[0]):
-        return (limit[0], math.inf, complex(limit[1], 0.0), limit[2], kh_low)
-    if top is None:  # stable over the range, and nothing grows as kH -> infinity
+    if reason == S_UNSTABLE and not math.isfinite(range_max[0]):
         return nan
+    cands = [range_max] if reason == S_UNSTABLE else []
+    if limit[0] > 0.0:
+        cands.append((limit[0], math.inf, complex(limit[1], 0.0)))
+    if not cands:  # stable over the range, and nothing grows as kH -> infinity
+        return nan
+    top = max(cands, key=lambda c: c[0])
+    kh_low, low, s_low, z_low = _low_end(par, s_lo, top[0], floor)
+    if not math.isfinite(kh_low):
+        return nan
+    if math.isfinite(low):
+        top = (low, math.exp(s_low), z_low)
+    if math.isinf(top[1]):
+        return (*top, limit[2], kh_low)
     return (*top, family(top[2], par[2], rayleigh_roots(np.array([top[1]]), par)[0]), kh_low)
 
 

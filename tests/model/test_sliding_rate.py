@@ -123,6 +123,10 @@ def test_sigma_over_every_kh_does_not_depend_on_the_range() -> None:
         assert float(r.sigma_kH_low) < 0.01
     plain = model.sliding_analysis(**PAPER, gamma=3.0)
     assert math.isnan(float(plain.sigma)) and math.isnan(float(plain.kH_at_sigma))
+    # at finite eta too: over [1, 100] the rate's maximum is 0.0710; the search below the range finds kH = 0.419's
+    short10 = model.sliding_analysis(**PAPER, gamma=3.0, eta=10.0, kH=np.logspace(0, 2, 9), rate=True)
+    assert float(short10.rate) < 0.0711 and float(short10.sigma) == pytest.approx(0.0723331963, rel=1e-9)
+    assert float(short10.kH_at_sigma) == pytest.approx(0.41912706, rel=1e-6)
 
 
 @pytest.mark.slow
