@@ -384,12 +384,12 @@ def sliding_analysis(*, gamma, f, beta, eta=math.inf, Delta=1.0, xi=0.0, kH=None
     is not excluded between the grid points, and how often it matters, is in docs/physics.md §14.7: at finite eta
     the maximum is a lower bound of the continuous one (``lower_bound``; a denser kH narrows the gap). Verdict:
     stable if no root has Im z >= floor at any kH searched, unstable if one does (:data:`SLIDING_STATUS`).
-    From eta >= :data:`ETA_GUIDE` the eta = inf analysis of the same set runs first and its maxima are searched at
+    From eta >= ``ETA_GUIDE`` (10) the eta = inf analysis of the same set runs first and its maxima are searched at
     finite eta too (above the real axis the lower block's waves decay across it, so its roots lie beside eta = inf's:
     large eta gives eta = inf's maxima; docs/physics.md §14.15).
     rate=True also gives the maximum of the temporal rate kH Im z, found as that of Im z (refined, its roots followed
     between the grid points to where their kH Im z peaks; a point is searched above the lower of the two levels, at
-    finite eta up to :data:`RATE_SAMPLE_LIMIT` samples: NaN where even that is refused above it), and its limit as
+    finite eta up to ``RATE_SAMPLE_LIMIT`` (4e6) samples: NaN where even that is refused above it), and its limit as
     kH -> infinity (``rate_limit``, 1-3 s a set; docs/physics.md §14.14-15), and ``sigma``, the supremum over every kH
     (§14.16); else those fields are NaN. 2-8 s a set at finite eta with the rate, 0.2-0.6 s without.
     Parameters broadcast.
